@@ -1,0 +1,12 @@
+// The sodaevo subcommands. Each registers its options on the CLI11 app and runs
+// when selected; main.cpp only wires them together and turns errors into messages.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+namespace sodaevo::app {
+
+void add_simulate_command(CLI::App& app);
+void add_convert_command(CLI::App& app);
+
+} // namespace sodaevo::app

@@ -1,0 +1,176 @@
+#include "model.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "input_error.hpp"
+#include "number_text.hpp"
+
+namespace soda {
+
+namespace {
+
+[[noreturn]] void fail(const std::string& where, const std::string& what) {
+  throw InputError("model: " + where + ": " + what);
+}
+
+std::string node_name(const ModelDef& def, std::size_t i) {
+  return "node " + std::to_string(i) + " ('" + def.nodes[i].id + "')";
+}
+
+void require_finite(double v, const std::string& where, const char* field) {
+  if (!std::isfinite(v)) fail(where, std::string(field) + ": expected a finite number, got " + format_double_plain(v));
+}
+
+void require_range(double v, Range range, const std::string& where, const char* field) {
+  require_finite(v, where, field);
+  if (!range.contains(v)) {
+    fail(where, std::string(field) + ": expected a value in [" + format_double_plain(range.min) + ", " +
+                    format_double_plain(range.max) + "], got " + format_double_plain(v));
+  }
+}
+
+void require_phase(double v, const std::string& where, const char* field) {
+  require_finite(v, where, field);
+  if (!(v >= 0.0 && v < 1.0)) {
+    fail(where, std::string(field) + ": expected a phase in [0, 1), got " + format_double_plain(v));
+  }
+}
+
+void validate_world(const ModelDef& def) {
+  if (def.width < 1 || def.height < 1) {
+    fail("container", "expected width and height >= 1, got " + std::to_string(def.width) + "x" +
+                          std::to_string(def.height));
+  }
+  require_range(def.environment.gravity, kGravityRange, "environment", "gravity");
+  require_range(def.environment.friction, kFrictionRange, "environment", "friction");
+  require_range(def.environment.springyness, kSpringynessRange, "environment", "springyness");
+  require_range(def.collisions.surface_friction, kSurfaceFrictionRange, "collisions", "surface_friction");
+  require_range(def.collisions.surface_reflection, kSurfaceReflectionRange, "collisions",
+                "surface_reflection");
+  require_range(def.wave.amplitude, kAmplitudeRange, "wave", "amplitude");
+  require_phase(def.wave.phase, "wave", "phase");
+  require_finite(def.wave.speed, "wave", "speed");
+  auto gd = static_cast<int>(def.settings.gravity_direction);
+  auto wd = static_cast<int>(def.settings.wave_direction);
+  if (gd < -1 || gd > 1) fail("settings", "gravitydirection: expected down, up or off");
+  if (wd < -1 || wd > 1) fail("settings", "wavedirection: expected forward, reverse or manual");
+}
+
+} // namespace
+
+Model build_model(const ModelDef& def) {
+  validate_world(def);
+  if (def.nodes.empty()) fail("nodes", "expected at least one node or mass, got an empty model");
+  if (static_cast<long>(def.nodes.size()) > kMaxNodes) {
+    fail("nodes", "expected at most " + std::to_string(kMaxNodes) + " nodes, got " + std::to_string(def.nodes.size()));
+  }
+  if (static_cast<long>(def.links.size()) > kMaxLinks) {
+    fail("links", "expected at most " + std::to_string(kMaxLinks) + " links, got " + std::to_string(def.links.size()));
+  }
+
+  Model m;
+  m.width = def.width;
+  m.height = def.height;
+  m.springyness = def.environment.springyness;
+  m.friction = def.environment.friction;
+  m.gravity = def.environment.gravity;
+  m.gravity_direction = def.settings.gravity_direction;
+  m.surface_friction = def.collisions.surface_friction;
+  m.surface_reflection = def.collisions.surface_reflection;
+  m.autoreverse = def.settings.autoreverse;
+  m.wave_amplitude = def.wave.amplitude;
+  m.wave_speed = def.wave.speed;
+  m.wave_phase0 = def.wave.phase;
+  m.wave_direction0 = def.settings.wave_direction;
+
+  const auto node_count = def.nodes.size();
+  m.point_of_node.assign(node_count, -1);
+  for (bool fixed_pass : {false, true}) {
+    for (std::size_t i = 0; i < node_count; ++i) {
+      const NodeDef& node = def.nodes[i];
+      if (node.fixed != fixed_pass) continue;
+      const std::string where = node_name(def, i);
+      require_finite(node.x, where, "x");
+      require_finite(node.y, where, "y");
+      require_finite(node.vx, where, "vx");
+      require_finite(node.vy, where, "vy");
+      m.point_of_node[i] = static_cast<int>(m.node_of_point.size());
+      m.node_of_point.push_back(static_cast<int>(i));
+      m.x0.push_back(node.x);
+      m.y0.push_back(node.y);
+      m.vx0.push_back(node.fixed ? 0.0 : node.vx);
+      m.vy0.push_back(node.fixed ? 0.0 : node.vy);
+    }
+    if (!fixed_pass) m.mass_count = static_cast<int>(m.node_of_point.size());
+  }
+  m.point_count = static_cast<int>(m.node_of_point.size());
+
+  for (std::size_t i = 0; i < def.links.size(); ++i) {
+    const LinkDef& link = def.links[i];
+    const std::string where = "link " + std::to_string(i);
+    for (int end : {link.a, link.b}) {
+      if (end < 0 || static_cast<std::size_t>(end) >= node_count) {
+        fail(where, "expected a node index in [0, " + std::to_string(node_count) + "), got " + std::to_string(end));
+      }
+    }
+    if (link.a == link.b) fail(where, "expected two different nodes, got a link from '" + def.nodes[link.a].id + "' to itself");
+    const int a = m.point_of_node[link.a];
+    const int b = m.point_of_node[link.b];
+    if (link.kind == LinkKind::FixedBar) {
+      m.bar_a.push_back(a);
+      m.bar_b.push_back(b);
+      continue;
+    }
+    require_finite(link.rest_length, where, "restlength");
+    const bool muscle = link.kind == LinkKind::Muscle;
+    if (muscle) {
+      require_range(link.amplitude, kAmplitudeRange, where, "amplitude");
+      require_phase(link.phase, where, "phase");
+    }
+    m.link_a.push_back(a);
+    m.link_b.push_back(b);
+    m.link_rest.push_back(link.rest_length);
+    m.link_muscle.push_back(muscle ? 1 : 0);
+    m.link_amplitude.push_back(muscle ? link.amplitude : 0.0);
+    m.link_phase.push_back(muscle ? link.phase : 0.0);
+  }
+  return m;
+}
+
+State make_state(const Model& model) {
+  State s;
+  s.x = model.x0;
+  s.y = model.y0;
+  s.vx = model.vx0;
+  s.vy = model.vy0;
+  s.wave_phase = model.wave_phase0;
+  s.wave_mode = model.wave_direction0;
+  return s;
+}
+
+ModelDef def_with_state(const ModelDef& def, const Model& model, const State& state) {
+  ModelDef out = def;
+  for (int p = 0; p < model.point_count; ++p) {
+    NodeDef& node = out.nodes[static_cast<std::size_t>(model.node_of_point[p])];
+    node.x = state.x[p];
+    node.y = state.y[p];
+    node.vx = state.vx[p];
+    node.vy = state.vy[p];
+  }
+  out.wave.phase = state.wave_phase;
+  out.settings.wave_direction = state.wave_mode;
+  return out;
+}
+
+Point2 mass_centroid(const Model& model, const State& state) {
+  if (model.mass_count == 0) return {};
+  double sx = 0.0, sy = 0.0;
+  for (int i = 0; i < model.mass_count; ++i) {
+    sx += state.x[i];
+    sy += state.y[i];
+  }
+  return {sx / model.mass_count, sy / model.mass_count};
+}
+
+} // namespace soda

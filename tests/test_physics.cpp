@@ -1,0 +1,159 @@
+// Physics checks that do not depend on the golden data: closed forms of the
+// frame recurrence (spec 5.1-5.3) and a conservation law.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdint>
+
+#include "core/model.hpp"
+#include "core/step.hpp"
+
+namespace {
+
+soda::ModelDef empty_world(double gravity, double friction, double springyness) {
+  soda::ModelDef def;
+  def.width = 100000;
+  def.height = 100000;
+  def.environment = {gravity, friction, springyness};
+  def.settings.autoreverse = false;
+  return def;
+}
+
+soda::NodeDef mass(double x, double y, double vx = 0, double vy = 0) {
+  return {"m", false, x, y, vx, vy};
+}
+
+} // namespace
+
+TEST_CASE("free fall follows the closed form of the frame recurrence", "[physics]") {
+  // v_n = a*(v_{n-1} - g) with a = 1 - f, so v_n = v*(1 - a^n), v* = -a*g/f, and
+  // y_n = y_0 + v*(n - a*(1 - a^n)/(1 - a)). Terminal speed a*g/f stays below 20.
+  const double g = 0.3, f = 0.05, a = 1.0 - f, y0 = 90000.0;
+  soda::ModelDef def = empty_world(g, f, 0.2);
+  def.nodes.push_back(mass(500.0, y0));
+  const soda::Model model = soda::build_model(def);
+  soda::State s = soda::make_state(model);
+  const double v_inf = -a * g / f;
+  for (int n = 1; n <= 2000; ++n) {
+    soda::step(model, s);
+    const double an = std::pow(a, n);
+    const double v = v_inf * (1.0 - an);
+    const double y = y0 + v_inf * (n - a * (1.0 - an) / (1.0 - a));
+    REQUIRE(s.vy[0] == Approx(v).epsilon(1e-12).margin(1e-12));
+    REQUIRE(s.y[0] == Approx(y).epsilon(1e-12));
+    REQUIRE(s.x[0] == 500.0);
+    REQUIRE(s.vx[0] == 0.0);
+  }
+}
+
+TEST_CASE("the syrup threshold caps the speed at 20 px/frame", "[physics]") {
+  // Without air friction gravity 1 would reach 21 px/frame after 21 frames; the
+  // speed limiter scales it back to 20 (spec 5.3 step 2).
+  soda::ModelDef def = empty_world(1.0, 0.0, 0.2);
+  def.nodes.push_back(mass(500.0, 90000.0));
+  const soda::Model model = soda::build_model(def);
+  soda::State s = soda::make_state(model);
+  for (int n = 1; n <= 200; ++n) {
+    soda::step(model, s);
+    if (n < 20) REQUIRE(s.vy[0] == -static_cast<double>(n));
+    else REQUIRE(s.vy[0] == Approx(-20.0).epsilon(1e-15));
+  }
+}
+
+TEST_CASE("a single spring oscillates with the period the recurrence predicts", "[physics]") {
+  // One mass on a spring to a fixed node along x, no gravity, no friction. With
+  // e = L - R the update is v' = v - k*e, e' = e + v' (symplectic Euler): the
+  // matrix [[1, -k], [1, 1-k]] has det 1 and trace 2 - k, so the motion is
+  // e_n = e_0*cos(n*theta) + B*sin(n*theta), cos(theta) = 1 - k/2,
+  // B = -e_0*(k/2)/sin(theta) (from e_1 = (1-k)*e_0), period 2*pi/theta frames.
+  const double k = 0.2, rest = 100.0, e0 = 10.0;
+  soda::ModelDef def = empty_world(0.0, 0.0, k);
+  def.nodes.push_back({"n", true, 50000.0, 50000.0, 0, 0});
+  def.nodes.push_back(mass(50000.0 + rest + e0, 50000.0));
+  def.links.push_back({soda::LinkKind::Spring, 0, 1, rest, 0, 0});
+  const soda::Model model = soda::build_model(def);
+  soda::State s = soda::make_state(model);
+  const double theta = std::acos(1.0 - k / 2.0);
+  const double b = -e0 * (k / 2.0) / std::sin(theta);
+  const int mass_point = 0, node_point = 1;
+  REQUIRE(model.is_mass(mass_point));
+  int crossings = 0;
+  double first_crossing = -1, last_crossing = -1, previous_e = e0;
+  for (int n = 1; n <= 5000; ++n) {
+    soda::step(model, s);
+    const double e = (s.x[mass_point] - s.x[node_point]) - rest;
+    REQUIRE(e == Approx(e0 * std::cos(n * theta) + b * std::sin(n * theta)).margin(1e-8));
+    REQUIRE(s.y[mass_point] == 50000.0);
+    REQUIRE(s.x[node_point] == 50000.0); // fixed nodes never move
+    if ((previous_e > 0) != (e > 0)) {
+      const double t = (n - 1) + previous_e / (previous_e - e); // linear interpolation
+      if (crossings == 0) first_crossing = t;
+      last_crossing = t;
+      ++crossings;
+    }
+    previous_e = e;
+  }
+  const double measured_period = 2.0 * (last_crossing - first_crossing) / (crossings - 1);
+  CHECK(measured_period == Approx(2.0 * M_PI / theta).epsilon(1e-3));
+}
+
+TEST_CASE("without friction, gravity and walls, momentum is conserved", "[physics]") {
+  // Every link adds +c*d to one end and -c*d to the other (spec 5.2), so the sum of
+  // velocities only changes by rounding. A random creature with springs and muscles.
+  std::uint64_t seed = 12345;
+  auto uniform = [&seed]() { // SplitMix64 -> [0, 1)
+    std::uint64_t z = (seed += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  };
+  soda::ModelDef def = empty_world(0.0, 0.0, 0.1);
+  def.wave = {1.0, 0.3, 0.02};
+  const int masses = 12;
+  for (int i = 0; i < masses; ++i) {
+    def.nodes.push_back(mass(50000 + 100 * uniform(), 50000 + 100 * uniform(), uniform() - 0.5, uniform() - 0.5));
+  }
+  for (int i = 0; i < masses; ++i) {
+    for (int j = i + 1; j < masses; j += 3) {
+      const double dx = def.nodes[j].x - def.nodes[i].x, dy = def.nodes[j].y - def.nodes[i].y;
+      const bool muscle = (i + j) % 2 == 0;
+      def.links.push_back({muscle ? soda::LinkKind::Muscle : soda::LinkKind::Spring, i, j,
+                           std::sqrt(dx * dx + dy * dy) * (0.9 + 0.2 * uniform()), muscle ? 0.5 : 0.0,
+                           muscle ? uniform() : 0.0});
+    }
+  }
+  const soda::Model model = soda::build_model(def);
+  soda::State s = soda::make_state(model);
+  auto momentum = [&] {
+    double px = 0, py = 0;
+    for (int i = 0; i < model.mass_count; ++i) {
+      px += s.vx[i];
+      py += s.vy[i];
+    }
+    return std::pair{px, py};
+  };
+  const auto [px0, py0] = momentum();
+  double max_speed = 0;
+  for (int n = 0; n < 2000; ++n) {
+    soda::step(model, s);
+    const auto [px, py] = momentum();
+    REQUIRE(std::fabs(px - px0) < 1e-9);
+    REQUIRE(std::fabs(py - py0) < 1e-9);
+    for (int i = 0; i < model.mass_count; ++i) max_speed = std::max(max_speed, std::hypot(s.vx[i], s.vy[i]));
+  }
+  // The test is only meaningful if the creature moved and the speed limiter (which
+  // is a friction) never acted.
+  CHECK(max_speed > 0.5);
+  CHECK(max_speed < 20.0);
+}
+
+TEST_CASE("a mass at rest is not moved and fixed nodes ignore impulses", "[physics]") {
+  soda::ModelDef def = empty_world(0.0, 0.0, 0.5);
+  def.nodes.push_back(mass(100.0, 100.0, 5e-6, -5e-6)); // below the rest threshold 1e-5
+  const soda::Model model = soda::build_model(def);
+  soda::State s = soda::make_state(model);
+  soda::step(model, s);
+  CHECK(s.x[0] == 100.0);
+  CHECK(s.y[0] == 100.0);
+  CHECK(s.vx[0] == 5e-6); // the velocity is kept
+}

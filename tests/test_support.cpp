@@ -1,0 +1,61 @@
+#include "test_support.hpp"
+
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/model_file.hpp"
+
+namespace sodaevo::test {
+
+namespace fs = std::filesystem;
+
+fs::path data_dir() { return SODAEVO_TEST_DATA_DIR; }
+fs::path golden_dir() { return data_dir() / "soda" / "golden"; }
+fs::path models_dir() { return SODAEVO_MODELS_DIR; }
+fs::path shared_models_dir() {
+  fs::path p = fs::path(SODAEVO_SHARED_DIR) / "models" / "soda";
+  return fs::is_directory(p) ? p : fs::path();
+}
+
+std::vector<GoldenRow> read_golden_trace(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open " + path.string());
+  std::vector<GoldenRow> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    std::istringstream fields(line);
+    GoldenRow row;
+    fields >> row.wave_phase >> row.wave_mode;
+    double v;
+    while (fields >> v) row.values.push_back(v);
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
+std::vector<GoldenCentroid> read_golden_centroids(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) throw std::runtime_error("cannot open " + path.string());
+  std::vector<GoldenCentroid> rows;
+  GoldenCentroid r;
+  while (in >> r.frame >> r.mean_x >> r.mean_y >> r.wave_phase >> r.wave_mode) rows.push_back(r);
+  return rows;
+}
+
+std::vector<double> state_values(const soda::Model& model, const soda::State& state) {
+  std::vector<double> v;
+  for (int i = 0; i < model.mass_count; ++i) {
+    v.insert(v.end(), {state.x[i], state.y[i], state.vx[i], state.vy[i]});
+  }
+  return v;
+}
+
+Scene load_scene(const fs::path& path) {
+  soda::LoadedModel loaded = soda::read_model_file(path);
+  soda::Model model = soda::build_model(loaded.def);
+  return {std::move(loaded.def), std::move(model)};
+}
+
+} // namespace sodaevo::test

@@ -1,0 +1,45 @@
+// Shared helpers for the tests: where the data is, and reading golden traces.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/model.hpp"
+
+namespace sodaevo::test {
+
+std::filesystem::path data_dir();    ///< tests/data
+std::filesystem::path golden_dir();  ///< tests/data/soda/golden (copied from ../shared)
+std::filesystem::path models_dir();  ///< models/ (the bundled creatures)
+/// ../shared/models/soda if present (the developers' workspace), else empty.
+std::filesystem::path shared_models_dir();
+
+/// One row of a golden trace of the original engine: wave phase, wave mode, then
+/// x, y, vx, vy per mass (golden/README.md).
+struct GoldenRow {
+  double wave_phase = 0.0;
+  int wave_mode = 0;
+  std::vector<double> values; ///< x0 y0 vx0 vy0 x1 ...
+};
+std::vector<GoldenRow> read_golden_trace(const std::filesystem::path& path);
+
+/// One row of a golden centroid file: frame meanX meanY wavePhase waveMode.
+struct GoldenCentroid {
+  long long frame = 0;
+  double mean_x = 0.0, mean_y = 0.0, wave_phase = 0.0;
+  int wave_mode = 0;
+};
+std::vector<GoldenCentroid> read_golden_centroids(const std::filesystem::path& path);
+
+/// The state's values in golden-row order (x, y, vx, vy per free mass).
+std::vector<double> state_values(const soda::Model& model, const soda::State& state);
+
+/// Loads a model file and builds it (fails the test on any error).
+struct Scene {
+  soda::ModelDef def;
+  soda::Model model;
+};
+Scene load_scene(const std::filesystem::path& path);
+
+} // namespace sodaevo::test
