@@ -8,5 +8,8 @@ namespace sodaevo::app {
 
 void add_simulate_command(CLI::App& app);
 void add_convert_command(CLI::App& app);
+void add_evolve_command(CLI::App& app);
+void add_export_command(CLI::App& app);
+void add_replay_command(CLI::App& app);
 
 } // namespace sodaevo::app

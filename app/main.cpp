@@ -17,6 +17,9 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "sodaevo 0.1.0");
   sodaevo::app::add_simulate_command(app);
   sodaevo::app::add_convert_command(app);
+  sodaevo::app::add_evolve_command(app);
+  sodaevo::app::add_export_command(app);
+  sodaevo::app::add_replay_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

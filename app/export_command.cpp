@@ -1,0 +1,67 @@
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "app/commands.hpp"
+#include "core/input_error.hpp"
+#include "core/model_file.hpp"
+#include "core/number_text.hpp"
+#include "evolve/fitness.hpp"
+#include "evolve/run_config.hpp"
+#include "evolve/run_reader.hpp"
+
+namespace sodaevo::app {
+
+namespace {
+
+struct ExportOptions {
+  std::string run;
+  int best = 5;
+  std::string out;
+};
+
+void run_export(const ExportOptions& opt) {
+  const std::filesystem::path run(opt.run);
+  const RunConfig config = read_run_config(run / "config.json");
+  const std::vector<Individual> best = best_individuals(run, opt.best);
+  std::error_code ec;
+  std::filesystem::create_directories(opt.out, ec);
+  if (ec) throw soda::InputError(opt.out + ": cannot create the folder: " + ec.message());
+  std::printf("rank  id            fitness (px)   px/frame   file\n");
+  int rank = 0;
+  for (const Individual& ind : best) {
+    ++rank;
+    soda::ModelDef prepared = prepare_for_evaluation(ind.creature, config.fitness, config.world);
+    prepared.name = ind.id;
+    prepared.comment = "sodaevo " + ind.id + " from " + run.filename().string() + ": fitness " +
+                       soda::format_double_plain(ind.evaluation.fitness) + " (centroid moved " +
+                       soda::format_double_plain(ind.evaluation.distance) + " px in " +
+                       std::to_string(config.fitness.frames) + " frames after " +
+                       std::to_string(config.fitness.settle_frames) + " settle frames)";
+    char name[64];
+    std::snprintf(name, sizeof name, "rank%02d_%s.xml", rank, ind.id.c_str());
+    const std::filesystem::path file = std::filesystem::path(opt.out) / name;
+    soda::write_model_file(file, prepared);
+    std::printf("%4d  %-12s  %12.3f   %8.4f   %s\n", rank, ind.id.c_str(), ind.evaluation.fitness,
+                ind.evaluation.distance / static_cast<double>(config.fitness.frames), file.string().c_str());
+  }
+}
+
+} // namespace
+
+void add_export_command(CLI::App& app) {
+  auto opt = std::make_shared<ExportOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "export",
+      "Write the best creatures of a run as SodaConstructor v1 XML, prepared exactly as they\n"
+      "were evaluated (world, Sodarace scaling, wide container, wave forward, autoreverse off),\n"
+      "so SodaConstructor and `sodaevo simulate` run them the same way.");
+  cmd->add_option("run", opt->run, "Run folder")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("--best", opt->best, "How many distinct creatures")->default_val(5)->check(CLI::Range(1, 100000));
+  cmd->add_option("--out", opt->out, "Output folder")->required();
+  cmd->callback([opt] { run_export(*opt); });
+}
+
+} // namespace sodaevo::app

@@ -1,0 +1,75 @@
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "app/commands.hpp"
+#include "core/input_error.hpp"
+#include "core/number_text.hpp"
+#include "evolve/fitness.hpp"
+#include "evolve/parallel_for.hpp"
+#include "evolve/run_config.hpp"
+#include "evolve/run_reader.hpp"
+
+namespace sodaevo::app {
+
+namespace {
+
+struct ReplayOptions {
+  std::string run;
+  int generation = -1;
+  int threads = 0;
+};
+
+int run_replay(const ReplayOptions& opt) {
+  const std::filesystem::path run(opt.run);
+  const RunConfig config = read_run_config(run / "config.json");
+  int generation = opt.generation;
+  if (generation < 0) {
+    const std::vector<int> saved = saved_generations(run);
+    if (saved.empty()) throw soda::InputError(opt.run + ": no saved generation to replay");
+    generation = saved.back();
+  }
+  const Generation g = read_saved_generation(run, generation);
+  std::vector<Evaluation> replayed(g.individuals.size());
+  parallel_for_index(g.individuals.size(), resolve_thread_count(opt.threads),
+                     [&](std::size_t i) { replayed[i] = evaluate_creature(g.individuals[i].creature, config); });
+  int mismatches = 0;
+  for (std::size_t i = 0; i < replayed.size(); ++i) {
+    const Evaluation& logged = g.individuals[i].evaluation;
+    const Evaluation& now = replayed[i];
+    const bool same = logged.status == now.status &&
+                      (!now.ok() || soda::format_double_plain(logged.fitness) == soda::format_double_plain(now.fitness));
+    if (!same) {
+      ++mismatches;
+      std::printf("MISMATCH %s: logged %s, replayed %s %s\n", g.individuals[i].id.c_str(),
+                  soda::format_double_plain(logged.fitness).c_str(), soda::format_double_plain(now.fitness).c_str(),
+                  now.reason.c_str());
+    }
+  }
+  std::printf("generation %d: %zu creatures replayed, %zu reproduce the logged fitness exactly, %d differ\n", generation,
+              replayed.size(), replayed.size() - static_cast<std::size_t>(mismatches), mismatches);
+  return mismatches == 0 ? 0 : 3;
+}
+
+} // namespace
+
+void add_replay_command(CLI::App& app) {
+  auto opt = std::make_shared<ReplayOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "replay",
+      "Re-simulate every creature of a saved generation and check that each reproduces its\n"
+      "logged fitness bit for bit (exit code 3 if any differs).");
+  cmd->add_option("run", opt->run, "Run folder")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("--generation,-g", opt->generation, "Saved generation to replay (default: the last saved)")
+      ->check(CLI::Range(0, 100000000));
+  cmd->add_option("--threads", opt->threads, "Threads (0 = all cores)")->default_val(0)->check(CLI::Range(0, 1024));
+  cmd->callback([opt] {
+    const int code = run_replay(*opt);
+    if (code != 0) throw CLI::RuntimeError(code);
+  });
+}
+
+} // namespace sodaevo::app

@@ -1,0 +1,92 @@
+#include "evolution_run.hpp"
+
+#include <chrono>
+
+#include "core/input_error.hpp"
+#include "core/model_file.hpp"
+#include "evolve/genetic_algorithm.hpp"
+#include "evolve/variation.hpp"
+
+namespace sodaevo {
+
+std::vector<soda::ModelDef> load_seed_creatures(const RunConfig& config) {
+  std::vector<soda::ModelDef> seeds;
+  for (const std::string& path : config.population.seed_models) {
+    try {
+      seeds.push_back(creature_from_seed(soda::read_model_file(path).def, config));
+    } catch (const soda::InputError& e) {
+      throw soda::InputError(std::string(e.what()) + " (seed model " + path + ")");
+    }
+  }
+  return seeds;
+}
+
+EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const EvolutionOptions& options) {
+  const RunConfig& config = store.config();
+  using Clock = std::chrono::steady_clock;
+  const auto started = Clock::now();
+  EvolutionOutcome outcome;
+
+  Generation current;
+  double previous_wall = 0.0;
+  long long evaluations = 0;
+  bool need_evaluation = true;
+  if (std::optional<Checkpoint> checkpoint = store.read_checkpoint()) {
+    store.truncate_logs_after(checkpoint->generation.index);
+    current = std::move(checkpoint->generation);
+    evaluations = checkpoint->evaluations;
+    previous_wall = checkpoint->wall_seconds;
+    need_evaluation = false; // the checkpoint holds an evaluated generation
+    outcome.last_generation = current.index;
+  } else {
+    current = initial_generation(config, load_seed_creatures(config));
+  }
+  auto wall = [&] { return previous_wall + std::chrono::duration<double>(Clock::now() - started).count(); };
+
+  outcome.stopped_because = "completed";
+  for (;;) {
+    if (need_evaluation) {
+      const auto t0 = Clock::now();
+      const long long done = evaluator.evaluate(current, config);
+      const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+      evaluations += done;
+      const GenerationStats stats = summarize(current, evaluations);
+      const bool last = current.index + 1 >= config.budget.generations;
+      const bool save_whole = last || (config.save.generation_every > 0 && current.index % config.save.generation_every == 0);
+      store.record_generation(current, stats, wall(), seconds, done, save_whole);
+      if (last || current.index % config.save.checkpoint_every == 0) {
+        store.write_checkpoint({current, evaluations, wall()});
+      }
+      outcome.last_generation = current.index;
+      if (options.on_generation) {
+        options.on_generation({current.index, config.budget.generations, stats, wall(),
+                               seconds > 0 ? static_cast<double>(done) / seconds : 0.0});
+      }
+    }
+    need_evaluation = true;
+
+    const int next_index = current.index + 1;
+    const long long next_cost = config.population.size - config.selection.elites;
+    std::string stop;
+    if (next_index >= config.budget.generations) stop = "completed";
+    else if (config.budget.max_evaluations > 0 && evaluations + next_cost > config.budget.max_evaluations) stop = "evaluation budget";
+    else if (config.budget.max_wall_seconds > 0 && wall() >= config.budget.max_wall_seconds) stop = "wall-time budget";
+    else if (options.stop_requested && options.stop_requested->load()) stop = "interrupted";
+    if (!stop.empty()) {
+      // Whatever stopped the run, the last generation is saved whole and checkpointed.
+      const GenerationStats stats = summarize(current, evaluations);
+      store.write_checkpoint({current, evaluations, wall()});
+      store.save_generation(current);
+      outcome.stopped_because = stop;
+      outcome.evaluations = evaluations;
+      if (stats.best_index >= 0) {
+        outcome.best_id = current.individuals[static_cast<std::size_t>(stats.best_index)].id;
+        outcome.best_fitness = stats.best;
+      }
+      return outcome;
+    }
+    current = next_generation(config, current);
+  }
+}
+
+} // namespace sodaevo

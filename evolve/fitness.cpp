@@ -1,0 +1,165 @@
+#include "fitness.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <vector>
+
+#include "core/input_error.hpp"
+#include "core/model.hpp"
+#include "core/step.hpp"
+#include "evolve/creature_graph.hpp"
+
+namespace sodaevo {
+
+std::optional<std::string> check_creature(const soda::ModelDef& c, const LimitsConfig& limits) {
+  const int masses = static_cast<int>(c.nodes.size());
+  if (masses < limits.min_masses) {
+    return "has " + std::to_string(masses) + " masses, fewer than limits.min_masses " + std::to_string(limits.min_masses);
+  }
+  if (masses > limits.max_masses) {
+    return "has " + std::to_string(masses) + " masses, more than limits.max_masses " + std::to_string(limits.max_masses);
+  }
+  if (static_cast<int>(c.links.size()) > limits.max_links) {
+    return "has " + std::to_string(c.links.size()) + " links, more than limits.max_links " + std::to_string(limits.max_links);
+  }
+  if (c.links.empty()) return "has no links";
+  for (const soda::NodeDef& n : c.nodes) {
+    if (n.fixed) return "has a fixed node ('" + n.id + "'); creatures are free masses only";
+  }
+  for (const soda::LinkDef& l : c.links) {
+    if (l.kind == soda::LinkKind::FixedBar) return "has a fixed bar; creatures have springs and muscles only";
+    if (l.a < 0 || l.b < 0 || l.a >= masses || l.b >= masses || l.a == l.b) return "has a link with bad ends";
+  }
+  if (!is_connected(c)) return "is not connected (some masses are not linked to the rest)";
+  return std::nullopt;
+}
+
+std::optional<double> sodarace_scale(const soda::ModelDef& c) {
+  double sum = 0.0;
+  bool any = false;
+  for (const soda::LinkDef& l : c.links) {
+    if (l.kind == soda::LinkKind::FixedBar) continue;
+    double lmax = l.rest_length;
+    if (l.kind == soda::LinkKind::Muscle) lmax = l.rest_length * (1.0 + l.amplitude * c.wave.amplitude);
+    sum += lmax * lmax;
+    any = true;
+  }
+  if (!any || !(sum > 0.0) || !std::isfinite(sum)) return std::nullopt;
+  return 211.0 / std::sqrt(sum);
+}
+
+namespace {
+
+bool evolves(const WorldConfig& world, const char* name) {
+  return std::find(world.evolve.begin(), world.evolve.end(), name) != world.evolve.end();
+}
+
+} // namespace
+
+soda::ModelDef prepare_for_evaluation(const soda::ModelDef& creature, const FitnessConfig& fitness,
+                                      const WorldConfig& world) {
+  soda::ModelDef m = creature;
+  if (!evolves(world, "gravity")) m.environment.gravity = world.gravity;
+  if (!evolves(world, "friction")) m.environment.friction = world.friction;
+  if (!evolves(world, "springyness")) m.environment.springyness = world.springyness;
+  if (!evolves(world, "surface_friction")) m.collisions.surface_friction = world.surface_friction;
+  if (!evolves(world, "surface_reflection")) m.collisions.surface_reflection = world.surface_reflection;
+  m.settings.gravity_direction = world.gravity_direction;
+  m.settings.wave_direction = soda::WaveDirection::Forward;
+  m.settings.autoreverse = false;
+
+  if (fitness.scaling == FitnessScaling::Sodarace) {
+    const std::optional<double> s = sodarace_scale(m);
+    if (!s) throw soda::InputError("cannot scale: the creature has no springs or muscles of non-zero length");
+    for (soda::NodeDef& n : m.nodes) {
+      n.x *= *s;
+      n.y *= *s;
+      n.vx *= *s;
+      n.vy *= *s;
+    }
+    for (soda::LinkDef& l : m.links) l.rest_length *= *s;
+    m.environment.gravity *= *s;
+    if (!soda::kGravityRange.contains(m.environment.gravity)) {
+      throw soda::InputError("Sodarace scaling by " + std::to_string(*s) + " gives gravity " +
+                             std::to_string(m.environment.gravity) + ", above the original's limit 4 (creature too small)");
+    }
+  }
+
+  // Place the creature: leftmost mass at the middle of a container wide enough
+  // that no mass can reach a side wall (speed is at most 20 px/frame), lowest mass
+  // drop_height above the floor, and a ceiling out of reach too.
+  double min_x = INFINITY, max_x = -INFINITY, min_y = INFINITY, max_y = -INFINITY;
+  for (const soda::NodeDef& n : m.nodes) {
+    min_x = std::min(min_x, n.x);
+    max_x = std::max(max_x, n.x);
+    min_y = std::min(min_y, n.y);
+    max_y = std::max(max_y, n.y);
+  }
+  const double reach = soda::kSyrupThreshold * static_cast<double>(fitness.frames + fitness.settle_frames + 1);
+  const double extent_x = max_x - min_x, extent_y = max_y - min_y;
+  const double width = std::ceil(2.0 * (reach + extent_x) + 100.0);
+  const double height = std::ceil(reach + extent_y + fitness.drop_height + 100.0);
+  if (!(width <= soda::kMaxContainerSide && height <= soda::kMaxContainerSide)) {
+    throw soda::InputError("the evaluation needs a container wider than the format allows (too many frames)");
+  }
+  m.width = static_cast<int>(width);
+  m.height = static_cast<int>(height);
+  const double dx = std::floor(width / 2.0 - extent_x / 2.0) - min_x;
+  const double dy = fitness.drop_height - min_y;
+  for (soda::NodeDef& n : m.nodes) {
+    n.x += dx;
+    n.y += dy;
+  }
+  return m;
+}
+
+Evaluation evaluate_prepared(const soda::ModelDef& prepared, const FitnessConfig& fitness) {
+  Evaluation e;
+  soda::Model model;
+  try {
+    model = soda::build_model(prepared);
+  } catch (const std::exception& ex) {
+    e.reason = ex.what();
+    return e;
+  }
+  soda::State state = soda::make_state(model);
+  soda::run(model, state, fitness.settle_frames);
+  const soda::Point2 start = soda::mass_centroid(model, state);
+  soda::run(model, state, fitness.frames);
+  const soda::Point2 end = soda::mass_centroid(model, state);
+  for (int i = 0; i < model.mass_count; ++i) {
+    if (!std::isfinite(state.x[i]) || !std::isfinite(state.y[i]) || !std::isfinite(state.vx[i]) ||
+        !std::isfinite(state.vy[i])) {
+      e.status = EvaluationStatus::Diverged;
+      e.reason = "non-finite state of mass " + std::to_string(i) + " at frame " + std::to_string(state.frame);
+      return e;
+    }
+  }
+  e.distance = end.x - start.x;
+  e.px_per_frame = e.distance / static_cast<double>(fitness.frames);
+  switch (fitness.direction) {
+    case WalkDirection::Right: e.fitness = e.distance; break;
+    case WalkDirection::Left: e.fitness = -e.distance; break;
+    case WalkDirection::Either: e.fitness = std::fabs(e.distance); break;
+  }
+  e.status = EvaluationStatus::Ok;
+  return e;
+}
+
+Evaluation evaluate_creature(const soda::ModelDef& creature, const RunConfig& config) {
+  if (std::optional<std::string> why = check_creature(creature, config.limits)) {
+    Evaluation e;
+    e.reason = "creature " + *why;
+    return e;
+  }
+  try {
+    return evaluate_prepared(prepare_for_evaluation(creature, config.fitness, config.world), config.fitness);
+  } catch (const std::exception& ex) {
+    Evaluation e;
+    e.reason = ex.what();
+    return e;
+  }
+}
+
+} // namespace sodaevo

@@ -1,0 +1,37 @@
+// Individuals and generations: a creature with its identity, ancestry and score.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/model_def.hpp"
+#include "evolve/fitness.hpp"
+
+namespace sodaevo {
+
+struct Individual {
+  std::string id;                   ///< "g<generation>-<index>", unique in a run
+  std::vector<std::string> parents; ///< ids of the parents (empty for gen-0 creatures)
+  soda::ModelDef creature;          ///< the genome, in canonical form
+  Evaluation evaluation;
+  bool evaluated = false;           ///< elites carry their evaluation over
+};
+
+struct Generation {
+  int index = 0;
+  std::vector<Individual> individuals;
+};
+
+/// Summary of an evaluated generation (over the creatures that are Ok).
+struct GenerationStats {
+  int generation = 0;
+  long long evaluations = 0; ///< cumulative evaluations in the run so far
+  double best = kWorstFitness, mean = kWorstFitness, median = kWorstFitness, worst = kWorstFitness;
+  int invalid = 0;
+  int diverged = 0;
+  int best_index = -1;       ///< index of the best individual (ties: lowest index)
+};
+
+GenerationStats summarize(const Generation& generation, long long evaluations);
+
+} // namespace sodaevo

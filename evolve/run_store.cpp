@@ -1,0 +1,272 @@
+#include "run_store.hpp"
+
+#include <chrono>
+#include <cstdio>
+#include <ctime>
+#include <fstream>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+#include <pugixml.hpp>
+
+#include "core/atomic_file.hpp"
+#include "core/input_error.hpp"
+#include "core/model_file.hpp"
+#include "core/number_text.hpp"
+#include "evolve/fitness.hpp"
+
+namespace sodaevo {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kGenerationsHeader = "generation,evaluations,best,mean,median,worst,invalid,diverged,best_id\n";
+constexpr const char* kTimingHeader = "generation,evaluations,wall_seconds,evaluations_per_second\n";
+
+const char* status_name(EvaluationStatus s) {
+  switch (s) {
+    case EvaluationStatus::Ok: return "ok";
+    case EvaluationStatus::Invalid: return "invalid";
+    case EvaluationStatus::Diverged: return "diverged";
+  }
+  return "invalid";
+}
+
+EvaluationStatus parse_status(const std::string& s, const std::string& where) {
+  if (s == "ok") return EvaluationStatus::Ok;
+  if (s == "invalid") return EvaluationStatus::Invalid;
+  if (s == "diverged") return EvaluationStatus::Diverged;
+  throw soda::InputError(where + ": status: expected ok, invalid or diverged, got '" + s + "'");
+}
+
+double parse_number_or_inf(const std::string& s, const std::string& where) {
+  if (s == "-inf") return kWorstFitness;
+  if (std::optional<double> v = soda::parse_double(s)) return *v;
+  throw soda::InputError(where + ": expected a number, got '" + s + "'");
+}
+
+std::string xml_escape(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+std::string join(const std::vector<std::string>& v, char sep) {
+  std::string out;
+  for (std::size_t i = 0; i < v.size(); ++i) out += (i ? std::string(1, sep) : "") + v[i];
+  return out;
+}
+
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  std::string cur;
+  std::istringstream in(s);
+  while (std::getline(in, cur, sep)) {
+    if (!cur.empty()) out.push_back(cur);
+  }
+  return out;
+}
+
+/// The <model>...</model> element of a written model, without prolog.
+std::string model_element(const soda::ModelDef& creature, const std::string& attributes) {
+  const std::string text = soda::write_model_text(creature);
+  const std::size_t start = text.find("<model>");
+  std::string element = text.substr(start);
+  element.replace(0, 7, "<model " + attributes + ">");
+  return element;
+}
+
+std::string now_iso8601() {
+  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
+}
+
+std::vector<std::pair<int, std::string>> read_rows(const fs::path& path) {
+  std::vector<std::pair<int, std::string>> rows;
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line); // header
+  while (std::getline(in, line)) {
+    if (line.empty()) continue;
+    rows.emplace_back(std::atoi(line.c_str()), line + "\n");
+  }
+  return rows;
+}
+
+} // namespace
+
+std::string generation_file_name(int generation) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "gen_%05d.xml", generation);
+  return buf;
+}
+
+std::string generation_to_xml(const Generation& g) {
+  std::string out = "<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?>\n<generation index=\"" +
+                    std::to_string(g.index) + "\">\n";
+  for (const Individual& ind : g.individuals) {
+    const Evaluation& e = ind.evaluation;
+    std::string attrs = "id=\"" + xml_escape(ind.id) + "\" parents=\"" + xml_escape(join(ind.parents, ' ')) +
+                        "\" status=\"" + status_name(e.status) + "\" fitness=\"" +
+                        soda::format_double_plain(e.fitness) + "\" distance=\"" +
+                        soda::format_double_plain(e.distance) + "\" reason=\"" + xml_escape(e.reason) + "\"";
+    out += model_element(ind.creature, attrs);
+  }
+  out += "</generation>\n";
+  return out;
+}
+
+Generation generation_from_xml(const std::string& text, const std::string& source) {
+  pugi::xml_document doc;
+  const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size());
+  if (!parsed) throw soda::InputError(source + ": not a saved generation: " + parsed.description());
+  const pugi::xml_node root = doc.child("generation");
+  if (!root) throw soda::InputError(source + ": expected a <generation> root element");
+  Generation g;
+  g.index = root.attribute("index").as_int(-1);
+  if (g.index < 0) throw soda::InputError(source + ": <generation>: expected an index attribute >= 0");
+  for (pugi::xml_node m : root.children("model")) {
+    Individual ind;
+    ind.id = m.attribute("id").value();
+    const std::string where = source + ": model '" + ind.id + "'";
+    ind.parents = split(m.attribute("parents").value(), ' ');
+    ind.evaluation.status = parse_status(m.attribute("status").value(), where);
+    ind.evaluation.fitness = parse_number_or_inf(m.attribute("fitness").value(), where + ": fitness");
+    ind.evaluation.distance = parse_number_or_inf(m.attribute("distance").value(), where + ": distance");
+    ind.evaluation.reason = m.attribute("reason").value();
+    ind.evaluated = true;
+    std::ostringstream element;
+    m.print(element, "\t", pugi::format_raw);
+    ind.creature = soda::read_model_text(element.str(), where).def;
+    g.individuals.push_back(std::move(ind));
+  }
+  return g;
+}
+
+RunStore RunStore::create(const fs::path& dir, const RunConfig& config, bool force, const std::string& command_line) {
+  std::error_code ec;
+  if (fs::exists(dir, ec) && !fs::is_empty(dir, ec)) {
+    if (!force) {
+      throw soda::InputError(dir.string() + ": the run folder exists already; use --resume to continue it or --force to replace it");
+    }
+    for (const char* name : {"config.json", "manifest.json", "generations.csv", "timing.csv", "checkpoint.json"}) {
+      fs::remove(dir / name, ec);
+    }
+    fs::remove_all(dir / "best", ec);
+    fs::remove_all(dir / "generations", ec);
+  }
+  fs::create_directories(dir / "best", ec);
+  if (ec) throw soda::InputError(dir.string() + ": cannot create the run folder: " + ec.message());
+  fs::create_directories(dir / "generations", ec);
+  if (ec) throw soda::InputError(dir.string() + ": cannot create the run folder: " + ec.message());
+
+  RunStore store(dir, config);
+  soda::write_file_atomically(dir / "config.json", to_json(config).dump(2) + "\n");
+  nlohmann::json manifest = {{"program", "sodaevo"},
+                             {"version", "0.1.0"},
+                             {"compiler", std::string("g++ ") + __VERSION__},
+                             {"seed", config.seed},
+                             {"started", now_iso8601()},
+                             {"command", command_line}};
+  soda::write_file_atomically(dir / "manifest.json", manifest.dump(2) + "\n");
+  store.write_logs();
+  return store;
+}
+
+RunStore RunStore::open(const fs::path& dir) {
+  if (!fs::is_directory(dir)) throw soda::InputError(dir.string() + ": no such run folder");
+  RunStore store(dir, read_run_config(dir / "config.json"));
+  store.generation_rows_ = read_rows(dir / "generations.csv");
+  store.timing_rows_ = read_rows(dir / "timing.csv");
+  return store;
+}
+
+void RunStore::write_logs() const {
+  std::string gen = kGenerationsHeader, timing = kTimingHeader;
+  for (const auto& [g, row] : generation_rows_) gen += row;
+  for (const auto& [g, row] : timing_rows_) timing += row;
+  soda::write_file_atomically(dir_ / "generations.csv", gen);
+  soda::write_file_atomically(dir_ / "timing.csv", timing);
+}
+
+void RunStore::truncate_logs_after(int generation) {
+  std::erase_if(generation_rows_, [&](const auto& r) { return r.first > generation; });
+  std::erase_if(timing_rows_, [&](const auto& r) { return r.first > generation; });
+  write_logs();
+}
+
+void RunStore::record_generation(const Generation& g, const GenerationStats& s, double wall_seconds,
+                                 double generation_seconds, long long generation_evaluations, bool save_whole) {
+  using soda::format_double_plain;
+  const std::string best_id = s.best_index >= 0 ? g.individuals[static_cast<std::size_t>(s.best_index)].id : "";
+  std::erase_if(generation_rows_, [&](const auto& r) { return r.first >= g.index; });
+  std::erase_if(timing_rows_, [&](const auto& r) { return r.first >= g.index; });
+  generation_rows_.emplace_back(
+      g.index, std::to_string(g.index) + "," + std::to_string(s.evaluations) + "," + format_double_plain(s.best) + "," +
+                   format_double_plain(s.mean) + "," + format_double_plain(s.median) + "," +
+                   format_double_plain(s.worst) + "," + std::to_string(s.invalid) + "," +
+                   std::to_string(s.diverged) + "," + best_id + "\n");
+  const double rate = generation_seconds > 0 ? static_cast<double>(generation_evaluations) / generation_seconds : 0.0;
+  timing_rows_.emplace_back(g.index, std::to_string(g.index) + "," + std::to_string(s.evaluations) + "," +
+                                         format_double_plain(wall_seconds) + "," + format_double_plain(rate) + "\n");
+  if (save_whole) save_generation(g);
+  if (s.best_index >= 0) {
+    const Individual& best = g.individuals[static_cast<std::size_t>(s.best_index)];
+    soda::ModelDef prepared = prepare_for_evaluation(best.creature, config_.fitness, config_.world);
+    prepared.name = best.id;
+    prepared.comment = "sodaevo " + best.id + ": fitness " + format_double_plain(best.evaluation.fitness) +
+                       " (centroid moved " + format_double_plain(best.evaluation.distance) + " px in " +
+                       std::to_string(config_.fitness.frames) + " frames after " +
+                       std::to_string(config_.fitness.settle_frames) + " settle frames)";
+    soda::write_model_file(dir_ / "best" / generation_file_name(g.index), prepared);
+  }
+  write_logs();
+}
+
+void RunStore::save_generation(const Generation& g) const {
+  soda::write_file_atomically(dir_ / "generations" / generation_file_name(g.index), generation_to_xml(g));
+}
+
+void RunStore::write_checkpoint(const Checkpoint& c) {
+  nlohmann::json j = {{"format", "sodaevo-checkpoint-1"},
+                      {"generation", c.generation.index},
+                      {"evaluations", c.evaluations},
+                      {"wall_seconds", c.wall_seconds},
+                      {"population_xml", generation_to_xml(c.generation)}};
+  soda::write_file_atomically(dir_ / "checkpoint.json", j.dump() + "\n");
+}
+
+std::optional<Checkpoint> RunStore::read_checkpoint() const {
+  const fs::path path = dir_ / "checkpoint.json";
+  if (!fs::exists(path)) return std::nullopt;
+  const std::string text = soda::read_whole_file(path);
+  try {
+    const nlohmann::json j = nlohmann::json::parse(text);
+    if (j.at("format") != "sodaevo-checkpoint-1") throw soda::InputError("unknown checkpoint format");
+    Checkpoint c;
+    c.generation = generation_from_xml(j.at("population_xml").get<std::string>(), path.string());
+    c.evaluations = j.at("evaluations").get<long long>();
+    c.wall_seconds = j.at("wall_seconds").get<double>();
+    if (c.generation.index != j.at("generation").get<int>()) throw soda::InputError("generation index mismatch");
+    return c;
+  } catch (const nlohmann::json::exception& e) {
+    throw soda::InputError(path.string() + ": corrupt checkpoint: " + e.what());
+  } catch (const soda::InputError& e) {
+    throw soda::InputError(path.string() + ": corrupt checkpoint: " + e.what());
+  }
+}
+
+} // namespace sodaevo

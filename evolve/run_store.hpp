@@ -1,0 +1,77 @@
+// RunStore: the run folder, the only place a run's results live.
+//
+//   config.json        the resolved config (every default filled in)
+//   manifest.json      version, compiler, seed, start time, command line
+//   generations.csv    generation,evaluations,best,mean,median,worst,invalid,diverged,best_id
+//   timing.csv         generation,evaluations,wall_seconds,evaluations_per_second
+//                      (apart, so everything else is byte-identical between runs)
+//   best/gen_NNNNN.xml the best creature of each generation, prepared as evaluated
+//                      (plain SodaConstructor XML the original runs the same way)
+//   generations/gen_NNNNN.xml  whole saved generations: <generation> holding one
+//                      SodaConstructor <model> per creature (the genome) with id,
+//                      parents, status, fitness, distance and reason attributes
+//   checkpoint.json    the last fully evaluated generation, for --resume
+//
+// Every file is written atomically (temporary file, then rename), so after a crash
+// each file is either the old or the new version, complete.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "evolve/population.hpp"
+#include "evolve/run_config.hpp"
+
+namespace sodaevo {
+
+struct Checkpoint {
+  Generation generation;       ///< evaluated
+  long long evaluations = 0;   ///< cumulative
+  double wall_seconds = 0.0;   ///< cumulative
+};
+
+class RunStore {
+ public:
+  /// A new run folder. Refuses an existing non-empty folder unless `force` (then
+  /// its run files are replaced). Writes config.json and manifest.json.
+  static RunStore create(const std::filesystem::path& dir, const RunConfig& config, bool force,
+                         const std::string& command_line);
+  /// An existing run folder: reads config.json; the rows of the CSV logs after the
+  /// checkpoint (written before a crash) are dropped.
+  static RunStore open(const std::filesystem::path& dir);
+
+  [[nodiscard]] const RunConfig& config() const { return config_; }
+  [[nodiscard]] const std::filesystem::path& dir() const { return dir_; }
+
+  /// Logs an evaluated generation: CSV rows, best creature, the whole generation
+  /// if `save_whole`.
+  void record_generation(const Generation& g, const GenerationStats& stats, double wall_seconds,
+                         double generation_seconds, long long generation_evaluations, bool save_whole);
+  /// Writes generations/gen_NNNNN.xml for an evaluated generation.
+  void save_generation(const Generation& g) const;
+  void write_checkpoint(const Checkpoint& checkpoint);
+  /// The checkpoint, or nullopt if none was written yet. Throws InputError if corrupt.
+  [[nodiscard]] std::optional<Checkpoint> read_checkpoint() const;
+  /// Drops log rows of generations after `generation` (used on resume).
+  void truncate_logs_after(int generation);
+
+ private:
+  RunStore(std::filesystem::path dir, RunConfig config) : dir_(std::move(dir)), config_(std::move(config)) {}
+  void write_logs() const;
+
+  std::filesystem::path dir_;
+  RunConfig config_;
+  std::vector<std::pair<int, std::string>> generation_rows_; ///< (generation, csv row)
+  std::vector<std::pair<int, std::string>> timing_rows_;
+};
+
+/// File name of generation g ("gen_00042.xml").
+std::string generation_file_name(int generation);
+
+/// A whole generation as XML text, and back. Creatures round-trip exactly.
+std::string generation_to_xml(const Generation& g);
+Generation generation_from_xml(const std::string& text, const std::string& source);
+
+} // namespace sodaevo
