@@ -19,7 +19,8 @@ ModelDef canonical_form(const ModelDef& def) {
       if (def.nodes[i].fixed != fixed_pass) continue;
       NodeDef node = def.nodes[i];
       int index = static_cast<int>(out.nodes.size());
-      node.id = (node.fixed ? "n" : "m") + std::to_string(index);
+      node.id = node.fixed ? "n" : "m";
+      node.id += std::to_string(index);
       new_index[i] = index;
       out.nodes.push_back(std::move(node));
     }

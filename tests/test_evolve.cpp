@@ -1,0 +1,203 @@
+// The genetic algorithm and its run store: determinism, resume, replay, export.
+#include <catch2/catch.hpp>
+
+#include <atomic>
+#include <cmath>
+#include <filesystem>
+
+#include "core/atomic_file.hpp"
+#include "core/model_file.hpp"
+#include "evolve/creature_graph.hpp"
+#include "evolve/evaluator.hpp"
+#include "evolve/evolution_run.hpp"
+#include "evolve/fitness.hpp"
+#include "evolve/rng.hpp"
+#include "evolve/run_reader.hpp"
+#include "evolve/run_store.hpp"
+#include "evolve/variation.hpp"
+#include "test_support.hpp"
+
+using namespace sodaevo;
+namespace fs = std::filesystem;
+
+namespace {
+
+RunConfig small_config() {
+  RunConfig c;
+  c.name = "test";
+  c.seed = 42;
+  c.population.size = 12;
+  c.population.seed_models = {fs::absolute(test::models_dir() / "dainty_walker.xml").string()};
+  c.population.random_fraction = 0.5;
+  c.budget.generations = 5;
+  c.fitness.frames = 400;
+  c.fitness.settle_frames = 50;
+  c.crossover_rate = 0.3;
+  c.save.generation_every = 2;
+  return c;
+}
+
+fs::path fresh_dir(const std::string& name) {
+  fs::path d = fs::temp_directory_path() / ("sodaevo_evolve_test_" + std::to_string(::getpid())) / name;
+  fs::remove_all(d);
+  return d;
+}
+
+fs::path run_to_end(const RunConfig& config, const std::string& name, int threads) {
+  const fs::path dir = fresh_dir(name);
+  RunStore store = RunStore::create(dir, config, false, "test");
+  ThreadEvaluator evaluator(threads);
+  run_evolution(store, evaluator, {});
+  return dir;
+}
+
+std::string file(const fs::path& p) { return soda::read_whole_file(p); }
+
+void require_same_results(const fs::path& a, const fs::path& b) {
+  CHECK(file(a / "generations.csv") == file(b / "generations.csv"));
+  const auto saved = saved_generations(a);
+  REQUIRE(!saved.empty());
+  CHECK(saved == saved_generations(b));
+  for (int g : saved) {
+    INFO("generation " << g);
+    CHECK(file(a / "generations" / generation_file_name(g)) == file(b / "generations" / generation_file_name(g)));
+    CHECK(file(a / "best" / generation_file_name(g)) == file(b / "best" / generation_file_name(g)));
+  }
+}
+
+} // namespace
+
+TEST_CASE("SplitMix64 matches the reference sequence", "[evolve]") {
+  // Published test vector of SplitMix64 (Vigna's splitmix64.c) for seed 1234567.
+  Rng rng(1234567);
+  CHECK(rng.next_u64() == 6457827717110365317ull);
+  CHECK(rng.next_u64() == 3203168211198807973ull);
+  CHECK(rng.next_u64() == 9817491932198370423ull);
+  CHECK(rng.next_u64() == 4593380528125082431ull);
+  CHECK(rng.next_u64() == 16408922859458223821ull);
+  Rng r2 = Rng::stream(1, 2, 3, 4);
+  double lo = 1, hi = 0, sum = 0;
+  for (int i = 0; i < 100000; ++i) {
+    const double u = r2.uniform();
+    lo = std::min(lo, u);
+    hi = std::max(hi, u);
+    sum += u;
+    const auto k = r2.below(7);
+    REQUIRE(k < 7);
+  }
+  CHECK(lo >= 0.0);
+  CHECK(hi < 1.0);
+  CHECK(sum / 100000 == Approx(0.5).margin(0.01));
+}
+
+TEST_CASE("Sodarace scaling: a single spring is scaled to length 211", "[evolve]") {
+  // Spec 3.2: s = 211/sqrt(sum Lmax^2); for one spring of rest R, s = 211/R.
+  soda::ModelDef c;
+  c.nodes = {{"m0", false, 0, 0, 0, 0}, {"m1", false, 50, 0, 0, 0}};
+  c.links = {{soda::LinkKind::Spring, 0, 1, 50.0, 0, 0}};
+  REQUIRE(sodarace_scale(c).has_value());
+  CHECK(*sodarace_scale(c) == Approx(211.0 / 50.0).epsilon(1e-15));
+  c.links[0] = {soda::LinkKind::Muscle, 0, 1, 50.0, 0.5, 0.0};
+  c.wave.amplitude = 0.4; // Lmax = 50*(1 + 0.5*0.4) = 60
+  CHECK(*sodarace_scale(c) == Approx(211.0 / 60.0).epsilon(1e-15));
+}
+
+TEST_CASE("variation keeps creatures valid and exact through XML", "[evolve]") {
+  const RunConfig config = small_config();
+  for (std::uint64_t i = 0; i < 300; ++i) {
+    Rng rng = Rng::stream(7, i);
+    soda::ModelDef c = random_creature(config, rng);
+    INFO("creature " << i);
+    REQUIRE_FALSE(check_creature(c, config.limits).has_value());
+    soda::ModelDef other = random_creature(config, rng);
+    for (int k = 0; k < 20; ++k) {
+      mutate(c, config, rng);
+      if (k % 5 == 0) c = crossover(c, other, config, rng);
+      REQUIRE_FALSE(check_creature(c, config.limits).has_value());
+      for (const soda::LinkDef& l : c.links) {
+        REQUIRE(l.amplitude >= 0.0);
+        REQUIRE(l.amplitude <= 1.0);
+        REQUIRE(l.phase >= 0.0);
+        REQUIRE(l.phase < 1.0);
+      }
+    }
+    REQUIRE(c == soda::canonical_form(c));
+    REQUIRE(soda::read_model_text(soda::write_model_text(c), "mem").def == c);
+  }
+}
+
+TEST_CASE("same config and seed: identical results with 1 and 2 threads", "[evolve]") {
+  const RunConfig config = small_config();
+  const fs::path one = run_to_end(config, "one", 1);
+  const fs::path two = run_to_end(config, "two", 2);
+  require_same_results(one, two);
+  // The run must have done something worth comparing.
+  const std::string csv = file(one / "generations.csv");
+  CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + config.budget.generations);
+  fs::remove_all(one.parent_path());
+}
+
+TEST_CASE("an interrupted run resumes to exactly the uninterrupted result", "[evolve]") {
+  RunConfig config = small_config();
+  config.save.generation_every = 1;
+  const fs::path whole = run_to_end(config, "whole", 2);
+
+  const fs::path dir = fresh_dir("interrupted");
+  {
+    RunStore store = RunStore::create(dir, config, false, "test");
+    ThreadEvaluator evaluator(2);
+    std::atomic<bool> stop{false};
+    EvolutionOptions options;
+    options.stop_requested = &stop;
+    options.on_generation = [&](const Progress& p) {
+      if (p.generation == 2) stop = true;
+    };
+    const EvolutionOutcome o = run_evolution(store, evaluator, options);
+    CHECK(o.stopped_because == "interrupted");
+    CHECK(o.last_generation == 2);
+  }
+  {
+    RunStore store = RunStore::open(dir);
+    CHECK(store.config() == config);
+    ThreadEvaluator evaluator(1);
+    const EvolutionOutcome o = run_evolution(store, evaluator, {});
+    CHECK(o.stopped_because == "completed");
+  }
+  require_same_results(whole, dir);
+  fs::remove_all(dir.parent_path());
+}
+
+TEST_CASE("replay and export reproduce the logged fitness exactly", "[evolve]") {
+  const RunConfig config = small_config();
+  const fs::path dir = run_to_end(config, "replay", 2);
+  int checked = 0;
+  for (int g : saved_generations(dir)) {
+    const Generation gen = read_saved_generation(dir, g);
+    for (const Individual& ind : gen.individuals) {
+      const Evaluation again = evaluate_creature(ind.creature, config);
+      REQUIRE(again.status == ind.evaluation.status);
+      if (again.ok()) REQUIRE(again.fitness == ind.evaluation.fitness);
+      ++checked;
+    }
+  }
+  CHECK(checked >= 2 * config.population.size);
+  // Exported (prepared) XML, read back and simulated, scores the logged fitness.
+  for (const Individual& ind : best_individuals(dir, 3)) {
+    const soda::ModelDef prepared = prepare_for_evaluation(ind.creature, config.fitness, config.world);
+    const fs::path out = dir / (ind.id + ".xml");
+    soda::write_model_file(out, prepared);
+    const Evaluation e = evaluate_prepared(soda::read_model_file(out).def, config.fitness);
+    REQUIRE(e.ok());
+    CHECK(e.fitness == ind.evaluation.fitness);
+  }
+  fs::remove_all(dir.parent_path());
+}
+
+TEST_CASE("an existing run folder is refused without --force", "[evolve]") {
+  const RunConfig config = small_config();
+  const fs::path dir = fresh_dir("exists");
+  RunStore::create(dir, config, false, "test");
+  CHECK_THROWS_WITH(RunStore::create(dir, config, false, "test"), Catch::Contains("exists already"));
+  CHECK_NOTHROW(RunStore::create(dir, config, true, "test"));
+  fs::remove_all(dir.parent_path());
+}
