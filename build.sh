@@ -38,9 +38,9 @@ case "${1:-}" in
   build) install_deps; build ;;
   run)
     install_deps; build
-    # The main job. Until the genetic algorithm lands, it runs the bundled Dainty
-    # Walker for 10,000 frames and reports how far and how fast it walked.
-    "$BUILD_DIR/sodaevo" simulate models/dainty_walker.xml --frames 10000
+    # The main job: evolve walkers from the default config into
+    # results/default-<timestamp>/, then show how the Dainty Walker does.
+    "$BUILD_DIR/sodaevo" evolve configs/default.json
     ;;
   test)
     install_deps; build
