@@ -33,13 +33,7 @@ void run_export(const ExportOptions& opt) {
   int rank = 0;
   for (const Individual& ind : best) {
     ++rank;
-    soda::ModelDef prepared = prepare_for_evaluation(ind.creature, config.fitness, config.world);
-    prepared.name = ind.id;
-    prepared.comment = "sodaevo " + ind.id + " from " + run.filename().string() + ": fitness " +
-                       soda::format_double_plain(ind.evaluation.fitness) + " (centroid moved " +
-                       soda::format_double_plain(ind.evaluation.distance) + " px in " +
-                       std::to_string(config.fitness.frames) + " frames after " +
-                       std::to_string(config.fitness.settle_frames) + " settle frames)";
+    const soda::ModelDef prepared = export_form(ind.creature, ind.id, ind.evaluation, config);
     char name[64];
     std::snprintf(name, sizeof name, "rank%02d_%s.xml", rank, ind.id.c_str());
     const std::filesystem::path file = std::filesystem::path(opt.out) / name;

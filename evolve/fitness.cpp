@@ -7,6 +7,7 @@
 
 #include "core/input_error.hpp"
 #include "core/model.hpp"
+#include "core/number_text.hpp"
 #include "core/step.hpp"
 #include "evolve/creature_graph.hpp"
 
@@ -112,6 +113,17 @@ soda::ModelDef prepare_for_evaluation(const soda::ModelDef& creature, const Fitn
     n.y += dy;
   }
   return m;
+}
+
+soda::ModelDef export_form(const soda::ModelDef& creature, const std::string& id, const Evaluation& evaluation,
+                           const RunConfig& config) {
+  soda::ModelDef prepared = prepare_for_evaluation(creature, config.fitness, config.world);
+  prepared.name = id;
+  prepared.comment = "sodaevo " + id + ": fitness " + soda::format_double_plain(evaluation.fitness) +
+                     " (centroid moved " + soda::format_double_plain(evaluation.distance) + " px in " +
+                     std::to_string(config.fitness.frames) + " frames after " +
+                     std::to_string(config.fitness.settle_frames) + " settle frames)";
+  return prepared;
 }
 
 Evaluation evaluate_prepared(const soda::ModelDef& prepared, const FitnessConfig& fitness) {

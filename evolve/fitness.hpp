@@ -47,6 +47,11 @@ std::optional<double> sodarace_scale(const soda::ModelDef& creature);
 soda::ModelDef prepare_for_evaluation(const soda::ModelDef& creature, const FitnessConfig& fitness,
                                       const WorldConfig& world);
 
+/// The prepared model with name = `id` and a comment stating the score and how it
+/// was measured: what `export` and the run store's best/ files hold.
+soda::ModelDef export_form(const soda::ModelDef& creature, const std::string& id, const Evaluation& evaluation,
+                           const RunConfig& config);
+
 /// Runs a prepared model: settle, then score. Never throws for physics reasons.
 Evaluation evaluate_prepared(const soda::ModelDef& prepared, const FitnessConfig& fitness);
 

@@ -225,12 +225,7 @@ void RunStore::record_generation(const Generation& g, const GenerationStats& s, 
   if (save_whole) save_generation(g);
   if (s.best_index >= 0) {
     const Individual& best = g.individuals[static_cast<std::size_t>(s.best_index)];
-    soda::ModelDef prepared = prepare_for_evaluation(best.creature, config_.fitness, config_.world);
-    prepared.name = best.id;
-    prepared.comment = "sodaevo " + best.id + ": fitness " + format_double_plain(best.evaluation.fitness) +
-                       " (centroid moved " + format_double_plain(best.evaluation.distance) + " px in " +
-                       std::to_string(config_.fitness.frames) + " frames after " +
-                       std::to_string(config_.fitness.settle_frames) + " settle frames)";
+    const soda::ModelDef prepared = export_form(best.creature, best.id, best.evaluation, config_);
     soda::write_model_file(dir_ / "best" / generation_file_name(g.index), prepared);
   }
   write_logs();
