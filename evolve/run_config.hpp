@@ -147,9 +147,9 @@ struct RunConfig {
 const std::vector<std::string>& world_parameter_names();
 
 /// The JSON spellings of the enums ("right", "sodarace", "down", ...).
-std::string to_string(WalkDirection d);
-std::string to_string(FitnessScaling s);
-std::string to_string(soda::GravityDirection d);
+std::string direction_name(WalkDirection d);
+std::string scaling_name(FitnessScaling s);
+std::string gravity_direction_name(soda::GravityDirection d);
 
 /// Parses and validates a config. `source` names the file in messages; relative
 /// seed-model paths are resolved against `base_dir` (the config's folder).

@@ -1,0 +1,753 @@
+// RunConfig from and to JSON (see run_config.hpp and configs/README.md).
+//
+// One table lists every key by its JSON pointer, in document order, with its type
+// and range; parsing, the unknown-key check and to_json are all driven by it, so a
+// key cannot be known to one and forgotten by another. Validation never stops at
+// the first problem: every error is collected and reported together.
+#include "run_config.hpp"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <string_view>
+#include <system_error>
+#include <variant>
+
+#include "core/input_error.hpp"
+#include "core/number_text.hpp"
+
+namespace sodaevo {
+
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// --- the key table --------------------------------------------------------------
+
+enum class Kind {
+  Integer,          ///< an integral JSON number within [lo, hi]
+  Number,           ///< any JSON number within the range (ends open or closed)
+  Name,             ///< /name
+  Preset,           ///< /preset (not stored; resolved into /world/evolve)
+  Comment,          ///< /comment, /$schema: a string, ignored
+  SeedModels,       ///< /population/seed_models
+  Direction,        ///< /fitness/direction
+  Scaling,          ///< /fitness/scaling
+  GravityDirection, ///< /world/gravity_direction
+  WorldEvolve,      ///< /world/evolve
+};
+
+using Accessor = std::variant<std::monostate, int& (*)(RunConfig&), long long& (*)(RunConfig&),
+                              std::uint64_t& (*)(RunConfig&), double& (*)(RunConfig&)>;
+
+#define SODAEVO_FIELD(member) +[](RunConfig& c) -> decltype(auto) { return (c.member); }
+
+constexpr double kTwoPow53 = 9007199254740992.0;
+
+struct Field {
+  const char* pointer;
+  Kind kind;
+  Accessor access{};
+  double lo = 0.0;
+  double hi = 0.0;
+  bool lo_open = false;
+  bool hi_open = false;
+};
+
+Field integer(const char* p, Accessor a, double lo, double hi) {
+  return {p, Kind::Integer, a, lo, hi};
+}
+Field number(const char* p, Accessor a, double lo, double hi, bool lo_open = false) {
+  return {p, Kind::Number, a, lo, hi, lo_open, false};
+}
+Field number(const char* p, Accessor a, soda::Range r) { return number(p, a, r.min, r.max); }
+Field special(const char* p, Kind k) { return {p, k}; }
+
+const std::vector<Field>& fields() {
+  static const std::vector<Field> table = {
+      special("/name", Kind::Name),
+      integer("/seed", SODAEVO_FIELD(seed), 0, kTwoPow53),
+      integer("/generations", SODAEVO_FIELD(budget.generations), 1, 1e6),
+      special("/preset", Kind::Preset),
+
+      integer("/population/size", SODAEVO_FIELD(population.size), 2, 100000),
+      special("/population/seed_models", Kind::SeedModels),
+      number("/population/random_fraction", SODAEVO_FIELD(population.random_fraction), 0, 1),
+      integer("/population/random/masses_min", SODAEVO_FIELD(population.random.masses_min), 2, 10000),
+      integer("/population/random/masses_max", SODAEVO_FIELD(population.random.masses_max), 2, 10000),
+      number("/population/random/extra_links_per_mass",
+             SODAEVO_FIELD(population.random.extra_links_per_mass), 0, 20),
+      number("/population/random/muscle_fraction", SODAEVO_FIELD(population.random.muscle_fraction), 0, 1),
+      number("/population/random/size", SODAEVO_FIELD(population.random.size), 0, 10000, true),
+
+      integer("/selection/tournament_size", SODAEVO_FIELD(selection.tournament_size), 1, 100000),
+      integer("/selection/elites", SODAEVO_FIELD(selection.elites), 0, 99999),
+
+      number("/crossover/rate", SODAEVO_FIELD(crossover_rate), 0, 1),
+
+      number("/mutation/muscle_phase/rate", SODAEVO_FIELD(mutation.muscle_phase_rate), 0, 1),
+      number("/mutation/muscle_phase/sigma", SODAEVO_FIELD(mutation.muscle_phase_sigma), 0, 1, true),
+      number("/mutation/muscle_amplitude/rate", SODAEVO_FIELD(mutation.muscle_amplitude_rate), 0, 1),
+      number("/mutation/muscle_amplitude/sigma", SODAEVO_FIELD(mutation.muscle_amplitude_sigma), 0, 1, true),
+      number("/mutation/rest_length/rate", SODAEVO_FIELD(mutation.rest_length_rate), 0, 1),
+      number("/mutation/rest_length/sigma", SODAEVO_FIELD(mutation.rest_length_sigma), 0, 1, true),
+      number("/mutation/wave/rate", SODAEVO_FIELD(mutation.wave_rate), 0, 1),
+      number("/mutation/wave/speed_sigma", SODAEVO_FIELD(mutation.wave_speed_sigma), 0,
+             soda::kWaveMaxUiSpeed, true),
+      number("/mutation/wave/amplitude_sigma", SODAEVO_FIELD(mutation.wave_amplitude_sigma), 0, 1, true),
+      number("/mutation/move_mass/rate", SODAEVO_FIELD(mutation.move_mass_rate), 0, 1),
+      number("/mutation/move_mass/sigma", SODAEVO_FIELD(mutation.move_mass_sigma), 0, 1000, true),
+      number("/mutation/add_link/rate", SODAEVO_FIELD(mutation.add_link_rate), 0, 1),
+      number("/mutation/remove_link/rate", SODAEVO_FIELD(mutation.remove_link_rate), 0, 1),
+      number("/mutation/toggle_muscle/rate", SODAEVO_FIELD(mutation.toggle_muscle_rate), 0, 1),
+      number("/mutation/add_mass/rate", SODAEVO_FIELD(mutation.add_mass_rate), 0, 1),
+      number("/mutation/remove_mass/rate", SODAEVO_FIELD(mutation.remove_mass_rate), 0, 1),
+      number("/mutation/world/rate", SODAEVO_FIELD(mutation.world_rate), 0, 1),
+      number("/mutation/world/sigma", SODAEVO_FIELD(mutation.world_sigma), 0, 1, true),
+
+      integer("/limits/min_masses", SODAEVO_FIELD(limits.min_masses), 2, 10000),
+      integer("/limits/max_masses", SODAEVO_FIELD(limits.max_masses), 2, 10000),
+      integer("/limits/max_links", SODAEVO_FIELD(limits.max_links), 1, 100000),
+
+      integer("/budget/evaluations", SODAEVO_FIELD(budget.max_evaluations), 0, kTwoPow53),
+      number("/budget/wall_seconds", SODAEVO_FIELD(budget.max_wall_seconds), 0, 1e9),
+
+      integer("/fitness/frames", SODAEVO_FIELD(fitness.frames), 1, 1e7),
+      integer("/fitness/settle_frames", SODAEVO_FIELD(fitness.settle_frames), 0, 1e7),
+      special("/fitness/direction", Kind::Direction),
+      special("/fitness/scaling", Kind::Scaling),
+      number("/fitness/drop_height", SODAEVO_FIELD(fitness.drop_height), 0, 1000),
+
+      number("/world/gravity", SODAEVO_FIELD(world.gravity), soda::kGravityRange),
+      number("/world/friction", SODAEVO_FIELD(world.friction), soda::kFrictionRange),
+      number("/world/springyness", SODAEVO_FIELD(world.springyness), soda::kSpringynessRange),
+      number("/world/surface_friction", SODAEVO_FIELD(world.surface_friction), soda::kSurfaceFrictionRange),
+      number("/world/surface_reflection", SODAEVO_FIELD(world.surface_reflection),
+             soda::kSurfaceReflectionRange),
+      special("/world/gravity_direction", Kind::GravityDirection),
+      special("/world/evolve", Kind::WorldEvolve),
+
+      integer("/save/generation_every", SODAEVO_FIELD(save.generation_every), 0, 1e6),
+      integer("/save/checkpoint_every", SODAEVO_FIELD(save.checkpoint_every), 1, 1e6),
+
+      special("/comment", Kind::Comment),
+      special("/$schema", Kind::Comment),
+  };
+  return table;
+}
+
+#undef SODAEVO_FIELD
+
+/// The object structure implied by the table: for each object's pointer ("" is
+/// the top level), its keys in document order.
+struct KeyTree {
+  std::map<std::string, std::vector<std::string>> children;
+};
+
+const KeyTree& key_tree() {
+  static const KeyTree tree = [] {
+    KeyTree t;
+    for (const Field& f : fields()) {
+      const std::string p = f.pointer;
+      std::size_t start = 0;
+      while (start < p.size()) {
+        const std::size_t slash = p.find('/', start + 1);
+        const std::string parent = p.substr(0, start);
+        const std::string token =
+            p.substr(start + 1, (slash == std::string::npos ? p.size() : slash) - start - 1);
+        auto& kids = t.children[parent];
+        if (std::find(kids.begin(), kids.end(), token) == kids.end()) kids.push_back(token);
+        if (slash == std::string::npos) break;
+        start = slash;
+      }
+    }
+    return t;
+  }();
+  return tree;
+}
+
+// --- text helpers ---------------------------------------------------------------
+
+/// RFC 6901 escaping of one reference token.
+std::string escape_token(const std::string& key) {
+  std::string out;
+  for (char c : key) {
+    if (c == '~') out += "~0";
+    else if (c == '/') out += "~1";
+    else out += c;
+  }
+  return out;
+}
+
+std::string show_pointer(const std::string& pointer) {
+  return pointer.empty() ? "(top level)" : pointer;
+}
+
+/// A JSON value as it appears in a message (long values shortened).
+std::string show(const json& v) {
+  std::string s = v.dump(-1, ' ', false, json::error_handler_t::replace);
+  constexpr std::size_t kMax = 120;
+  if (s.size() > kMax) s = s.substr(0, kMax) + "...";
+  return s;
+}
+
+/// A range bound as a person writes it: integers without exponent or ".0".
+std::string bound_text(double v) {
+  if (std::abs(v) <= kTwoPow53 && v == std::floor(v)) {
+    return std::to_string(static_cast<long long>(v));
+  }
+  return soda::format_double_plain(v);
+}
+
+std::string range_text(const Field& f) {
+  return std::string(f.lo_open ? "(" : "[") + bound_text(f.lo) + ", " + bound_text(f.hi) +
+         (f.hi_open ? ")" : "]");
+}
+
+std::string quoted_list(const std::vector<std::string>& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    if (i > 0) out += (i + 1 == names.size()) ? " or " : ", ";
+    out += '"' + names[i] + '"';
+  }
+  return out;
+}
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diagonal = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      const std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diagonal = up;
+    }
+  }
+  return row[b.size()];
+}
+
+bool is_valid_name(const std::string& s) {
+  if (s.empty() || s.size() > 64) return false;
+  if (s.find_first_not_of('.') == std::string::npos) return false; // "." and ".." are no folder names
+  return std::all_of(s.begin(), s.end(), [](char c) {
+    return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '.' || c == '-';
+  });
+}
+
+template <class E>
+struct EnumName {
+  E value;
+  const char* name;
+};
+
+constexpr EnumName<WalkDirection> kDirections[] = {
+    {WalkDirection::Right, "right"}, {WalkDirection::Left, "left"}, {WalkDirection::Either, "either"}};
+constexpr EnumName<FitnessScaling> kScalings[] = {
+    {FitnessScaling::Sodarace, "sodarace"}, {FitnessScaling::None, "none"}};
+constexpr EnumName<soda::GravityDirection> kGravityDirections[] = {
+    {soda::GravityDirection::Down, "down"},
+    {soda::GravityDirection::Up, "up"},
+    {soda::GravityDirection::Off, "off"}};
+
+template <class E, std::size_t N>
+std::string enum_name(const EnumName<E> (&names)[N], E value) {
+  for (const auto& n : names) {
+    if (n.value == value) return n.name;
+  }
+  return "?";
+}
+
+template <class E, std::size_t N>
+std::vector<std::string> enum_names(const EnumName<E> (&names)[N]) {
+  std::vector<std::string> out;
+  for (const auto& n : names) out.emplace_back(n.name);
+  return out;
+}
+
+// --- JSON syntax ----------------------------------------------------------------
+
+/// nlohmann's parse_error message without its "[json.exception...] parse error at
+/// line L, column C: " prefix (we compute the location ourselves).
+std::string strip_nlohmann_prefix(const std::string& what) {
+  std::string s = what;
+  if (s.rfind("[json.exception.", 0) == 0) {
+    const std::size_t close = s.find("] ");
+    if (close != std::string::npos) s = s.substr(close + 2);
+  }
+  const std::size_t column = s.find(", column ");
+  if (s.rfind("parse error", 0) == 0 && column != std::string::npos) {
+    const std::size_t colon = s.find(": ", column);
+    if (colon != std::string::npos) s = s.substr(colon + 2);
+  }
+  return s;
+}
+
+/// Location text "line:column" of a byte offset; a UTF-8 byte order mark at the
+/// start of the text is not counted as columns of line 1.
+std::string location_text(const std::string& text, std::ptrdiff_t offset) {
+  soda::TextLocation loc = soda::locate_offset(text, offset);
+  if (loc.line == 1 && text.rfind("\xEF\xBB\xBF", 0) == 0) loc.column = std::max(1L, loc.column - 3);
+  return std::to_string(loc.line) + ":" + std::to_string(loc.column);
+}
+
+/// Offset of a number token outside strings, or -1 (nlohmann reports a number too
+/// large for a double without a position).
+std::ptrdiff_t find_number_token(const std::string& text, const std::string& token) {
+  if (token.empty()) return -1;
+  auto in_number = [](char c) {
+    return (c >= '0' && c <= '9') || c == '.' || c == 'e' || c == 'E' || c == '+' || c == '-';
+  };
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\') ++i;
+      else if (c == '"') in_string = false;
+      continue;
+    }
+    if (c == '"') {
+      in_string = true;
+      continue;
+    }
+    if (text.compare(i, token.size(), token) == 0 && (i == 0 || !in_number(text[i - 1])) &&
+        (i + token.size() >= text.size() || !in_number(text[i + token.size()]))) {
+      return static_cast<std::ptrdiff_t>(i);
+    }
+  }
+  return -1;
+}
+
+// --- the parser -----------------------------------------------------------------
+
+class ConfigReader {
+ public:
+  ConfigReader(const std::string& source, const fs::path& base_dir)
+      : source_(source), base_dir_(base_dir) {}
+
+  RunConfig read(const std::string& text) {
+    const json root = parse_json(text);
+    check_structure(root, "");
+    if (!root.is_object()) throw_errors(); // nothing more to say about it
+    for (const Field& f : fields()) {
+      if (const json* v = find(root, f.pointer)) read_field(f, *v);
+    }
+    resolve_world_evolve();
+    check_cross_fields();
+    if (!errors_.empty()) throw_errors();
+    return config_;
+  }
+
+ private:
+  [[noreturn]] void throw_errors() const {
+    std::string all;
+    for (const std::string& e : errors_) {
+      if (!all.empty()) all += '\n';
+      all += e;
+    }
+    throw soda::InputError(all);
+  }
+
+  void error(const std::string& pointer, const std::string& message) {
+    errors_.push_back(source_ + ": " + show_pointer(pointer) + ": " + message);
+    bad_.insert(pointer);
+  }
+  void expected(const std::string& pointer, const std::string& what, const json& got) {
+    error(pointer, "expected " + what + ", got " + show(got));
+  }
+  bool ok(const std::string& pointer) const { return bad_.count(pointer) == 0; }
+  bool given(const std::string& pointer) const { return present_.count(pointer) != 0; }
+
+  // Parses the text; duplicate keys are collected as errors, syntax errors throw.
+  json parse_json(const std::string& text) {
+    struct Frame {
+      bool is_object;
+      std::set<std::string> keys;
+      std::string token; ///< the member being parsed (key or element index)
+      std::size_t elements = 0;
+    };
+    std::vector<Frame> stack;
+    auto path_of = [&stack]() {
+      std::string p;
+      for (std::size_t i = 0; i + 1 < stack.size(); ++i) p += "/" + stack[i].token;
+      return p;
+    };
+    auto begin_value = [&stack]() {
+      if (!stack.empty() && !stack.back().is_object) {
+        stack.back().token = std::to_string(stack.back().elements++);
+      }
+    };
+    const json::parser_callback_t callback = [&](int, json::parse_event_t event, json& parsed) {
+      switch (event) {
+        case json::parse_event_t::object_start:
+        case json::parse_event_t::array_start:
+          begin_value();
+          stack.push_back(Frame{event == json::parse_event_t::object_start, {}, {}, 0});
+          break;
+        case json::parse_event_t::object_end:
+        case json::parse_event_t::array_end:
+          if (!stack.empty()) stack.pop_back();
+          break;
+        case json::parse_event_t::key: {
+          Frame& top = stack.back();
+          const std::string key = parsed.get<std::string>();
+          top.token = escape_token(key);
+          if (!top.keys.insert(key).second) {
+            std::string p = path_of();
+            p += "/" + top.token;
+            error(p, "duplicate key (a key may appear only once in an object)");
+          }
+          break;
+        }
+        case json::parse_event_t::value:
+          begin_value();
+          break;
+      }
+      return true;
+    };
+    try {
+      return json::parse(text, callback, /*allow_exceptions=*/true, /*ignore_comments=*/false);
+    } catch (const json::parse_error& e) {
+      const auto offset = static_cast<std::ptrdiff_t>(e.byte) - 1;
+      throw soda::InputError(source_ + ":" + location_text(text, offset) +
+                             ": invalid JSON: " + strip_nlohmann_prefix(e.what()));
+    } catch (const json::out_of_range& e) {
+      // "number overflow parsing '1e400'": the only out_of_range the parser throws.
+      const std::string what = e.what();
+      const std::size_t q1 = what.find('\'');
+      const std::size_t q2 = what.rfind('\'');
+      const std::string token = (q1 != std::string::npos && q2 > q1) ? what.substr(q1 + 1, q2 - q1 - 1) : "";
+      const std::ptrdiff_t at = find_number_token(text, token);
+      const std::string where = at >= 0 ? source_ + ":" + location_text(text, at) : source_;
+      throw soda::InputError(where + ": invalid JSON: number " + token + " is too large");
+    }
+  }
+
+  // Unknown keys and members that should be objects but are not.
+  void check_structure(const json& v, const std::string& pointer) {
+    const auto& tree = key_tree().children;
+    const auto& known = tree.at(pointer);
+    if (!v.is_object()) {
+      expected(pointer, "an object with keys " + join(known), v);
+      return;
+    }
+    for (const auto& [key, value] : v.items()) {
+      const std::string child = pointer + "/" + escape_token(key);
+      if (std::find(known.begin(), known.end(), key) == known.end()) {
+        std::string message = "unknown key (expected one of: " + join(known) + ")";
+        std::string best;
+        std::size_t best_distance = 3;
+        for (const std::string& k : known) {
+          const std::size_t d = edit_distance(key, k);
+          if (d < best_distance) {
+            best_distance = d;
+            best = k;
+          }
+        }
+        if (!best.empty()) message += "; did you mean \"" + best + "\"?";
+        error(child, message);
+      } else if (tree.count(child) != 0) {
+        check_structure(value, child);
+      }
+    }
+  }
+
+  static std::string join(const std::vector<std::string>& names) {
+    std::string out;
+    for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+    return out;
+  }
+
+  // The value at a table pointer, if every object on the way is there.
+  const json* find(const json& root, const std::string& pointer) {
+    const json* at = &root;
+    std::size_t start = 0;
+    while (start < pointer.size()) {
+      const std::size_t slash = pointer.find('/', start + 1);
+      const std::string token =
+          pointer.substr(start + 1, (slash == std::string::npos ? pointer.size() : slash) - start - 1);
+      if (!at->is_object()) return nullptr;
+      const auto it = at->find(token);
+      if (it == at->end()) return nullptr;
+      at = &*it;
+      if (slash == std::string::npos) break;
+      start = slash;
+    }
+    present_.insert(pointer);
+    return at;
+  }
+
+  void read_field(const Field& f, const json& v) {
+    const std::string p = f.pointer;
+    switch (f.kind) {
+      case Kind::Integer: {
+        const std::string what = "an integer in " + range_text(f);
+        long long n = 0;
+        if (v.is_number_unsigned()) {
+          const auto u = v.get<std::uint64_t>();
+          if (u > static_cast<std::uint64_t>(f.hi)) return expected(p, what, v);
+          n = static_cast<long long>(u);
+        } else if (v.is_number_integer()) {
+          n = v.get<std::int64_t>();
+        } else if (v.is_number_float()) {
+          const double d = v.get<double>();
+          if (d != std::floor(d) || d < f.lo || d > f.hi) return expected(p, what, v);
+          n = static_cast<long long>(d);
+        } else {
+          return expected(p, what, v);
+        }
+        if (static_cast<double>(n) < f.lo || static_cast<double>(n) > f.hi) return expected(p, what, v);
+        std::visit(
+            [&](auto access) {
+              using A = decltype(access);
+              if constexpr (std::is_same_v<A, int& (*)(RunConfig&)>) access(config_) = static_cast<int>(n);
+              else if constexpr (std::is_same_v<A, long long& (*)(RunConfig&)>) access(config_) = n;
+              else if constexpr (std::is_same_v<A, std::uint64_t& (*)(RunConfig&)>)
+                access(config_) = static_cast<std::uint64_t>(n);
+            },
+            f.access);
+        return;
+      }
+      case Kind::Number: {
+        const std::string what = "a number in " + range_text(f);
+        if (!v.is_number()) return expected(p, what, v);
+        const double d = v.get<double>();
+        const bool above_lo = f.lo_open ? d > f.lo : d >= f.lo;
+        const bool below_hi = f.hi_open ? d < f.hi : d <= f.hi;
+        if (!std::isfinite(d) || !above_lo || !below_hi) return expected(p, what, v);
+        std::get<double& (*)(RunConfig&)>(f.access)(config_) = d;
+        return;
+      }
+      case Kind::Name:
+        if (!v.is_string() || !is_valid_name(v.get<std::string>())) {
+          return expected(p, "a name of 1 to 64 characters from A-Z a-z 0-9 _ . - (not only dots)", v);
+        }
+        config_.name = v.get<std::string>();
+        return;
+      case Kind::Preset:
+        if (v == "sodarace") preset_sodarace_ = true;
+        else if (v != "none") expected(p, "one of " + quoted_list({"none", "sodarace"}), v);
+        return;
+      case Kind::Comment:
+        if (!v.is_string()) expected(p, "a string (ignored)", v);
+        return;
+      case Kind::SeedModels:
+        return read_seed_models(v);
+      case Kind::Direction:
+        return read_enum(p, v, kDirections, config_.fitness.direction);
+      case Kind::Scaling:
+        return read_enum(p, v, kScalings, config_.fitness.scaling);
+      case Kind::GravityDirection:
+        return read_enum(p, v, kGravityDirections, config_.world.gravity_direction);
+      case Kind::WorldEvolve:
+        return read_world_evolve(v);
+    }
+  }
+
+  template <class E, std::size_t N>
+  void read_enum(const std::string& p, const json& v, const EnumName<E> (&names)[N], E& out) {
+    if (v.is_string()) {
+      for (const auto& n : names) {
+        if (v.get<std::string>() == n.name) {
+          out = n.value;
+          return;
+        }
+      }
+    }
+    expected(p, "one of " + quoted_list(enum_names(names)), v);
+  }
+
+  void read_seed_models(const json& v) {
+    const std::string p = "/population/seed_models";
+    if (!v.is_array()) return expected(p, "an array of model file paths", v);
+    std::vector<std::string> models;
+    bool all_ok = true;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const std::string pi = p + "/" + std::to_string(i);
+      const json& item = v[i];
+      if (!item.is_string() || item.get<std::string>().empty()) {
+        expected(pi, "a model file path", item);
+        all_ok = false;
+        continue;
+      }
+      const fs::path given = fs::path(item.get<std::string>());
+      std::error_code ec;
+      fs::path resolved = fs::absolute(given.is_absolute() ? given : base_dir_ / given, ec);
+      if (ec) resolved = base_dir_ / given;
+      resolved = resolved.lexically_normal();
+      if (!fs::is_regular_file(resolved, ec)) {
+        std::string what = "an existing model file";
+        if (resolved.string() != item.get<std::string>()) what += " (looked for " + resolved.string() + ")";
+        expected(pi, what, item);
+        all_ok = false;
+        continue;
+      }
+      models.push_back(resolved.string());
+    }
+    if (all_ok) config_.population.seed_models = std::move(models);
+    else bad_.insert(p);
+  }
+
+  void read_world_evolve(const json& v) {
+    const std::string p = "/world/evolve";
+    const auto& allowed = world_parameter_names();
+    if (!v.is_array()) return expected(p, "an array of world parameter names", v);
+    std::set<std::string> chosen;
+    bool all_ok = true;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const std::string pi = p + "/" + std::to_string(i);
+      const json& item = v[i];
+      if (!item.is_string() ||
+          std::find(allowed.begin(), allowed.end(), item.get<std::string>()) == allowed.end()) {
+        expected(pi, "one of " + quoted_list(allowed), item);
+        all_ok = false;
+      } else if (!chosen.insert(item.get<std::string>()).second) {
+        expected(pi, "a world parameter not listed before", item);
+        all_ok = false;
+      }
+    }
+    if (!all_ok) {
+      bad_.insert(p);
+      return;
+    }
+    config_.world.evolve.clear();
+    for (const std::string& name : allowed) {
+      if (chosen.count(name) != 0) config_.world.evolve.push_back(name);
+    }
+  }
+
+  void resolve_world_evolve() {
+    if (preset_sodarace_ && !given("/world/evolve")) config_.world.evolve = world_parameter_names();
+  }
+
+  // An integer that must lie in [lo, hi] because of other keys; `why` names them.
+  void check_between(const char* pointer, long long value, long long lo, long long hi, const std::string& why) {
+    if (bad_.count(pointer) != 0 || (value >= lo && value <= hi)) return;
+    expected(pointer,
+             "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "] (" + why + ")",
+             json(value));
+  }
+
+  void check_cross_fields() {
+    // Each rule runs only when the keys it relates are valid so far (ok() is
+    // asked again after every rule), so one mistake gives one message.
+    const RunConfig& c = config_;
+    if (ok("/limits/min_masses") && ok("/limits/max_masses")) {
+      check_between("/limits/min_masses", c.limits.min_masses, 2, c.limits.max_masses,
+                    "at most /limits/max_masses");
+    }
+    if (ok("/population/random/masses_max") && ok("/limits/max_masses")) {
+      check_between("/population/random/masses_max", c.population.random.masses_max, 2,
+                    c.limits.max_masses, "at most /limits/max_masses");
+    }
+    if (ok("/population/random/masses_min") && ok("/population/random/masses_max") &&
+        ok("/limits/min_masses")) {
+      check_between("/population/random/masses_min", c.population.random.masses_min,
+                    c.limits.min_masses, c.population.random.masses_max,
+                    "from /limits/min_masses to /population/random/masses_max");
+    }
+    const bool population_size = ok("/population/size");
+    if (ok("/population/random/masses_max") && ok("/limits/max_links")) {
+      check_between("/limits/max_links", c.limits.max_links,
+                    std::max(1, c.population.random.masses_max - 1), 100000,
+                    "a random creature of /population/random/masses_max masses needs that many links "
+                    "to be connected");
+    }
+    if (population_size) {
+      check_between("/selection/tournament_size", c.selection.tournament_size, 1, c.population.size,
+                    "at most /population/size");
+      check_between("/selection/elites", c.selection.elites, 0, c.population.size - 1,
+                    "less than /population/size");
+    }
+    if (ok("/population/seed_models") && ok("/population/random_fraction") &&
+        c.population.seed_models.empty() && c.population.random_fraction != 1.0) {
+      expected("/population/random_fraction",
+               "1 when /population/seed_models is empty (every creature is then random; "
+               "list seed models or set random_fraction to 1)",
+               json(c.population.random_fraction));
+    }
+  }
+
+  std::string source_;
+  fs::path base_dir_;
+  RunConfig config_;
+  bool preset_sodarace_ = false;
+  std::vector<std::string> errors_;
+  std::set<std::string> present_; ///< table pointers found in the document
+  std::set<std::string> bad_;     ///< pointers with an error
+};
+
+} // namespace
+
+const std::vector<std::string>& world_parameter_names() {
+  static const std::vector<std::string> names = {"gravity", "friction", "springyness", "surface_friction",
+                                                 "surface_reflection"};
+  return names;
+}
+
+std::string direction_name(WalkDirection d) { return enum_name(kDirections, d); }
+std::string scaling_name(FitnessScaling s) { return enum_name(kScalings, s); }
+std::string gravity_direction_name(soda::GravityDirection d) { return enum_name(kGravityDirections, d); }
+
+RunConfig parse_run_config(const std::string& json_text, const std::string& source,
+                           const std::filesystem::path& base_dir) {
+  return ConfigReader(source, base_dir).read(json_text);
+}
+
+RunConfig read_run_config(const std::filesystem::path& path) {
+  const std::string source = path.string();
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    throw soda::InputError(source + ": cannot read the config file: it is a folder");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    const int err = errno;
+    throw soda::InputError(source + ": cannot read the config file: " +
+                           (err != 0 ? std::strerror(err) : "cannot open it"));
+  }
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw soda::InputError(source + ": cannot read the config file: read error");
+  fs::path base = fs::absolute(path, ec);
+  if (ec) base = path;
+  return parse_run_config(text.str(), source, base.lexically_normal().parent_path());
+}
+
+nlohmann::json to_json(const RunConfig& config) {
+  RunConfig c = config; // the accessors hand out references into a RunConfig
+  json j = json::object();
+  for (const Field& f : fields()) {
+    const json::json_pointer p(f.pointer);
+    switch (f.kind) {
+      case Kind::Integer:
+      case Kind::Number:
+        std::visit(
+            [&](auto access) {
+              if constexpr (!std::is_same_v<decltype(access), std::monostate>) j[p] = access(c);
+            },
+            f.access);
+        break;
+      case Kind::Name: j[p] = c.name; break;
+      case Kind::SeedModels: j[p] = c.population.seed_models; break;
+      case Kind::Direction: j[p] = direction_name(c.fitness.direction); break;
+      case Kind::Scaling: j[p] = scaling_name(c.fitness.scaling); break;
+      case Kind::GravityDirection: j[p] = gravity_direction_name(c.world.gravity_direction); break;
+      case Kind::WorldEvolve: j[p] = c.world.evolve; break;
+      case Kind::Preset:  // resolved into /world/evolve
+      case Kind::Comment: // not part of the configuration
+        break;
+    }
+  }
+  return j;
+}
+
+} // namespace sodaevo
