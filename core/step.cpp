@@ -86,7 +86,7 @@ void collide_with_bars(const Model& m, State& s, int i, double x0, double y0) {
   for (int tries = 0; tries < 64; ++tries) {
     const double side = cross(sx, sy, nx - s.x[pa], ny - s.y[pa]);
     if ((side > 0.0) == (best_side0 > 0.0) && side != 0.0) break;
-    const double push = (best_side0 > 0.0 ? 1.0 : -1.0) * std::ldexp(1.0, tries - 40) *
+    const double push = (best_side0 > 0.0 ? 1.0 : -1.0) * std::ldexp(1.0, tries - 52) *
                         (1.0 + std::fabs(nx) + std::fabs(ny));
     nx += -uy * push;
     ny += ux * push;

@@ -160,3 +160,26 @@ TEST_CASE("a mass at rest is not moved and fixed nodes ignore impulses", "[physi
   CHECK(s.y[0] == 100.0);
   CHECK(s.vx[0] == 5e-6); // the velocity is kept
 }
+
+TEST_CASE("a mass crossing a fixed bar responds as spec 5.4 says", "[physics]") {
+  // Horizontal bar y = 100 between two fixed nodes; the mass moves from (300, 105)
+  // by (2, -10), crossing at t = 0.5. With u = (1, 0), n = (0, 1): vt = 2, vn = -10.
+  // Position: crossing point (301, 100) plus (1 - t)*Fs*vt*u = (0.1, 0); velocity
+  // Fs*vt*u + Rs*vn*n = (0.2, 7.5) for (Fs, Rs) = (0.1, -0.75).
+  soda::ModelDef def = empty_world(0.0, 0.0, 0.2);
+  def.nodes.push_back({"n0", true, 100.0, 100.0, 0, 0});
+  def.nodes.push_back({"n1", true, 500.0, 100.0, 0, 0});
+  def.nodes.push_back(mass(300.0, 105.0, 2.0, -10.0));
+  def.links.push_back({soda::LinkKind::FixedBar, 0, 1, 0, 0, 0});
+  const soda::Model model = soda::build_model(def);
+  soda::State s = soda::make_state(model);
+  soda::step(model, s);
+  CHECK(s.x[0] == Approx(301.1).epsilon(1e-12));
+  CHECK(s.y[0] == Approx(100.0).epsilon(1e-12));
+  CHECK(s.y[0] >= 100.0); // it stays on the side it came from
+  CHECK(s.vx[0] == Approx(0.2).epsilon(1e-12));
+  CHECK(s.vy[0] == Approx(7.5).epsilon(1e-12));
+  // Next frame it moves up, away from the bar, freely.
+  soda::step(model, s);
+  CHECK(s.y[0] == Approx(107.5).epsilon(1e-9));
+}
