@@ -9,6 +9,7 @@
 #pragma once
 
 #include <cmath>
+#include <limits>
 
 #include "constants.hpp"
 #include "model.hpp"
@@ -120,6 +121,67 @@ inline BarResponse respond_to_bar(double cross_x, double cross_y, double t, doub
   return {cross_x + slide * ux, cross_y + slide * uy,
           surface_friction * vt * ux + surface_reflection * vn * nx,
           surface_friction * vt * uy + surface_reflection * vn * ny};
+}
+
+inline double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
+
+/// Fixed bars (spec 5.4): the first bar (smallest t) crossed by the move from
+/// (x0, y0) to (x, y) responds as respond_to_bar says; (x, y, vx, vy) are updated.
+/// Bar ends are points `bar_a[k]`, `bar_b[k]` of the position arrays `px`, `py`;
+/// a bar does not stop its own end `self`. Not mapped from the original (never
+/// studied): chains of bars, corners and bar ends, several crossings in one frame.
+/// So that a mass left on a bar is not let through on the next frame, a crossing
+/// is a strict change of side, and the mass is kept strictly on the side it came
+/// from (rounding may put it on the bar; the smallest nudge that helps is used).
+/// Returns true if a bar responded.
+inline bool collide_with_bars(const double* px, const double* py, const int* bar_a, const int* bar_b, int bar_count,
+                              int self, double x0, double y0, double& x, double& y, double& vx, double& vy,
+                              double surface_friction, double surface_reflection) {
+  const double mx = x - x0;
+  const double my = y - y0;
+  int best = -1;
+  double best_t = std::numeric_limits<double>::infinity();
+  double best_side0 = 0.0;
+  for (int bar = 0; bar < bar_count; ++bar) {
+    const int pa = bar_a[bar];
+    const int pb = bar_b[bar];
+    if (pa == self || pb == self) continue;
+    const double ax = px[pa], ay = py[pa];
+    const double sx = px[pb] - ax, sy = py[pb] - ay;
+    const double side0 = cross(sx, sy, x0 - ax, y0 - ay);
+    const double side1 = cross(sx, sy, x - ax, y - ay);
+    if (!((side0 > 0.0 && side1 < 0.0) || (side0 < 0.0 && side1 > 0.0))) continue;
+    const double denom = cross(mx, my, sx, sy);
+    if (denom == 0.0) continue;
+    const double t = cross(ax - x0, ay - y0, sx, sy) / denom;
+    const double along = cross(ax - x0, ay - y0, mx, my) / denom;
+    if (along < 0.0 || along > 1.0 || !(t > 0.0 && t <= 1.0)) continue;
+    if (t < best_t) {
+      best = bar;
+      best_t = t;
+      best_side0 = side0;
+    }
+  }
+  if (best < 0) return false;
+  const double ax = px[bar_a[best]], ay = py[bar_a[best]];
+  const double sx = px[bar_b[best]] - ax, sy = py[bar_b[best]] - ay;
+  const double bar_length = std::sqrt(sx * sx + sy * sy);
+  const double ux = sx / bar_length, uy = sy / bar_length;
+  const BarResponse r = respond_to_bar(x0 + best_t * mx, y0 + best_t * my, best_t, vx, vy, ux, uy, surface_friction,
+                                       surface_reflection);
+  double nx = r.x, ny = r.y;
+  for (int tries = 0; tries < 64; ++tries) {
+    const double side = cross(sx, sy, nx - ax, ny - ay);
+    if ((side > 0.0) == (best_side0 > 0.0) && side != 0.0) break;
+    const double push = (best_side0 > 0.0 ? 1.0 : -1.0) * std::ldexp(1.0, tries - 52) * (1.0 + std::fabs(nx) + std::fabs(ny));
+    nx += -uy * push;
+    ny += ux * push;
+  }
+  x = nx;
+  y = ny;
+  vx = r.vx;
+  vy = r.vy;
+  return true;
 }
 
 } // namespace soda::rules

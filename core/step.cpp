@@ -1,7 +1,6 @@
 #include "step.hpp"
 
 #include <cmath>
-#include <limits>
 
 #include "physics_rules.hpp"
 
@@ -38,65 +37,6 @@ void apply_links(const Model& m, State& s) {
   }
 }
 
-double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
-
-/// Fixed bars (spec 5.4): the first bar (smallest t) crossed by the move from
-/// (x0, y0) to the mass's new position responds. Not mapped from the original (it
-/// was not studied): chains of bars, corners and bar ends, several crossings in
-/// one frame. So that a mass left on a bar is not let through on the next frame,
-/// it is kept strictly on the side it came from (the crossing is detected as a
-/// strict change of side).
-void collide_with_bars(const Model& m, State& s, int i, double x0, double y0) {
-  const double mx = s.x[i] - x0;
-  const double my = s.y[i] - y0;
-  int best = -1;
-  double best_t = std::numeric_limits<double>::infinity();
-  double best_side0 = 0.0;
-  for (int bar = 0; bar < m.bar_count(); ++bar) {
-    const int pa = m.bar_a[bar];
-    const int pb = m.bar_b[bar];
-    if (pa == i || pb == i) continue; // a bar does not stop its own end
-    const double px = s.x[pa], py = s.y[pa];
-    const double sx = s.x[pb] - px, sy = s.y[pb] - py;
-    const double side0 = cross(sx, sy, x0 - px, y0 - py);
-    const double side1 = cross(sx, sy, s.x[i] - px, s.y[i] - py);
-    if (!((side0 > 0.0 && side1 < 0.0) || (side0 < 0.0 && side1 > 0.0))) continue;
-    const double denom = cross(mx, my, sx, sy);
-    if (denom == 0.0) continue;
-    const double t = cross(px - x0, py - y0, sx, sy) / denom;
-    const double along = cross(px - x0, py - y0, mx, my) / denom;
-    if (along < 0.0 || along > 1.0 || !(t > 0.0 && t <= 1.0)) continue;
-    if (t < best_t) {
-      best = bar;
-      best_t = t;
-      best_side0 = side0;
-    }
-  }
-  if (best < 0) return;
-  const int pa = m.bar_a[best];
-  const int pb = m.bar_b[best];
-  const double sx = s.x[pb] - s.x[pa], sy = s.y[pb] - s.y[pa];
-  const double bar_length = std::sqrt(sx * sx + sy * sy);
-  const double ux = sx / bar_length, uy = sy / bar_length;
-  const rules::BarResponse r =
-      rules::respond_to_bar(x0 + best_t * mx, y0 + best_t * my, best_t, s.vx[i], s.vy[i], ux, uy,
-                            m.surface_friction, m.surface_reflection);
-  double nx = r.x, ny = r.y;
-  // Keep the mass strictly on its original side (rounding may put it on the bar).
-  for (int tries = 0; tries < 64; ++tries) {
-    const double side = cross(sx, sy, nx - s.x[pa], ny - s.y[pa]);
-    if ((side > 0.0) == (best_side0 > 0.0) && side != 0.0) break;
-    const double push = (best_side0 > 0.0 ? 1.0 : -1.0) * std::ldexp(1.0, tries - 52) *
-                        (1.0 + std::fabs(nx) + std::fabs(ny));
-    nx += -uy * push;
-    ny += ux * push;
-  }
-  s.x[i] = nx;
-  s.y[i] = ny;
-  s.vx[i] = r.vx;
-  s.vy[i] = r.vy;
-}
-
 /// Part 2 (spec 5.3): the masses in order.
 void move_masses(const Model& m, State& s) {
   for (int i = 0; i < m.mass_count; ++i) {
@@ -121,7 +61,10 @@ void move_masses(const Model& m, State& s) {
     s.y[i] = y;
     s.vx[i] = vx;
     s.vy[i] = vy;
-    if (m.bar_count() > 0) collide_with_bars(m, s, i, x0, y0);
+    if (m.bar_count() > 0) {
+      rules::collide_with_bars(s.x.data(), s.y.data(), m.bar_a.data(), m.bar_b.data(), m.bar_count(), i, x0, y0,
+                               s.x[i], s.y[i], s.vx[i], s.vy[i], m.surface_friction, m.surface_reflection);
+    }
   }
 }
 
