@@ -11,5 +11,6 @@ void add_convert_command(CLI::App& app);
 void add_evolve_command(CLI::App& app);
 void add_export_command(CLI::App& app);
 void add_replay_command(CLI::App& app);
+void add_bench_command(CLI::App& app);
 
 } // namespace sodaevo::app

@@ -44,15 +44,20 @@ struct WallNeeds {
   bool operator==(const WallNeeds&) const = default;
 };
 
-/// Walls that some free mass could reach within `frames` frames starting from the
-/// positions x, y (point arrays of `model`), and the number of frames for which
-/// that answer stays valid (>= 1 unless frames == 0). `frames` is an upper bound
-/// for the validity. Conservative: NaN or huge coordinates mean "test all".
-struct WallReach {
-  WallNeeds needs;
-  long long valid_frames = 0;
+/// For each wall, the number of frames for which no free mass can reach it from the
+/// positions x[i*stride], y[i*stride] (i a free mass of `model`); 0 means it may be
+/// hit in the next frame. Conservative: NaN or huge coordinates give 0 for every
+/// wall. Capped at kSafeFramesCap.
+inline constexpr long long kSafeFramesCap = 1LL << 40;
+struct WallSafeFrames {
+  long long floor = 0;
+  long long ceiling = 0;
+  long long sides = 0;
 };
-WallReach walls_within(const Model& model, const double* x, const double* y, long long frames);
+WallSafeFrames wall_safe_frames(const Model& model, const double* x, const double* y, long stride = 1);
+
+/// The walls some free mass could reach within `frames` frames from x, y.
+WallNeeds walls_within(const Model& model, const double* x, const double* y, long long frames);
 
 enum class BarKind { None, FixedSegments, MovingEnds };
 

@@ -1,0 +1,204 @@
+// `sodaevo bench speed`: the speed benchmark (bench/speed_bench.hpp) with its CSV,
+// SVG charts and a Markdown table under results/bench/.
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include "app/commands.hpp"
+#include "app/svg_chart.hpp"
+#include "bench/speed_bench.hpp"
+#include "core/atomic_file.hpp"
+#include "core/input_error.hpp"
+
+namespace sodaevo::app {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct BenchSpeedOptions {
+  bool quick = false;
+  std::string out = "results/bench";
+  std::string models = "models";
+  int threads = 0;
+};
+
+std::string fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+std::string sci(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.4g", v);
+  return buf;
+}
+
+std::string csv(const bench::SpeedReport& r) {
+  std::ostringstream o;
+  o << "section,creature,engine,threads,masses,links,frames_per_run,runs,median_seconds,frames_per_second,"
+       "link_updates_per_second,speedup_vs_seed,speedup_vs_plain\n";
+  for (const bench::SpeedRow& row : r.rows) {
+    o << row.section << ',' << row.creature << ',' << row.engine << ',' << row.threads << ',' << row.masses << ','
+      << row.links << ',' << row.frames << ',' << row.runs << ',' << sci(row.median_seconds) << ','
+      << sci(row.frames_per_second) << ',' << sci(row.link_updates_per_second) << ',' << fixed(row.speedup_vs_seed, 2)
+      << ',' << fixed(row.speedup_vs_plain, 2) << '\n';
+  }
+  return o.str();
+}
+
+std::string human(double v) { return format_tick(v); }
+
+std::string markdown(const bench::SpeedReport& r, const std::string& command) {
+  std::ostringstream o;
+  o << "Measured with `" << command << "` (fast = " << r.simd
+    << "; medians of the runs; ratios within this one invocation).\n\n";
+  o << "| creature | links | engine | frames/s | link updates/s | vs seed | vs plain |\n";
+  o << "|---|---:|---|---:|---:|---:|---:|\n";
+  for (const bench::SpeedRow& row : r.rows) {
+    if (row.section != "creature") continue;
+    o << "| " << row.creature << " | " << row.links << " | " << row.engine << " | " << human(row.frames_per_second)
+      << " | " << human(row.link_updates_per_second) << " | " << fixed(row.speedup_vs_seed, 1) << "x | "
+      << fixed(row.speedup_vs_plain, 2) << "x |\n";
+  }
+  o << "\nSize sweep (synthetic lattices), link updates per second, one thread:\n\n";
+  std::map<int, std::map<std::string, double>> sweep;
+  std::vector<std::string> engines;
+  for (const bench::SpeedRow& row : r.rows) {
+    if (row.section != "size") continue;
+    sweep[row.links][row.engine] = row.link_updates_per_second;
+    if (std::find(engines.begin(), engines.end(), row.engine) == engines.end()) engines.push_back(row.engine);
+  }
+  o << "| links |";
+  for (const auto& e : engines) o << ' ' << e << " |";
+  o << " fast vs seed | fast vs plain |\n|---:|";
+  for (std::size_t i = 0; i < engines.size() + 2; ++i) o << "---:|";
+  o << '\n';
+  for (const auto& [links, by_engine] : sweep) {
+    o << "| " << links << " |";
+    for (const auto& e : engines) o << ' ' << human(by_engine.count(e) ? by_engine.at(e) : 0.0) << " |";
+    const double fast = by_engine.count("fast") ? by_engine.at("fast") : 0.0;
+    const double seed = by_engine.count("seed") ? by_engine.at("seed") : 0.0;
+    const double plain = by_engine.count("plain") ? by_engine.at("plain") : 0.0;
+    o << ' ' << (seed > 0 ? fixed(fast / seed, 1) : "-") << "x | " << (plain > 0 ? fixed(fast / plain, 2) : "-")
+      << "x |\n";
+  }
+  o << "\nPopulation throughput (FastStepper per creature, results by index):\n\n";
+  o << "| threads | creatures x frames | frames/s | link updates/s |\n|---:|---|---:|---:|\n";
+  for (const bench::SpeedRow& row : r.rows) {
+    if (row.section != "population") continue;
+    o << "| " << row.threads << " | " << row.creature << " x " << row.frames << " | "
+      << human(row.frames_per_second) << " | " << human(row.link_updates_per_second) << " |\n";
+  }
+  o << "\n" << r.population_threads << "-thread / 1-thread population throughput: " << fixed(r.population_speedup, 2)
+    << "x.\n";
+  o << "Best single-thread rate: " << human(r.best_link_updates_per_second) << " link updates/s (" << r.best_links
+    << " links), " << fixed(100.0 * r.best_link_updates_per_second / bench::kPhysicalLimitLinkUpdatesPerSecond, 0)
+    << " % of 1e9/s, the upper end of the 0.5-1e9/s physical limit per core.\n";
+  return o.str();
+}
+
+std::string sweep_svg(const bench::SpeedReport& r) {
+  LineChart c;
+  c.title = "Link updates per second vs creature size (one thread)";
+  c.x_axis = {"links (springs + muscles)", true};
+  c.y_axis = {"link updates per second", true};
+  std::map<std::string, LineSeries> by_engine;
+  std::vector<std::string> order;
+  for (const bench::SpeedRow& row : r.rows) {
+    if (row.section != "size") continue;
+    if (!by_engine.count(row.engine)) order.push_back(row.engine);
+    LineSeries& s = by_engine[row.engine];
+    s.name = row.engine;
+    s.x.push_back(row.links);
+    s.y.push_back(row.link_updates_per_second);
+  }
+  for (const auto& e : order) c.series.push_back(by_engine[e]);
+  LineSeries limit{"physical limit 1e9/s", {}, {}, false, true};
+  if (!c.series.empty()) {
+    limit.x = {c.series[0].x.front(), c.series[0].x.back()};
+    limit.y = {bench::kPhysicalLimitLinkUpdatesPerSecond, bench::kPhysicalLimitLinkUpdatesPerSecond};
+    c.series.push_back(limit);
+  }
+  return render_line_chart(c);
+}
+
+std::string creatures_svg(const bench::SpeedReport& r) {
+  BarChart c;
+  c.title = "Frames per second on the bundled creatures (one thread)";
+  c.y_axis = {"frames per second", true};
+  std::map<std::string, std::map<std::string, double>> fps;
+  std::vector<std::string> engines;
+  for (const bench::SpeedRow& row : r.rows) {
+    if (row.section != "creature") continue;
+    if (std::find(c.categories.begin(), c.categories.end(), row.creature) == c.categories.end()) {
+      c.categories.push_back(row.creature);
+    }
+    if (std::find(engines.begin(), engines.end(), row.engine) == engines.end()) engines.push_back(row.engine);
+    fps[row.engine][row.creature] = row.frames_per_second;
+  }
+  for (const auto& e : engines) {
+    BarSeries s{e, {}};
+    for (const auto& cat : c.categories) s.values.push_back(fps[e].count(cat) ? fps[e][cat] : 0.0);
+    c.series.push_back(s);
+  }
+  return render_bar_chart(c);
+}
+
+void run_bench_speed(const BenchSpeedOptions& opt, const std::string& command) {
+  bench::SpeedOptions so;
+  so.quick = opt.quick;
+  so.threads = opt.threads;
+  for (const char* name : {"dainty_walker", "carefulslug", "monster_truck"}) {
+    const fs::path p = fs::path(opt.models) / (std::string(name) + ".xml");
+    if (!fs::exists(p)) {
+      throw soda::InputError(p.string() +
+                             ": bundled creature not found (run from the project root or pass --models DIR)");
+    }
+    so.creatures.emplace_back(name, p.string());
+  }
+  so.progress = [](const std::string& line) { std::cerr << "bench speed: " << line << std::endl; };
+  const bench::SpeedReport report = bench::run_speed_bench(so);
+  fs::create_directories(opt.out);
+  const fs::path out(opt.out);
+  soda::write_file_atomically(out / "speed.csv", csv(report));
+  soda::write_file_atomically(out / "speed.svg", sweep_svg(report));
+  soda::write_file_atomically(out / "speed_creatures.svg", creatures_svg(report));
+  const std::string table = markdown(report, command);
+  soda::write_file_atomically(out / "speed.md", table);
+  std::cout << table;
+  std::cerr << "bench speed: wrote " << (out / "speed.csv").string() << ", speed.svg, speed_creatures.svg, speed.md\n";
+}
+
+} // namespace
+
+void add_bench_command(CLI::App& app) {
+  CLI::App* bench = app.add_subcommand("bench", "Benchmarks (results under results/bench/)");
+  bench->require_subcommand(1);
+  auto opt = std::make_shared<BenchSpeedOptions>();
+  CLI::App* speed = bench->add_subcommand(
+      "speed",
+      "Frames and link updates per second: seed paper baseline, plain loop, reference and fast step\n"
+      "on the bundled creatures, a size sweep (10..100,000 links) and population throughput on\n"
+      "1 and all threads. Writes speed.csv, speed.svg, speed_creatures.svg and speed.md.");
+  speed->add_flag("--quick", opt->quick, "Short runs (a few seconds) for a smoke test");
+  speed->add_option("--out", opt->out, "Output directory")->default_val("results/bench");
+  speed->add_option("--models", opt->models, "Directory with the bundled creatures")->default_val("models");
+  speed->add_option("--threads", opt->threads, "Threads for the population run (0 = all cores)")
+      ->default_val(0)
+      ->check(CLI::Range(0, 1024));
+  speed->callback([opt] {
+    std::string command = "sodaevo bench speed";
+    if (opt->quick) command += " --quick";
+    if (opt->threads > 0) command += " --threads " + std::to_string(opt->threads);
+    run_bench_speed(*opt, command);
+  });
+}
+
+} // namespace sodaevo::app

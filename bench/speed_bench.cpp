@@ -1,0 +1,241 @@
+#include "bench/speed_bench.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <map>
+#include <memory>
+#include <stdexcept>
+
+#include "bench/baselines.hpp"
+#include "bench/synthetic.hpp"
+#include "core/fast_step.hpp"
+#include "core/model.hpp"
+#include "core/model_file.hpp"
+#include "core/step.hpp"
+#include "evolve/parallel_for.hpp"
+
+namespace sodaevo::bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+// Keeps results observable so the optimiser cannot drop a run.
+volatile double g_sink = 0.0;
+
+/// An engine under test: run(frames) steps from the initial state.
+struct Engine {
+  std::string name;
+  std::function<void(long long)> run;
+};
+
+std::vector<Engine> make_engines(const soda::Model& model, bool with_reference) {
+  std::vector<Engine> engines;
+  auto seed = std::make_shared<SeedBaseline>(model);
+  engines.push_back({"seed", [seed](long long frames) {
+                       seed->reset();
+                       seed->run(frames);
+                       g_sink = g_sink + seed->checksum();
+                     }});
+  auto plain = std::make_shared<PlainLoop>(model);
+  engines.push_back({"plain", [plain, &model](long long frames) {
+                       soda::State s = soda::make_state(model);
+                       plain->run(s, frames);
+                       g_sink = g_sink + s.x[0];
+                     }});
+  if (with_reference) {
+    engines.push_back({"reference", [&model](long long frames) {
+                         soda::State s = soda::make_state(model);
+                         soda::run(model, s, frames);
+                         g_sink = g_sink + s.x[0];
+                       }});
+  }
+  for (soda::SimdLevel level : {soda::SimdLevel::Sse2, soda::SimdLevel::Auto}) {
+    soda::FastStepOptions opt;
+    opt.simd = level;
+    auto stepper = std::make_shared<soda::FastStepper>(model, 1'000'000, opt);
+    engines.push_back({level == soda::SimdLevel::Sse2 ? "fast-sse2" : "fast", [stepper, &model](long long frames) {
+                         soda::State s = soda::make_state(model);
+                         stepper->run(s, frames);
+                         g_sink = g_sink + s.x[0];
+                       }});
+  }
+  return engines;
+}
+
+/// Frames for one run of about `target` seconds (at least 1).
+long long calibrate(const Engine& e, double target) {
+  long long frames = 1;
+  for (;;) {
+    const auto t0 = Clock::now();
+    e.run(frames);
+    const double t = seconds_since(t0);
+    if (t >= target * 0.25 || frames >= (1LL << 40)) {
+      const double per_frame = t / static_cast<double>(frames);
+      return std::max<long long>(1, static_cast<long long>(target / std::max(per_frame, 1e-12)));
+    }
+    frames *= 4;
+  }
+}
+
+/// Times every engine on one model: calibrated frames, interleaved runs, medians.
+std::vector<SpeedRow> time_engines(const std::string& section, const std::string& creature, const soda::Model& model,
+                                   std::vector<Engine> engines, int runs, double target) {
+  std::vector<long long> frames;
+  for (const Engine& e : engines) {
+    e.run(std::max<long long>(1, calibrate(e, target / 8))); // warm-up
+    frames.push_back(calibrate(e, target));
+  }
+  std::vector<std::vector<double>> times(engines.size());
+  for (int r = 0; r < runs; ++r) {
+    for (std::size_t i = 0; i < engines.size(); ++i) {
+      const auto t0 = Clock::now();
+      engines[i].run(frames[i]);
+      times[i].push_back(seconds_since(t0));
+    }
+  }
+  std::vector<SpeedRow> rows;
+  for (std::size_t i = 0; i < engines.size(); ++i) {
+    SpeedRow row;
+    row.section = section;
+    row.creature = creature;
+    row.engine = engines[i].name;
+    row.masses = model.mass_count;
+    row.links = model.link_count();
+    row.frames = frames[i];
+    row.runs = runs;
+    row.median_seconds = median(times[i]);
+    row.frames_per_second = static_cast<double>(frames[i]) / row.median_seconds;
+    row.link_updates_per_second = row.frames_per_second * model.link_count();
+    rows.push_back(row);
+  }
+  double seed_fps = 0, plain_fps = 0;
+  for (const SpeedRow& r : rows) {
+    if (r.engine == "seed") seed_fps = r.frames_per_second;
+    if (r.engine == "plain") plain_fps = r.frames_per_second;
+  }
+  for (SpeedRow& r : rows) {
+    r.speedup_vs_seed = seed_fps > 0 ? r.frames_per_second / seed_fps : 0;
+    r.speedup_vs_plain = plain_fps > 0 ? r.frames_per_second / plain_fps : 0;
+  }
+  return rows;
+}
+
+std::string fmt(const char* f, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, f, v);
+  return buf;
+}
+
+} // namespace
+
+SpeedReport run_speed_bench(const SpeedOptions& options) {
+  auto say = [&](const std::string& s) {
+    if (options.progress) options.progress(s);
+  };
+  SpeedReport report;
+  report.simd = soda::simd_level_name(soda::best_simd_level());
+  const int runs = options.quick ? 3 : 7;
+  const double target = options.quick ? 0.02 : 0.12;
+
+  // 1. Bundled creatures.
+  std::vector<std::pair<std::string, soda::Model>> creatures;
+  for (const auto& [name, path] : options.creatures) {
+    creatures.emplace_back(name, soda::build_model(soda::read_model_file(path).def));
+  }
+  for (const auto& [name, model] : creatures) {
+    say("creature " + name + " (" + std::to_string(model.mass_count) + " masses, " +
+        std::to_string(model.link_count()) + " links)");
+    for (SpeedRow& r : time_engines("creature", name, model, make_engines(model, true), runs, target)) {
+      report.rows.push_back(r);
+    }
+  }
+
+  // 2. Size sweep.
+  const std::vector<int> sizes = options.quick ? std::vector<int>{10, 100, 1000, 10000, 100000}
+                                               : std::vector<int>{10, 30, 100, 300, 1000, 3000, 10000, 30000, 100000};
+  for (int links : sizes) {
+    const soda::Model model = soda::build_model(synthetic_creature(links));
+    say("synthetic " + std::to_string(links) + " links");
+    for (SpeedRow& r : time_engines("size", "synthetic", model, make_engines(model, false), runs, target)) {
+      if (r.engine == "fast" && r.link_updates_per_second > report.best_link_updates_per_second) {
+        report.best_link_updates_per_second = r.link_updates_per_second;
+        report.best_links = r.links;
+      }
+      report.rows.push_back(r);
+    }
+  }
+
+  // 3. Population throughput: every creature evaluated from scratch (stepper built,
+  //    frames run) by index, on 1 thread and on all threads.
+  if (!creatures.empty()) {
+    const int all = resolve_thread_count(options.threads);
+    report.population_threads = all;
+    // Long enough (about 0.3 s on one thread) that a second core waking up from
+    // idle does not show in the figure.
+    const int copies = options.quick ? 8 : 64;
+    const long long frames = options.quick ? 1000 : 5000;
+    const std::size_t count = creatures.size() * static_cast<std::size_t>(copies);
+    long long links_per_round = 0;
+    for (std::size_t i = 0; i < count; ++i) links_per_round += creatures[i % creatures.size()].second.link_count();
+    std::vector<double> results(count);
+    auto evaluate = [&](int threads) {
+      const auto t0 = Clock::now();
+      parallel_for_index(count, threads, [&](std::size_t i) {
+        const soda::Model& model = creatures[i % creatures.size()].second;
+        soda::FastStepper stepper(model, frames);
+        soda::State s = soda::make_state(model);
+        stepper.run(s, frames);
+        results[i] = soda::mass_centroid(model, s).x;
+      });
+      return seconds_since(t0);
+    };
+    say("population of " + std::to_string(count) + " creatures x " + std::to_string(frames) + " frames, 1 and " +
+        std::to_string(all) + " threads");
+    evaluate(all); // warm-up
+    const std::vector<double> one_thread_results = [&] {
+      evaluate(1);
+      return results;
+    }();
+    // 1-thread and all-thread runs alternate; the speed-up is the median of the
+    // ratios of neighbouring runs, so that a slow phase of the machine (another
+    // process on the second core) hits both sides of a ratio.
+    std::vector<double> t1, tn, ratio;
+    const int population_runs = options.quick ? runs : 9;
+    for (int r = 0; r < population_runs; ++r) {
+      t1.push_back(evaluate(1));
+      tn.push_back(evaluate(all));
+      ratio.push_back(t1.back() / tn.back());
+    }
+    if (results != one_thread_results) throw std::runtime_error("population results depend on the thread count");
+    for (int threads : {1, all}) {
+      SpeedRow row;
+      row.section = "population";
+      row.creature = std::to_string(count) + " creatures";
+      row.engine = "fast";
+      row.threads = threads;
+      row.links = static_cast<int>(links_per_round / static_cast<long long>(count));
+      row.frames = frames;
+      row.runs = population_runs;
+      row.median_seconds = median(threads == 1 ? t1 : tn);
+      row.frames_per_second = static_cast<double>(count) * frames / row.median_seconds;
+      row.link_updates_per_second = static_cast<double>(links_per_round) * frames / row.median_seconds;
+      report.rows.push_back(row);
+      if (all == 1) break;
+    }
+    report.population_speedup = all == 1 ? 1.0 : median(ratio);
+    say("population speed-up on " + std::to_string(all) + " threads: " + fmt("%.2f", report.population_speedup));
+  }
+  return report;
+}
+
+} // namespace sodaevo::bench

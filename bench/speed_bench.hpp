@@ -1,0 +1,61 @@
+// The speed benchmark (`sodaevo bench speed`): frames per second and link updates
+// per second of the engines on the bundled creatures, on synthetic creatures of 10
+// to 100,000 links, and population throughput on 1 and all threads.
+//
+// Engines: "seed" (the seed paper's Algorithm 1-2, baselines.hpp), "plain" (the
+// exact rules as a plain scalar loop, baselines.hpp), "reference" (soda::run, the
+// plain SoA reference step), "fast-sse2" (FastStepper on the portable x86-64
+// level) and "fast" (FastStepper on the best level of this CPU).
+//
+// Method: every figure is the median of `runs` timed runs; a run steps the engine
+// from the model's initial state for a frame count calibrated so that one run takes
+// about `target_seconds`. The engines' runs are interleaved (run 1 of every engine,
+// then run 2, ...) so that a slow phase of the machine hits all of them, and the
+// ratios are formed from the medians of the same invocation.
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace sodaevo::bench {
+
+struct SpeedOptions {
+  bool quick = false;        ///< shorter runs, fewer repeats, smaller sweep
+  int threads = 0;           ///< "all threads" for the population (0 = all cores)
+  std::vector<std::pair<std::string, std::string>> creatures; ///< name, model path
+  std::function<void(const std::string&)> progress;          ///< one line per step
+};
+
+struct SpeedRow {
+  std::string section;  ///< "creature", "size" or "population"
+  std::string creature; ///< creature name (or "synthetic")
+  std::string engine;
+  int threads = 1;
+  int masses = 0;
+  int links = 0;        ///< springs and muscles (link updates per frame)
+  long long frames = 0; ///< frames per timed run (population: per creature)
+  int runs = 0;
+  double median_seconds = 0.0;
+  double frames_per_second = 0.0;
+  double link_updates_per_second = 0.0;
+  double speedup_vs_seed = 0.0;  ///< this engine / seed, same creature, same invocation
+  double speedup_vs_plain = 0.0; ///< this engine / plain
+};
+
+struct SpeedReport {
+  std::vector<SpeedRow> rows;
+  std::string simd;          ///< level of "fast"
+  int population_threads = 1;
+  double population_speedup = 0.0; ///< all threads / 1 thread: median of the ratios of alternating runs
+  double best_link_updates_per_second = 0.0; ///< fast, one thread, any size
+  int best_links = 0;
+};
+
+SpeedReport run_speed_bench(const SpeedOptions& options);
+
+/// The physical limit the issue quotes: 0.5-1 billion link updates per second per
+/// core; fractions are reported against the upper end.
+inline constexpr double kPhysicalLimitLinkUpdatesPerSecond = 1e9;
+
+} // namespace sodaevo::bench

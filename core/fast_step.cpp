@@ -1,0 +1,1191 @@
+#include "fast_step.hpp"
+
+#include <immintrin.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <new>
+#include <vector>
+
+#include "physics_rules.hpp"
+
+// GCC 12's AVX-512 headers trip -Wmaybe-uninitialized inside their own intrinsics
+// (the "undefined" source operand idiom); nothing in this file is uninitialised.
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+namespace soda {
+
+// ---------------------------------------------------------------------------
+// Aligned scratch arrays.
+// ---------------------------------------------------------------------------
+namespace {
+
+template <class T>
+struct AlignedAllocator {
+  using value_type = T;
+  AlignedAllocator() = default;
+  template <class U>
+  AlignedAllocator(const AlignedAllocator<U>&) {}
+  T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t{64})); }
+  void deallocate(T* p, std::size_t) { ::operator delete(p, std::align_val_t{64}); }
+  template <class U>
+  bool operator==(const AlignedAllocator<U>&) const { return true; }
+};
+template <class T>
+using AVec = std::vector<T, AlignedAllocator<T>>;
+
+std::uint64_t bits_of(double v) {
+  std::uint64_t b;
+  std::memcpy(&b, &v, sizeof b);
+  return b;
+}
+
+// ---------------------------------------------------------------------------
+// SIMD operations. Each is one IEEE operation per lane (add, sub, mul, div, sqrt
+// are correctly rounded in every instruction set, so all levels give the same
+// bits); comparisons are the ordered ones, false for NaN, as C++'s < and >. No
+// fused multiply-add anywhere (the build has -ffp-contract=off and the kernels
+// below only use separate mul and add intrinsics).
+// ---------------------------------------------------------------------------
+
+struct Sse2Ops {
+  static constexpr int W = 2;
+  using V = __m128d;
+  using M = __m128d;
+  static V load(const double* p) { return _mm_load_pd(p); }
+  static void store(double* p, V v) { _mm_store_pd(p, v); }
+  static V set1(double v) { return _mm_set1_pd(v); }
+  static V add(V a, V b) { return _mm_add_pd(a, b); }
+  static V sub(V a, V b) { return _mm_sub_pd(a, b); }
+  static V mul(V a, V b) { return _mm_mul_pd(a, b); }
+  static V div(V a, V b) { return _mm_div_pd(a, b); }
+  static V sqrt(V a) { return _mm_sqrt_pd(a); }
+  static M lt(V a, V b) { return _mm_cmplt_pd(a, b); }
+  static M gt(V a, V b) { return _mm_cmpgt_pd(a, b); }
+  static M eq(V a, V b) { return _mm_cmpeq_pd(a, b); }
+  static M m_or(M a, M b) { return _mm_or_pd(a, b); }
+  static M m_and(M a, M b) { return _mm_and_pd(a, b); }
+  static M m_andnot(M a, M b) { return _mm_andnot_pd(b, a); } // a & !b
+  static M m_none() { return _mm_setzero_pd(); }
+  static bool any(M m) { return _mm_movemask_pd(m) != 0; }
+  static V select(M m, V if_true, V if_false) {
+    return _mm_or_pd(_mm_and_pd(m, if_true), _mm_andnot_pd(m, if_false));
+  }
+  static V neg(V a) { return _mm_xor_pd(a, _mm_set1_pd(-0.0)); }
+  static V abs(V a) { return _mm_andnot_pd(_mm_set1_pd(-0.0), a); }
+  static V bits_and(V a, V b) { return _mm_and_pd(a, b); }
+  static V bits_xor(V a, V b) { return _mm_xor_pd(a, b); }
+  static M le(V a, V b) { return _mm_cmple_pd(a, b); }
+  static M ge(V a, V b) { return _mm_cmpge_pd(a, b); }
+  static M ne(V a, V b) { return _mm_cmpneq_pd(a, b); }
+  static unsigned lanes(M m) { return static_cast<unsigned>(_mm_movemask_pd(m)); }
+  static V loadu(const double* p) { return _mm_loadu_pd(p); }
+  static void storeu(double* p, V v) { _mm_storeu_pd(p, v); }
+  // Truncation of values in [0, 2^31) to int32, and back.
+  static void to_i32(V v, std::int32_t* out) { _mm_storel_epi64(reinterpret_cast<__m128i*>(out), _mm_cvttpd_epi32(v)); }
+  static V from_i32(const std::int32_t* in) {
+    return _mm_cvtepi32_pd(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(in)));
+  }
+  static V gather(const double* base, const std::int32_t* idx) { return _mm_set_pd(base[idx[1]], base[idx[0]]); }
+  // W (x, y) pairs -> x and y vectors, lanes in the order sigma (see kLaneLink).
+  // off: offsets in doubles (2 * pair index), unsigned so that no sign extension is needed.
+  static void load_pairs_at(const double* pairs, const std::uint32_t* off, V& x, V& y) {
+    const V p0 = _mm_load_pd(pairs + off[0]), p1 = _mm_load_pd(pairs + off[1]);
+    x = _mm_unpacklo_pd(p0, p1);
+    y = _mm_unpackhi_pd(p0, p1);
+  }
+  static void load_pairs(const double* pairs, V& x, V& y) {
+    const V p0 = _mm_load_pd(pairs), p1 = _mm_load_pd(pairs + 2);
+    x = _mm_unpacklo_pd(p0, p1);
+    y = _mm_unpackhi_pd(p0, p1);
+  }
+  // The inverse: lanes in sigma order -> W pairs in natural order.
+  static void store_pairs(double* pairs, V x, V y) {
+    _mm_store_pd(pairs, _mm_unpacklo_pd(x, y));
+    _mm_store_pd(pairs + 2, _mm_unpackhi_pd(x, y));
+  }
+};
+
+#pragma GCC push_options
+#pragma GCC target("avx2")
+struct Avx2Ops {
+  static constexpr int W = 4;
+  using V = __m256d;
+  using M = __m256d;
+  static V load(const double* p) { return _mm256_load_pd(p); }
+  static void store(double* p, V v) { _mm256_store_pd(p, v); }
+  static V set1(double v) { return _mm256_set1_pd(v); }
+  static V add(V a, V b) { return _mm256_add_pd(a, b); }
+  static V sub(V a, V b) { return _mm256_sub_pd(a, b); }
+  static V mul(V a, V b) { return _mm256_mul_pd(a, b); }
+  static V div(V a, V b) { return _mm256_div_pd(a, b); }
+  static V sqrt(V a) { return _mm256_sqrt_pd(a); }
+  static M lt(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
+  static M gt(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_GT_OQ); }
+  static M eq(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
+  static M m_or(M a, M b) { return _mm256_or_pd(a, b); }
+  static M m_and(M a, M b) { return _mm256_and_pd(a, b); }
+  static M m_andnot(M a, M b) { return _mm256_andnot_pd(b, a); }
+  static M m_none() { return _mm256_setzero_pd(); }
+  static bool any(M m) { return _mm256_movemask_pd(m) != 0; }
+  static V select(M m, V if_true, V if_false) { return _mm256_blendv_pd(if_false, if_true, m); }
+  static V neg(V a) { return _mm256_xor_pd(a, _mm256_set1_pd(-0.0)); }
+  static V abs(V a) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), a); }
+  static V bits_and(V a, V b) { return _mm256_and_pd(a, b); }
+  static V bits_xor(V a, V b) { return _mm256_xor_pd(a, b); }
+  static M le(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_LE_OQ); }
+  static M ge(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_GE_OQ); }
+  static M ne(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_NEQ_UQ); }
+  static unsigned lanes(M m) { return static_cast<unsigned>(_mm256_movemask_pd(m)); }
+  static V loadu(const double* p) { return _mm256_loadu_pd(p); }
+  static void storeu(double* p, V v) { _mm256_storeu_pd(p, v); }
+  static void to_i32(V v, std::int32_t* out) {
+    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm256_cvttpd_epi32(v));
+  }
+  static V from_i32(const std::int32_t* in) {
+    return _mm256_cvtepi32_pd(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in)));
+  }
+  static V gather(const double* base, const std::int32_t* idx) {
+    return _mm256_set_pd(base[idx[3]], base[idx[2]], base[idx[1]], base[idx[0]]);
+  }
+  static V pair2(const double* pairs, std::uint32_t i, std::uint32_t j) {
+    return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_load_pd(pairs + i)), _mm_load_pd(pairs + j), 1);
+  }
+  static void load_pairs_at(const double* pairs, const std::uint32_t* off, V& x, V& y) {
+    const V p0 = pair2(pairs, off[0], off[1]), p1 = pair2(pairs, off[2], off[3]);
+    x = _mm256_unpacklo_pd(p0, p1);
+    y = _mm256_unpackhi_pd(p0, p1);
+  }
+  static void load_pairs(const double* pairs, V& x, V& y) {
+    const V p0 = _mm256_load_pd(pairs), p1 = _mm256_load_pd(pairs + 4);
+    x = _mm256_unpacklo_pd(p0, p1);
+    y = _mm256_unpackhi_pd(p0, p1);
+  }
+  static void store_pairs(double* pairs, V x, V y) {
+    _mm256_store_pd(pairs, _mm256_unpacklo_pd(x, y));
+    _mm256_store_pd(pairs + 4, _mm256_unpackhi_pd(x, y));
+  }
+};
+#pragma GCC pop_options
+
+#pragma GCC push_options
+#pragma GCC target("avx512f")
+struct Avx512Ops {
+  static constexpr int W = 8;
+  using V = __m512d;
+  using M = __mmask8;
+  static V load(const double* p) { return _mm512_load_pd(p); }
+  static void store(double* p, V v) { _mm512_store_pd(p, v); }
+  static V set1(double v) { return _mm512_set1_pd(v); }
+  static V add(V a, V b) { return _mm512_add_pd(a, b); }
+  static V sub(V a, V b) { return _mm512_sub_pd(a, b); }
+  static V mul(V a, V b) { return _mm512_mul_pd(a, b); }
+  static V div(V a, V b) { return _mm512_div_pd(a, b); }
+  static V sqrt(V a) { return _mm512_sqrt_pd(a); }
+  static M lt(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
+  static M gt(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GT_OQ); }
+  static M eq(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ); }
+  static M m_or(M a, M b) { return static_cast<M>(a | b); }
+  static M m_and(M a, M b) { return static_cast<M>(a & b); }
+  static M m_andnot(M a, M b) { return static_cast<M>(a & ~b); }
+  static M m_none() { return 0; }
+  static bool any(M m) { return m != 0; }
+  static V select(M m, V if_true, V if_false) { return _mm512_mask_blend_pd(m, if_false, if_true); }
+  static V neg(V a) {
+    return _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(a), _mm512_set1_epi64(INT64_MIN)));
+  }
+  static V abs(V a) {
+    return _mm512_castsi512_pd(_mm512_and_si512(_mm512_castpd_si512(a), _mm512_set1_epi64(INT64_MAX)));
+  }
+  static V bits_and(V a, V b) {
+    return _mm512_castsi512_pd(_mm512_and_si512(_mm512_castpd_si512(a), _mm512_castpd_si512(b)));
+  }
+  static V bits_xor(V a, V b) {
+    return _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(a), _mm512_castpd_si512(b)));
+  }
+  static M le(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LE_OQ); }
+  static M ge(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
+  static M ne(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_NEQ_UQ); }
+  static unsigned lanes(M m) { return m; }
+  static V loadu(const double* p) { return _mm512_loadu_pd(p); }
+  static void storeu(double* p, V v) { _mm512_storeu_pd(p, v); }
+  static void to_i32(V v, std::int32_t* out) {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm512_cvttpd_epi32(v));
+  }
+  static V from_i32(const std::int32_t* in) {
+    return _mm512_cvtepi32_pd(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(in)));
+  }
+  static V gather(const double* base, const std::int32_t* idx) {
+    return _mm512_set_pd(base[idx[7]], base[idx[6]], base[idx[5]], base[idx[4]], base[idx[3]], base[idx[2]],
+                         base[idx[1]], base[idx[0]]);
+  }
+  // Pair loads and inserts: about 2.5x faster than vgatherdpd on the CPUs measured.
+  static V pair4(const double* pairs, const std::uint32_t* off) {
+    const __m256d lo = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_load_pd(pairs + off[0])),
+                                            _mm_load_pd(pairs + off[1]), 1);
+    const __m256d hi = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_load_pd(pairs + off[2])),
+                                            _mm_load_pd(pairs + off[3]), 1);
+    return _mm512_insertf64x4(_mm512_zextpd256_pd512(lo), hi, 1);
+  }
+  static void load_pairs_at(const double* pairs, const std::uint32_t* off, V& x, V& y) {
+    const V p0 = pair4(pairs, off), p1 = pair4(pairs, off + 4);
+    x = _mm512_unpacklo_pd(p0, p1);
+    y = _mm512_unpackhi_pd(p0, p1);
+  }
+  static void load_pairs(const double* pairs, V& x, V& y) {
+    const V p0 = _mm512_load_pd(pairs), p1 = _mm512_load_pd(pairs + 8);
+    x = _mm512_unpacklo_pd(p0, p1);
+    y = _mm512_unpackhi_pd(p0, p1);
+  }
+  static void store_pairs(double* pairs, V x, V y) {
+    _mm512_store_pd(pairs, _mm512_unpacklo_pd(x, y));
+    _mm512_store_pd(pairs + 8, _mm512_unpackhi_pd(x, y));
+  }
+};
+#pragma GCC pop_options
+
+// Widest SIMD width; every array is padded to a multiple of it.
+constexpr int kMaxWidth = 8;
+
+// Loading W pairs and unpacking them puts item kLaneLink(W, l) of the W items in
+// lane l (W = 8: 0 4 1 5 2 6 3 7); store_pairs undoes it. Per-lane constants
+// (link targets) are stored in this lane order.
+constexpr int kLaneLink(int w, int lane) { return lane % 2 == 0 ? lane / 2 : w / 2 + lane / 2; }
+
+// Masses whose impulses are summed side by side (interleaved scalar pair adds).
+constexpr int kGatherGroup = 8;
+
+int width_of(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::Avx512: return 8;
+    case SimdLevel::Avx2: return 4;
+    default: return 2;
+  }
+}
+
+} // namespace
+
+// ---------------------------------------------------------------------------
+// Exact sine, several at a time.
+//
+// The muscle rule needs glibc's sin(x) bit for bit (the reference calls std::sin).
+// glibc's sin is not correctly rounded but its error is below 0.548 ulp (its
+// documented bound; 0.515 ulp is the largest we measured on muscle arguments). So
+// wherever the true value lies within 0.45 ulp of a double r, r is the only double
+// within 0.548 ulp of it and glibc returns r. We compute sin(x) to about 2^-62 with
+// a table and a short polynomial, in SIMD, and accept r only when that test passes
+// with the error bound added; the other lanes (about 11 %: true values near a
+// rounding midpoint, results below 2^-8, arguments outside (2^-5, 6.28)) call
+// std::sin.
+// A self-check against std::sin at first use switches the shortcut off if the C
+// library disagrees (a libm with a larger error), so the result is always the
+// reference's.
+//
+// sin(T + d) = S + (C*d + (S*(cos d - 1) + C*(sin d - d))) with T = j/128 the
+// table point nearest to |x| (d = |x| - T is exact, |d| <= 1/256), S = sin T and
+// C = cos T as double-double (from long double sinl/cosl, error ~2^-63), C*d an
+// exact product (Dekker), and the small terms in plain double.
+// ---------------------------------------------------------------------------
+
+namespace {
+
+constexpr int kSinTableSize = 806; // j/128 up to 6.29 > 2*pi
+struct SinTable {
+  alignas(64) double sh[kSinTableSize], sl[kSinTableSize], ch[kSinTableSize], cl[kSinTableSize];
+  bool usable = false;
+};
+
+constexpr double kSinAcceptUlps = 0.45;     // 1 - 0.548 (glibc's bound) - margin
+constexpr double kSinMinArgument = 0x1p-5;  // below: std::sin
+constexpr double kSinMaxArgument = 6.28;    // above: std::sin (table ends at 6.29)
+constexpr double kSinMinResult = 0x1p-8;    // smaller |sin|: std::sin (keeps the final sum exact)
+
+SinTable build_sin_table();
+
+const SinTable& sin_table() {
+  static const SinTable table = build_sin_table();
+  return table;
+}
+
+/// Lanes of `a` whose sine is known exactly go to out; the returned bit set marks
+/// the lanes that must call std::sin.
+template <class O>
+unsigned table_sin(const SinTable& t, const double* a, double* out) {
+  using V = typename O::V;
+  using M = typename O::M;
+  const V arg = O::loadu(a);
+  V x = O::abs(arg);
+  const M in_range = O::m_and(O::ge(x, O::set1(kSinMinArgument)), O::lt(x, O::set1(kSinMaxArgument)));
+  x = O::select(in_range, x, O::set1(1.0)); // keep the table index valid
+  alignas(64) std::int32_t j[kMaxWidth];
+  O::to_i32(O::add(O::mul(x, O::set1(128.0)), O::set1(0.5)), j);
+  const V d = O::sub(x, O::mul(O::from_i32(j), O::set1(0.0078125))); // exact
+  const V sh = O::gather(t.sh, j), sl = O::gather(t.sl, j), ch = O::gather(t.ch, j), cl = O::gather(t.cl, j);
+  // p + e = ch*d exactly (Dekker's product, no FMA needed).
+  const V p = O::mul(ch, d);
+  const V split = O::set1(134217729.0);
+  const V ct = O::mul(split, ch), dt = O::mul(split, d);
+  const V chh = O::sub(ct, O::sub(ct, ch)), chl = O::sub(ch, chh);
+  const V dh = O::sub(dt, O::sub(dt, d)), dl = O::sub(d, dh);
+  const V e = O::add(O::add(O::add(O::sub(O::mul(chh, dh), p), O::mul(chh, dl)), O::mul(chl, dh)), O::mul(chl, dl));
+  const V d2 = O::mul(d, d);
+  // sin d - d and cos d - 1 (|d| <= 1/256: the next terms are below 2^-79).
+  const V sdm_poly =
+      O::add(O::set1(-1.0 / 6.0), O::mul(d2, O::sub(O::set1(1.0 / 120.0), O::mul(d2, O::set1(1.0 / 5040.0)))));
+  const V sdm = O::mul(O::mul(d, d2), sdm_poly);
+  const V cdm_poly = O::add(O::set1(-0.5), O::mul(d2, O::sub(O::set1(1.0 / 24.0), O::mul(d2, O::set1(1.0 / 720.0)))));
+  const V cdm = O::mul(d2, cdm_poly);
+  // h + e1 = sh + p exactly (Knuth's two-sum).
+  const V h = O::add(sh, p);
+  const V hb = O::sub(h, sh);
+  const V e1 = O::add(O::sub(sh, O::sub(h, hb)), O::sub(p, hb));
+  const V tail = O::add(e1, O::add(sl, O::add(e, O::add(O::mul(cl, d), O::add(O::mul(sh, cdm), O::mul(ch, sdm))))));
+  const V r = O::add(h, tail);
+  const V err = O::sub(tail, O::sub(r, h)); // exact: |h| >> |tail|
+  const V abs_r = O::abs(r);
+  const V pow2 = O::bits_and(abs_r, O::set1(std::numeric_limits<double>::infinity())); // 2^exponent
+  const V mantissa = O::bits_and(abs_r, O::set1(0x1.fffffffffffffp-1022));         // fraction bits
+  const V ulp = O::mul(pow2, O::set1(0x1p-52));
+  const V bound = O::add(O::mul(O::set1(0x1p-62), O::add(O::abs(sh), O::set1(0x1p-8))), O::set1(0x1p-66));
+  M ok = O::m_and(in_range, O::le(O::add(O::abs(err), bound), O::mul(O::set1(kSinAcceptUlps), ulp)));
+  ok = O::m_and(ok, O::ne(mantissa, O::set1(0.0))); // not a power of two: neighbours 1 ulp away
+  ok = O::m_and(ok, O::ge(abs_r, O::set1(kSinMinResult)));
+  O::storeu(out, O::bits_xor(r, O::bits_and(arg, O::set1(-0.0)))); // sin(-x) = -sin(x)
+  const unsigned all = (1u << O::W) - 1u;
+  return all & ~O::lanes(ok);
+}
+
+/// sin of n arguments, each equal to std::sin's value; a and out padded to kMaxWidth.
+using SinFn = void (*)(const double* a, double* out, int n);
+
+template <class O>
+void sines(const double* a, double* out, int n) {
+  const SinTable& t = sin_table();
+  // Vector pass first, then the std::sin calls (a call inside the vector loop
+  // would spill every vector register around it).
+  constexpr int kChunk = 256;
+  unsigned rest[kChunk / O::W];
+  for (int base = 0; base < n; base += kChunk) {
+    const int end = std::min(n, base + kChunk);
+    for (int i = base; i < end; i += O::W) {
+      rest[(i - base) / O::W] = t.usable ? table_sin<O>(t, a + i, out + i) : (1u << O::W) - 1u;
+    }
+    for (int i = base; i < end; i += O::W) {
+      for (unsigned r = rest[(i - base) / O::W]; r != 0; r &= r - 1) {
+        const int l = __builtin_ctz(r);
+        if (i + l < n) out[i + l] = std::sin(a[i + l]);
+      }
+    }
+  }
+}
+
+SinTable build_sin_table() {
+  SinTable t;
+  for (int j = 0; j < kSinTableSize; ++j) {
+    const long double x = static_cast<long double>(j) / 128.0L;
+    const long double s = sinl(x), c = cosl(x);
+    t.sh[j] = static_cast<double>(s);
+    t.sl[j] = static_cast<double>(s - static_cast<long double>(t.sh[j])); // exact: fewer than 53 bits
+    t.ch[j] = static_cast<double>(c);
+    t.cl[j] = static_cast<double>(c - static_cast<long double>(t.ch[j]));
+  }
+  // Self-check on the portable level: every accepted value must be std::sin's.
+  t.usable = true;
+  std::uint64_t seed = 0x5eed;
+  alignas(64) double a[2], out[2];
+  for (int k = 0; k < 4096 && t.usable; ++k) {
+    for (double& v : a) {
+      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+      v = kTwoPi * (static_cast<double>(seed >> 11) * 0x1p-53 - 0.5) * 2.0;
+    }
+    const unsigned rest = table_sin<Sse2Ops>(t, a, out);
+    for (int l = 0; l < 2; ++l) {
+      if (!(rest & (1u << l)) && bits_of(out[l]) != bits_of(std::sin(a[l]))) t.usable = false;
+    }
+  }
+  return t;
+}
+
+} // namespace
+
+// ---------------------------------------------------------------------------
+// The stepper's data.
+// ---------------------------------------------------------------------------
+
+struct FastStepper::Impl {
+  const Model* model = nullptr;
+  SceneNeeds needs;
+  FastStepOptions options;
+  SimdLevel simd = SimdLevel::Sse2;
+  int W = 2;
+
+  // Working points, as (x, y) pairs: masses [0, nm), padding masses [nm, nm_pad)
+  // (at rest at (0, 0); their results are never read), fixed nodes
+  // [nm_pad, nm_pad + nf), and one spare pair.
+  int nm = 0, nm_pad = 0, nf = 0, sink = 0;
+  std::vector<int> work_of_point; ///< [point_count] model point -> working index
+  AVec<double> pos, vel;          ///< [2*(sink+1)] x, y / vx, vy pairs
+  AVec<double> old_pos;           ///< [2*nm_pad] positions before the move (bars)
+  AVec<double> side;              ///< [2*nm_pad] side wall hit this frame (-1, 0, +1), twice per mass
+
+  // Links that can act (a free end), in file order, padded to a multiple of
+  // kMaxWidth with links from point 0 to itself (length 0: no impulse).
+  int nl = 0, nl_pad = 0;
+  std::vector<std::uint32_t> la, lb; ///< [nl_pad] 2 * working index of the ends (offset in pos)
+  // Impulses as (x, y) pairs: pair k = end A of acting link k (+c*d), pair
+  // nl_pad + k = end B (-c*d), pair 2*nl_pad = (-0, -0), the identity of +.
+  AVec<double> imp; ///< [4*nl_pad + 2]
+  std::int32_t identity_pair = 0;
+  // Impulse pairs per mass in file order of the links, by groups of kGatherGroup
+  // masses sorted by degree: group b, round r, lane l at the next slots; lists
+  // shorter than the group's longest are padded with identity_pair (fixed trip
+  // counts: no branch mispredictions).
+  std::vector<std::uint32_t> slots;      ///< double offsets into imp (2 * pair)
+  std::vector<std::int32_t> block_rounds; ///< per gather group
+  std::vector<std::uint32_t> gather_vel;  ///< per gather group, kGatherGroup offsets into vel (2 * mass)
+  std::vector<std::int32_t> slot_of_mass; ///< [nm] first slot of mass i; its rounds stride kGatherGroup
+  std::vector<std::int32_t> rounds_of_mass;
+  AVec<double> target;              ///< [nl_pad] desired length D, per block in kLaneLink order
+
+  // Wave muscles (muscles whose power Aw*Am is not 0).
+  // Kernel link order puts the wave muscles first, so target slots [0, nwm_pad)
+  // are the ones that change per frame: target = rest * (1 + power * sine[group])
+  // (springs sharing those blocks have power 0: rest * (1 + +-0) = rest exactly).
+  int nwm = 0, nwm_pad = 0;
+  std::vector<double> tm_rest, tm_power; ///< [nwm_pad] rest length, Aw*Am
+  std::vector<std::int32_t> tm_group;    ///< [nwm_pad] index into a row of sines
+  std::vector<double> group_phase;       ///< distinct muscle phases
+  int groups = 0;
+  // Sines for the next kSineRows frames, computed in one batch for the phases the
+  // wave will have if its direction does not change (a row is used only if its
+  // phase is the current one, bit for bit).
+  int rows = 1, row_count = 0, row_next = 0;
+  std::vector<std::uint64_t> row_phase_bits; ///< [rows]
+  std::vector<double> row_phase_after;        ///< [rows] rules::advance_wave_phase of the row's phase
+  WaveDirection rows_mode = WaveDirection::Forward;
+  // The wave advance of this frame, already computed for the batch (same rule,
+  // same inputs) when the phase and direction are still the predicted ones.
+  bool has_prediction = false;
+  std::uint64_t predicted_from = 0;
+  double predicted_next = 0.0;
+  WaveDirection predicted_mode = WaveDirection::Forward;
+  AVec<double> row_arg, row_sin;             ///< [rows * groups, padded] row r at r * groups
+  bool targets_valid = false;
+  std::uint64_t targets_phase_bits = 0;
+  long long sines = 0;
+
+  std::vector<int> bar_a, bar_b; ///< 2 * working index (offset of x in pos), file order
+  double gd = 0.0;               ///< gravity * direction, as rules::apply_gravity forms it
+
+  std::vector<KernelChoice> used;
+  KernelChoice last;
+
+  [[nodiscard]] double& px(int w) { return pos[2 * static_cast<std::size_t>(w)]; }
+  [[nodiscard]] double& py(int w) { return pos[2 * static_cast<std::size_t>(w) + 1]; }
+  [[nodiscard]] double& pvx(int w) { return vel[2 * static_cast<std::size_t>(w)]; }
+  [[nodiscard]] double& pvy(int w) { return vel[2 * static_cast<std::size_t>(w) + 1]; }
+
+  void build(const Model& m, long long budget, FastStepOptions opt);
+  void load_state(const State& s);
+  void store_state(State& s);
+  void update_targets(double wave_phase, WaveDirection mode);
+  [[nodiscard]] double advance_phase(const State& st) const {
+    if (has_prediction && bits_of(st.wave_phase) == predicted_from && st.wave_mode == predicted_mode) {
+      return predicted_next;
+    }
+    return rules::advance_wave_phase(st.wave_phase, model->wave_speed, st.wave_mode);
+  }
+  void ordered_frame(State& s);
+  void replay_side_hits(State& s);
+  void bars_pass();
+  void ordered_masses(State& s);
+  void collide_with_bars(int i, double x0, double y0);
+  void record(const KernelChoice& k);
+};
+
+// ---------------------------------------------------------------------------
+// Kernels. The formulas are those of physics_rules.hpp (and of the link loop of
+// step.cpp), lane by lane, in the same operation order; the comment on each says
+// which rule it is. tests/test_fast_step.cpp checks the results bit for bit.
+// ---------------------------------------------------------------------------
+namespace {
+
+using Impl = FastStepper::Impl;
+
+/// The links (spec 5.2; step.cpp apply_links): impulses of all acting links in
+/// SIMD from the positions (which do not change while links act).
+template <class O>
+void link_kernel(Impl& s) {
+  using V = typename O::V;
+  const double* pos = s.pos.data();
+  const double* target = s.target.data();
+  double* imp_a = s.imp.data();
+  double* imp_b = s.imp.data() + 2 * static_cast<std::size_t>(s.nl_pad);
+  const std::uint32_t* la = s.la.data();
+  const std::uint32_t* lb = s.lb.data();
+  const V k = O::set1(s.model->springyness);
+  const V zero = O::set1(0.0);
+  const V neg_zero = O::set1(-0.0);
+  const int n = (s.nl + O::W - 1) / O::W * O::W;
+  for (int i = 0; i < n; i += O::W) {
+    V xa, ya, xb, yb;
+    O::load_pairs_at(pos, la + i, xa, ya);
+    O::load_pairs_at(pos, lb + i, xb, yb);
+    const V dx = O::sub(xb, xa);
+    const V dy = O::sub(yb, ya);
+    const V length = O::sqrt(O::add(O::mul(dx, dx), O::mul(dy, dy)));
+    // rules::link_impulse_factor: springyness * (length - target) / length
+    const V c = O::div(O::mul(k, O::sub(length, O::load(target + i))), length);
+    const V px = O::mul(c, dx);
+    const V py = O::mul(c, dy);
+    // End B: v -= p is v + (-p) exactly. A zero-length link is skipped: both its
+    // ends then add -0.0, the identity of + (rare, so tested once per block).
+    const auto skip = O::eq(length, zero);
+    if (!O::any(skip)) {
+      O::store_pairs(imp_a + 2 * i, px, py);
+      O::store_pairs(imp_b + 2 * i, O::neg(px), O::neg(py));
+    } else {
+      O::store_pairs(imp_a + 2 * i, O::select(skip, neg_zero, px), O::select(skip, neg_zero, py));
+      O::store_pairs(imp_b + 2 * i, O::select(skip, neg_zero, O::neg(px)), O::select(skip, neg_zero, O::neg(py)));
+    }
+  }
+}
+
+/// Adds to every mass's velocity its impulses, in file order of the links (the
+/// order of the additions into one velocity is the reference's). Masses go in
+/// groups of kGatherGroup of similar degree (sorted at build), one round per
+/// impulse; slots hold double offsets (2 * pair index), so each addition is one
+/// load and one add.
+/// (Pairs of masses in 256-bit additions measured 30 % slower: the inserts cost
+/// more than the additions saved.)
+template <class O>
+void gather_impulses(Impl& s) {
+  const double* imp = s.imp.data();
+  double* vel = s.vel.data();
+  const std::uint32_t* sl = s.slots.data();
+  const std::uint32_t* at = s.gather_vel.data();
+  const int groups = static_cast<int>(s.block_rounds.size());
+  for (int b = 0; b < groups; ++b, at += kGatherGroup) {
+    __m128d acc[kGatherGroup];
+    for (int l = 0; l < kGatherGroup; ++l) acc[l] = _mm_load_pd(vel + at[l]);
+    for (int r = s.block_rounds[b]; r > 0; --r, sl += kGatherGroup) {
+      for (int l = 0; l < kGatherGroup; ++l) acc[l] = _mm_add_pd(acc[l], _mm_load_pd(imp + sl[l]));
+    }
+    for (int l = 0; l < kGatherGroup; ++l) _mm_store_pd(vel + at[l], acc[l]);
+  }
+}
+
+/// The masses (spec 5.3) in SIMD over masses: gravity, friction with the syrup
+/// limit, rest test, move, container walls. Returns whether some mass responded to
+/// a side wall (autoreverse is then replayed in mass order).
+template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
+bool mass_kernel(Impl& s) {
+  using V = typename O::V;
+  using M = typename O::M;
+  const Model& m = *s.model;
+  double* pos = s.pos.data();
+  double* vel = s.vel.data();
+  const V gd = O::set1(s.gd);
+  const V one_minus_f = O::set1(1.0 - m.friction); // rules::friction_factor
+  const V syrup = O::set1(kSyrupThreshold);
+  const V syrup2 = O::set1(kSyrupThreshold * kSyrupThreshold); // 400, exact
+  const V rest_limit = O::set1(kZeroVelocity);
+  const V zero = O::set1(0.0);
+  const V width = O::set1(m.width), height = O::set1(m.height);
+  const V fs = O::set1(m.surface_friction), rs = O::set1(m.surface_reflection);
+  const V left = O::set1(-1.0), right = O::set1(1.0);
+  M any_side = O::m_none();
+  gather_impulses<O>(s);
+  for (int i = 0; i < s.nm_pad; i += O::W) {
+    V vx, vy, x0, y0;
+    O::load_pairs(vel + 2 * i, vx, vy);
+    O::load_pairs(pos + 2 * i, x0, y0);
+    if (!s.bar_a.empty()) O::store_pairs(s.old_pos.data() + 2 * i, x0, y0);
+    if constexpr (Gravity) vy = O::sub(vy, gd); // rules::apply_gravity
+    // rules::friction_factor: (1 - f), times (20 / speed) when speed > 20.
+    // The square-root/divide unit is the bottleneck of the whole step, so both are
+    // skipped when no lane can be above the limit: sqrt is correctly rounded and
+    // monotonic with sqrt(400) = 20, so vx^2 + vy^2 <= 400 gives speed <= 20
+    // exactly. The other lanes keep 1 - f either way.
+    const V speed2 = O::add(O::mul(vx, vx), O::mul(vy, vy));
+    V factor = one_minus_f;
+    if (O::any(O::gt(speed2, syrup2))) {
+      const V speed = O::sqrt(speed2);
+      factor = O::select(O::gt(speed, syrup), O::mul(one_minus_f, O::div(syrup, speed)), one_minus_f);
+    }
+    vx = O::mul(factor, vx);
+    vy = O::mul(factor, vy);
+    // rules::is_at_rest
+    const M rest = O::m_and(O::lt(O::abs(vx), rest_limit), O::lt(O::abs(vy), rest_limit));
+    V x = O::add(x0, vx), y = O::add(y0, vy);
+    V cvx = vx, cvy = vy;
+    // rules::collide_with_container, without the walls no mass can reach.
+    M fc = O::m_none();
+    if constexpr (Floor) {
+      const M below = O::lt(y, zero);
+      y = O::select(below, zero, y);
+      fc = below;
+    }
+    if constexpr (Ceiling) {
+      const M above = O::gt(y, height); // after the floor clamp: the "else if"
+      y = O::select(above, height, y);
+      fc = O::m_or(fc, above);
+    }
+    if constexpr (Floor || Ceiling) {
+      cvy = O::select(fc, O::mul(cvy, rs), cvy);
+      cvx = O::select(fc, O::mul(cvx, fs), cvx);
+    }
+    if constexpr (Sides) {
+      const M lw = O::lt(x, zero);
+      x = O::select(lw, zero, x);
+      const M rw = O::gt(x, width);
+      x = O::select(rw, width, x);
+      const M respond = O::m_andnot(O::m_or(lw, rw), fc); // the corner rule
+      cvx = O::select(respond, O::mul(cvx, rs), cvx);
+      cvy = O::select(respond, O::mul(cvy, fs), cvy);
+      const M hit = O::m_andnot(respond, rest);
+      const V h = O::select(O::m_and(hit, lw), left, O::select(hit, right, zero));
+      O::store_pairs(s.side.data() + 2 * i, h, h);
+      any_side = O::m_or(any_side, hit);
+    }
+    // A mass at rest keeps its position and its damped velocity (no collision).
+    O::store_pairs(pos + 2 * i, O::select(rest, x0, x), O::select(rest, y0, y));
+    O::store_pairs(vel + 2 * i, O::select(rest, vx, cvx), O::select(rest, vy, cvy));
+  }
+  return O::any(any_side);
+}
+
+/// Muscle targets from this frame's sines: rest * (1 + (Aw*Am) * sine), the second
+/// half of rules::muscle_target_length, for target slots [0, nwm_pad).
+template <class O>
+void targets_kernel(Impl& s, const double* sine) {
+  using V = typename O::V;
+  const V one = O::set1(1.0);
+  for (int q = 0; q < s.nwm_pad; q += O::W) {
+    const V power = O::mul(O::loadu(s.tm_power.data() + q), O::gather(sine, s.tm_group.data() + q));
+    O::store(s.target.data() + q, O::mul(O::loadu(s.tm_rest.data() + q), O::add(one, power)));
+  }
+}
+
+/// Frames with the SIMD kernels for one wall/gravity specialisation: the frame
+/// loop is inside the specialised function, so nothing is looked up per frame.
+template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
+void run_chunk(Impl& s, State& st, long long frames) {
+  const bool wave = s.nwm > 0;
+  for (long long f = 0; f < frames; ++f) {
+    if (wave) s.update_targets(st.wave_phase, st.wave_mode);
+    if (s.nl > 0) link_kernel<O>(s);
+    if (mass_kernel<O, Gravity, Floor, Ceiling, Sides>(s)) s.replay_side_hits(st);
+    if (!s.bar_a.empty()) s.bars_pass();
+    st.wave_phase = s.advance_phase(st);
+  }
+}
+
+using LinkFn = void (*)(Impl&);
+using TargetFn = void (*)(Impl&, const double*);
+using ChunkFn = void (*)(Impl&, State&, long long);
+
+template <class O>
+struct KernelTable {
+  static LinkFn link();
+  static ChunkFn chunk(bool g, bool f, bool c, bool sides);
+  static SinFn sin();
+  static TargetFn targets();
+};
+
+#define SODA_KERNELS(O)                                                                                   \
+  template void gather_impulses<O>(Impl&);                                                                 \
+  template bool mass_kernel<O, false, false, false, false>(Impl&);                                        \
+  template bool mass_kernel<O, false, false, false, true>(Impl&);                                         \
+  template bool mass_kernel<O, false, false, true, false>(Impl&);                                         \
+  template bool mass_kernel<O, false, false, true, true>(Impl&);                                          \
+  template bool mass_kernel<O, false, true, false, false>(Impl&);                                         \
+  template bool mass_kernel<O, false, true, false, true>(Impl&);                                          \
+  template bool mass_kernel<O, false, true, true, false>(Impl&);                                          \
+  template bool mass_kernel<O, false, true, true, true>(Impl&);                                           \
+  template bool mass_kernel<O, true, false, false, false>(Impl&);                                         \
+  template bool mass_kernel<O, true, false, false, true>(Impl&);                                          \
+  template bool mass_kernel<O, true, false, true, false>(Impl&);                                          \
+  template bool mass_kernel<O, true, false, true, true>(Impl&);                                           \
+  template bool mass_kernel<O, true, true, false, false>(Impl&);                                          \
+  template bool mass_kernel<O, true, true, false, true>(Impl&);                                           \
+  template bool mass_kernel<O, true, true, true, false>(Impl&);                                           \
+  template bool mass_kernel<O, true, true, true, true>(Impl&);                                            \
+  template void link_kernel<O>(Impl&);                                                                     \
+  template void run_chunk<O, false, false, false, false>(Impl&, State&, long long);                       \
+  template void run_chunk<O, false, false, false, true>(Impl&, State&, long long);                        \
+  template void run_chunk<O, false, false, true, false>(Impl&, State&, long long);                        \
+  template void run_chunk<O, false, false, true, true>(Impl&, State&, long long);                         \
+  template void run_chunk<O, false, true, false, false>(Impl&, State&, long long);                        \
+  template void run_chunk<O, false, true, false, true>(Impl&, State&, long long);                         \
+  template void run_chunk<O, false, true, true, false>(Impl&, State&, long long);                         \
+  template void run_chunk<O, false, true, true, true>(Impl&, State&, long long);                          \
+  template void run_chunk<O, true, false, false, false>(Impl&, State&, long long);                        \
+  template void run_chunk<O, true, false, false, true>(Impl&, State&, long long);                         \
+  template void run_chunk<O, true, false, true, false>(Impl&, State&, long long);                         \
+  template void run_chunk<O, true, false, true, true>(Impl&, State&, long long);                          \
+  template void run_chunk<O, true, true, false, false>(Impl&, State&, long long);                         \
+  template void run_chunk<O, true, true, false, true>(Impl&, State&, long long);                          \
+  template void run_chunk<O, true, true, true, false>(Impl&, State&, long long);                          \
+  template void run_chunk<O, true, true, true, true>(Impl&, State&, long long);                           \
+  template unsigned table_sin<O>(const SinTable&, const double*, double*);                                \
+  template void sines<O>(const double*, double*, int);                                                     \
+  template void targets_kernel<O>(Impl&, const double*);                                                   \
+  template <>                                                                                              \
+  TargetFn KernelTable<O>::targets() {                                                                     \
+    return &targets_kernel<O>;                                                                             \
+  }                                                                                                        \
+  template <>                                                                                              \
+  SinFn KernelTable<O>::sin() {                                                                            \
+    return &sines<O>;                                                                                      \
+  }                                                                                                        \
+  template <>                                                                                              \
+  LinkFn KernelTable<O>::link() {                                                                          \
+    return &link_kernel<O>;                                                                                \
+  }                                                                                                        \
+  template <>                                                                                              \
+  ChunkFn KernelTable<O>::chunk(bool g, bool f, bool c, bool sides) {                                      \
+    constexpr ChunkFn table[16] = {                                                                        \
+        &run_chunk<O, false, false, false, false>, &run_chunk<O, false, false, false, true>,               \
+        &run_chunk<O, false, false, true, false>,  &run_chunk<O, false, false, true, true>,                \
+        &run_chunk<O, false, true, false, false>,  &run_chunk<O, false, true, false, true>,                \
+        &run_chunk<O, false, true, true, false>,   &run_chunk<O, false, true, true, true>,                 \
+        &run_chunk<O, true, false, false, false>,  &run_chunk<O, true, false, false, true>,                \
+        &run_chunk<O, true, false, true, false>,   &run_chunk<O, true, false, true, true>,                 \
+        &run_chunk<O, true, true, false, false>,   &run_chunk<O, true, true, false, true>,                 \
+        &run_chunk<O, true, true, true, false>,    &run_chunk<O, true, true, true, true>};                 \
+    return table[(g ? 8 : 0) + (f ? 4 : 0) + (c ? 2 : 0) + (sides ? 1 : 0)];                               \
+  }
+
+SODA_KERNELS(Sse2Ops)
+
+// Instantiated under the target pragma so that they are compiled for that
+// instruction set (they are only called when the CPU has it).
+#pragma GCC push_options
+#pragma GCC target("avx2")
+SODA_KERNELS(Avx2Ops)
+#pragma GCC pop_options
+
+#pragma GCC push_options
+#pragma GCC target("avx512f")
+SODA_KERNELS(Avx512Ops)
+#pragma GCC pop_options
+
+#undef SODA_KERNELS
+
+LinkFn link_fn(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::Avx512: return KernelTable<Avx512Ops>::link();
+    case SimdLevel::Avx2: return KernelTable<Avx2Ops>::link();
+    default: return KernelTable<Sse2Ops>::link();
+  }
+}
+
+TargetFn targets_fn(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::Avx512: return KernelTable<Avx512Ops>::targets();
+    case SimdLevel::Avx2: return KernelTable<Avx2Ops>::targets();
+    default: return KernelTable<Sse2Ops>::targets();
+  }
+}
+
+SinFn sin_fn(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::Avx512: return KernelTable<Avx512Ops>::sin();
+    case SimdLevel::Avx2: return KernelTable<Avx2Ops>::sin();
+    default: return KernelTable<Sse2Ops>::sin();
+  }
+}
+
+ChunkFn chunk_fn(SimdLevel level, bool g, const WallNeeds& w) {
+  switch (level) {
+    case SimdLevel::Avx512: return KernelTable<Avx512Ops>::chunk(g, w.floor, w.ceiling, w.sides);
+    case SimdLevel::Avx2: return KernelTable<Avx2Ops>::chunk(g, w.floor, w.ceiling, w.sides);
+    default: return KernelTable<Sse2Ops>::chunk(g, w.floor, w.ceiling, w.sides);
+  }
+}
+
+
+} // namespace
+
+// ---------------------------------------------------------------------------
+// CPU levels.
+// ---------------------------------------------------------------------------
+
+bool simd_level_supported(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::Auto:
+    case SimdLevel::Sse2: return true;
+    case SimdLevel::Avx2: return __builtin_cpu_supports("avx2");
+    case SimdLevel::Avx512: return __builtin_cpu_supports("avx512f");
+  }
+  return false;
+}
+
+SimdLevel best_simd_level() {
+  if (simd_level_supported(SimdLevel::Avx512)) return SimdLevel::Avx512;
+  if (simd_level_supported(SimdLevel::Avx2)) return SimdLevel::Avx2;
+  return SimdLevel::Sse2;
+}
+
+const char* simd_level_name(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::Auto: return "auto";
+    case SimdLevel::Sse2: return "sse2";
+    case SimdLevel::Avx2: return "avx2";
+    case SimdLevel::Avx512: return "avx512";
+  }
+  return "?";
+}
+
+std::string KernelChoice::describe() const {
+  std::string s = simd_level_name(simd);
+  s += ordered ? " ordered" : " simd-masses";
+  s += wave ? " wave" : " no-wave";
+  s += gravity ? " gravity" : " no-gravity";
+  s += " walls:";
+  s += walls.floor ? "F" : "-";
+  s += walls.ceiling ? "C" : "-";
+  s += walls.sides ? "S" : "-";
+  s += bars == BarKind::None ? " bars:none" : bars == BarKind::FixedSegments ? " bars:fixed" : " bars:moving";
+  return s;
+}
+
+// ---------------------------------------------------------------------------
+// Building the plan.
+// ---------------------------------------------------------------------------
+
+void FastStepper::Impl::build(const Model& m, long long budget, FastStepOptions opt) {
+  model = &m;
+  options = opt;
+  needs = analyse_scene(m, budget);
+  simd = opt.simd == SimdLevel::Auto ? best_simd_level() : opt.simd;
+  if (!simd_level_supported(simd)) simd = best_simd_level();
+  W = width_of(simd);
+
+  nm = m.mass_count;
+  nm_pad = (nm + kMaxWidth - 1) / kMaxWidth * kMaxWidth;
+  nf = m.point_count - nm;
+  sink = nm_pad + nf;
+  work_of_point.resize(static_cast<std::size_t>(m.point_count));
+  for (int p = 0; p < m.point_count; ++p) work_of_point[p] = p < nm ? p : nm_pad + (p - nm);
+  pos.assign(2 * static_cast<std::size_t>(sink + 1), 0.0);
+  vel.assign(2 * static_cast<std::size_t>(sink + 1), 0.0);
+  old_pos.assign(2 * static_cast<std::size_t>(nm_pad), 0.0);
+  side.assign(2 * static_cast<std::size_t>(nm_pad), 0.0);
+
+  // Acting links (a free end), wave muscles first, each group in file order. The
+  // order links are computed in is free: only the order of the additions into
+  // each velocity matters, and the slots below keep file order for that.
+  auto wave_muscle = [&m](int i) { return m.link_muscle[i] && (m.wave_amplitude * m.link_amplitude[i]) != 0.0; };
+  std::vector<int> acting;
+  for (int pass = 0; pass < 2; ++pass) {
+    for (int i = 0; i < m.link_count(); ++i) {
+      if (!m.is_mass(m.link_a[i]) && !m.is_mass(m.link_b[i])) continue; // no effect at all
+      if (wave_muscle(i) == (pass == 0)) acting.push_back(i);
+    }
+    if (pass == 0) nwm = static_cast<int>(acting.size());
+  }
+  nl = static_cast<int>(acting.size());
+  nl_pad = (nl + kMaxWidth - 1) / kMaxWidth * kMaxWidth;
+  nwm_pad = (nwm + kMaxWidth - 1) / kMaxWidth * kMaxWidth;
+  la.assign(static_cast<std::size_t>(nl_pad), 0);
+  lb.assign(static_cast<std::size_t>(nl_pad), 0);
+  target.assign(static_cast<std::size_t>(nl_pad), 0.0);
+  imp.assign(4 * static_cast<std::size_t>(nl_pad) + 2, -0.0);
+  // Per mass, its impulse pairs in file order of the links.
+  std::vector<std::vector<std::pair<int, std::int32_t>>> per_mass_file(static_cast<std::size_t>(nm_pad));
+  for (int k = 0; k < nl; ++k) {
+    const int i = acting[k];
+    la[k] = 2 * static_cast<std::uint32_t>(work_of_point[m.link_a[i]]);
+    lb[k] = 2 * static_cast<std::uint32_t>(work_of_point[m.link_b[i]]);
+    if (m.is_mass(m.link_a[i])) per_mass_file[m.link_a[i]].emplace_back(i, k);
+    if (m.is_mass(m.link_b[i])) per_mass_file[m.link_b[i]].emplace_back(i, nl_pad + k);
+  }
+  std::vector<std::vector<std::int32_t>> per_mass(static_cast<std::size_t>(nm_pad));
+  for (int w = 0; w < nm_pad; ++w) {
+    auto& list = per_mass_file[w];
+    std::stable_sort(list.begin(), list.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (const auto& e : list) per_mass[w].push_back(e.second);
+  }
+  identity_pair = 2 * nl_pad;
+  std::vector<int> by_degree(static_cast<std::size_t>(nm_pad));
+  for (int w = 0; w < nm_pad; ++w) by_degree[w] = w;
+  std::stable_sort(by_degree.begin(), by_degree.end(),
+                   [&](int a, int b) { return per_mass[a].size() > per_mass[b].size(); });
+  block_rounds.clear();
+  gather_vel.clear();
+  slots.clear();
+  slot_of_mass.assign(static_cast<std::size_t>(nm_pad), 0);
+  rounds_of_mass.assign(static_cast<std::size_t>(nm_pad), 0);
+  for (int g = 0; g < nm_pad; g += kGatherGroup) {
+    std::size_t rounds = 0;
+    for (int l = 0; l < kGatherGroup; ++l) rounds = std::max(rounds, per_mass[by_degree[g + l]].size());
+    block_rounds.push_back(static_cast<std::int32_t>(rounds));
+    for (int l = 0; l < kGatherGroup; ++l) {
+      gather_vel.push_back(2 * static_cast<std::uint32_t>(by_degree[g + l]));
+      slot_of_mass[by_degree[g + l]] = static_cast<std::int32_t>(slots.size()) + l;
+      rounds_of_mass[by_degree[g + l]] = static_cast<std::int32_t>(rounds);
+    }
+    for (std::size_t r = 0; r < rounds; ++r) {
+      for (int l = 0; l < kGatherGroup; ++l) {
+        const auto& list = per_mass[by_degree[g + l]];
+        slots.push_back(2 * static_cast<std::uint32_t>(r < list.size() ? list[r] : identity_pair));
+      }
+    }
+  }
+  // Targets in lane order: lane l of block b holds link b*W + kLaneLink(W, l).
+  std::vector<int> slot_of_link(static_cast<std::size_t>(nl_pad));
+  for (int b = 0; b < nl_pad; b += W) {
+    for (int l = 0; l < W; ++l) slot_of_link[b + kLaneLink(W, l)] = b + l;
+  }
+  std::map<std::uint64_t, int> group_of_phase;
+  tm_rest.assign(static_cast<std::size_t>(nwm_pad), 0.0);
+  tm_power.assign(static_cast<std::size_t>(nwm_pad), 0.0);
+  tm_group.assign(static_cast<std::size_t>(nwm_pad), 0);
+  for (int k = 0; k < nl; ++k) {
+    const int i = acting[k];
+    const int q = slot_of_link[k];
+    target[q] = m.link_rest[i]; // springs, and muscles of power 0: rest*(1 +- 0) = rest
+    if (q < nwm_pad) tm_rest[q] = m.link_rest[i];
+    if (k >= nwm) continue;
+    tm_power[q] = m.wave_amplitude * m.link_amplitude[i]; // the product muscle_target_length forms
+    auto [it, inserted] = group_of_phase.try_emplace(bits_of(m.link_phase[i]), static_cast<int>(group_phase.size()));
+    if (inserted) group_phase.push_back(m.link_phase[i]);
+    tm_group[q] = it->second;
+  }
+  groups = static_cast<int>(group_phase.size());
+  constexpr int kSinesPerBatch = 128;
+  rows = groups > 0 ? std::clamp(kSinesPerBatch / groups, 1, 16) : 1;
+  const std::size_t row_values = static_cast<std::size_t>((rows * groups + kMaxWidth - 1) / kMaxWidth * kMaxWidth);
+  row_phase_bits.assign(static_cast<std::size_t>(rows), 0);
+  row_phase_after.assign(static_cast<std::size_t>(rows), 0.0);
+  row_arg.assign(row_values, 1.0); // padding lanes: an argument the tables take
+  row_sin.assign(row_values, 0.0);
+
+  for (int b = 0; b < m.bar_count(); ++b) {
+    bar_a.push_back(2 * work_of_point[m.bar_a[b]]);
+    bar_b.push_back(2 * work_of_point[m.bar_b[b]]);
+  }
+  gd = m.gravity * static_cast<double>(static_cast<int>(m.gravity_direction)); // as rules::apply_gravity
+}
+
+void FastStepper::Impl::load_state(const State& s) {
+  const Model& m = *model;
+  for (int p = 0; p < m.point_count; ++p) {
+    const int w = work_of_point[p];
+    px(w) = s.x[p];
+    py(w) = s.y[p];
+    pvx(w) = s.vx[p];
+    pvy(w) = s.vy[p];
+  }
+  for (int w = nm; w < nm_pad; ++w) px(w) = py(w) = pvx(w) = pvy(w) = 0.0;
+}
+
+void FastStepper::Impl::store_state(State& s) {
+  for (int p = 0; p < nm; ++p) {
+    s.x[p] = px(p);
+    s.y[p] = py(p);
+    s.vx[p] = pvx(p);
+    s.vy[p] = pvy(p);
+  }
+}
+
+// Muscle targets: rules::muscle_target_length split in two so that the sine is
+// shared, sine = sin(2pi*(phi_m - phi_w)) once per distinct phase, then per muscle
+// rest * (1 + (Aw*Am) * sine) with the same operations in the same order.
+void FastStepper::Impl::update_targets(double wave_phase, WaveDirection mode) {
+  const std::uint64_t phase_bits = bits_of(wave_phase);
+  if (targets_valid && phase_bits == targets_phase_bits) return;
+  int row = 0;
+  if (row_next < row_count && row_phase_bits[row_next] == phase_bits) {
+    row = row_next++;
+  } else {
+    // A batch for this frame and the next ones (while the direction holds).
+    double phase = wave_phase;
+    row_count = 0;
+    rows_mode = mode;
+    for (int r = 0; r < rows; ++r) {
+      row_phase_bits[r] = bits_of(phase);
+      for (int g = 0; g < groups; ++g) row_arg[r * groups + g] = kTwoPi * (group_phase[g] - phase);
+      ++row_count;
+      const double next = rules::advance_wave_phase(phase, model->wave_speed, mode);
+      row_phase_after[r] = next;
+      if (bits_of(next) == bits_of(phase)) break; // the wave stands still: one row is enough
+      phase = next;
+    }
+    const int n = row_count * groups;
+    // Two lanes (SSE2) do not pay for the table work: std::sin is as fast there.
+    if (options.table_sines && W >= 4) {
+      sin_fn(simd)(row_arg.data(), row_sin.data(), n);
+    } else {
+      for (int g = 0; g < n; ++g) row_sin[g] = std::sin(row_arg[g]);
+    }
+    sines += static_cast<long long>(row_count) * groups;
+    row = 0;
+    row_next = 1;
+  }
+  targets_fn(simd)(*this, row_sin.data() + static_cast<std::size_t>(row) * groups);
+  targets_valid = true;
+  targets_phase_bits = phase_bits;
+  has_prediction = true;
+  predicted_from = phase_bits;
+  predicted_next = row_phase_after[row];
+  predicted_mode = rows_mode;
+}
+
+// Fixed bars: rules::collide_with_bars on the pair arrays (x at even, y at odd
+// offsets; bar ends and the mass as doubled indices).
+void FastStepper::Impl::collide_with_bars(int i, double x0, double y0) {
+  const Model& m = *model;
+  rules::collide_with_bars(pos.data(), pos.data() + 1, bar_a.data(), bar_b.data(), static_cast<int>(bar_a.size()),
+                           2 * i, x0, y0, px(i), py(i), pvx(i), pvy(i), m.surface_friction, m.surface_reflection);
+}
+
+// Masses one by one in file order, exactly as step.cpp move_masses (used when a bar
+// has a free-mass end: a mass's bar test then sees the masses moved before it).
+void FastStepper::Impl::ordered_masses(State& s) {
+  const Model& m = *model;
+  for (int i = 0; i < nm; ++i) {
+    // Impulses in file order of the links.
+    double vxi = pvx(i), vyi = pvy(i);
+    const std::uint32_t* sl = slots.data() + slot_of_mass[i];
+    for (int r = 0; r < rounds_of_mass[i]; ++r, sl += kGatherGroup) {
+      vxi += imp[*sl];
+      vyi += imp[*sl + 1];
+    }
+    vyi = rules::apply_gravity(vyi, m.gravity, m.gravity_direction);
+    const double factor = rules::friction_factor(vxi, vyi, m.friction);
+    vxi = factor * vxi;
+    vyi = factor * vyi;
+    if (rules::is_at_rest(vxi, vyi)) {
+      pvx(i) = vxi;
+      pvy(i) = vyi;
+      continue;
+    }
+    const double x0 = px(i), y0 = py(i);
+    double xi = x0 + vxi, yi = y0 + vyi;
+    const SideWall hit = rules::collide_with_container(xi, yi, vxi, vyi, m.width, m.height, m.surface_friction,
+                                                       m.surface_reflection);
+    rules::autoreverse_on_wall_hit(hit, m.autoreverse, s.wave_mode, s.last_side_wall);
+    px(i) = xi;
+    py(i) = yi;
+    pvx(i) = vxi;
+    pvy(i) = vyi;
+    if (!bar_a.empty()) collide_with_bars(i, x0, y0);
+  }
+}
+
+void FastStepper::Impl::record(const KernelChoice& k) {
+  last = k;
+  if (std::find(used.begin(), used.end(), k) == used.end()) used.push_back(k);
+}
+
+// Autoreverse (rules::autoreverse_on_wall_hit) for the side-wall hits of this
+// frame, in mass order as the reference meets them.
+void FastStepper::Impl::replay_side_hits(State& s) {
+  for (int i = 0; i < nm; ++i) {
+    const double h = side[2 * static_cast<std::size_t>(i)];
+    if (h != 0.0) {
+      rules::autoreverse_on_wall_hit(h < 0.0 ? SideWall::Left : SideWall::Right, model->autoreverse, s.wave_mode,
+                                     s.last_side_wall);
+    }
+  }
+}
+
+// Bars whose ends are fixed nodes: each mass independent of the others, so the bar
+// tests can follow the SIMD container step, in mass order.
+void FastStepper::Impl::bars_pass() {
+  for (int i = 0; i < nm; ++i) collide_with_bars(i, old_pos[2 * i], old_pos[2 * i + 1]);
+}
+
+void FastStepper::Impl::ordered_frame(State& s) {
+  if (nwm > 0) update_targets(s.wave_phase, s.wave_mode);
+  if (nl > 0) link_fn(simd)(*this);
+  ordered_masses(s);
+  s.wave_phase = advance_phase(s);
+}
+
+// ---------------------------------------------------------------------------
+// FastStepper.
+// ---------------------------------------------------------------------------
+
+FastStepper::FastStepper(const Model& model, long long frame_budget, FastStepOptions options)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->build(model, frame_budget, options);
+}
+FastStepper::~FastStepper() = default;
+FastStepper::FastStepper(FastStepper&&) noexcept = default;
+FastStepper& FastStepper::operator=(FastStepper&&) noexcept = default;
+
+const SceneNeeds& FastStepper::needs() const { return impl_->needs; }
+const Model& FastStepper::model() const { return *impl_->model; }
+bool FastStepper::used(const KernelChoice& k) const {
+  return std::find(impl_->used.begin(), impl_->used.end(), k) != impl_->used.end();
+}
+const KernelChoice& FastStepper::last_kernel() const { return impl_->last; }
+long long FastStepper::sines_evaluated() const { return impl_->sines; }
+bool FastStepper::table_sines_usable() { return sin_table().usable; }
+
+void exact_sines(const double* args, double* out, int n, SimdLevel level) {
+  if (level == SimdLevel::Auto || !simd_level_supported(level)) level = best_simd_level();
+  const SinFn fn = sin_fn(level);
+  alignas(64) double a[kMaxWidth * 16], r[kMaxWidth * 16];
+  for (int i = 0; i < n; i += kMaxWidth * 16) {
+    const int k = std::min(n - i, kMaxWidth * 16);
+    std::fill(a, a + kMaxWidth * 16, 1.0);
+    std::copy(args + i, args + i + k, a);
+    fn(a, r, k);
+    std::copy(r, r + k, out + i);
+  }
+}
+
+void FastStepper::run(State& state, long long frames) {
+  if (frames <= 0) return;
+  Impl& s = *impl_;
+  s.load_state(state);
+  KernelChoice k;
+  k.simd = s.simd;
+  k.wave = s.needs.wave;
+  k.gravity = s.needs.gravity;
+  k.bars = s.needs.bars;
+  k.ordered = s.options.force_ordered || s.needs.bars == BarKind::MovingEnds;
+  // Walls: without bars, the walls no mass can reach within a chunk of frames are
+  // not tested in that chunk. A chunk ends when a skipped wall might come into
+  // reach; while every wall is tested the reach is re-checked every kRecheck frames.
+  constexpr long long kMinSkip = 32;  // a wall test costs less than re-checking the reach often
+  constexpr long long kRecheck = 256;
+  const bool adaptive = s.options.adaptive_walls && s.needs.bars == BarKind::None && !k.ordered;
+  long long done = 0;
+  while (done < frames) {
+    long long chunk = frames - done;
+    if (adaptive) {
+      const WallSafeFrames safe = wall_safe_frames(*s.model, s.pos.data(), s.pos.data() + 1, 2);
+      k.walls = WallNeeds{safe.floor < kMinSkip, safe.ceiling < kMinSkip, safe.sides < kMinSkip};
+      long long valid = kSafeFramesCap;
+      if (!k.walls.floor) valid = std::min(valid, safe.floor);
+      if (!k.walls.ceiling) valid = std::min(valid, safe.ceiling);
+      if (!k.walls.sides) valid = std::min(valid, safe.sides);
+      if (valid == kSafeFramesCap) valid = kRecheck; // every wall tested
+      chunk = std::min(chunk, valid);
+    } else {
+      k.walls = WallNeeds{};
+    }
+    s.record(k);
+    if (k.ordered) {
+      for (long long f = 0; f < chunk; ++f) s.ordered_frame(state);
+    } else {
+      chunk_fn(s.simd, k.gravity, k.walls)(s, state, chunk);
+    }
+    done += chunk;
+  }
+  s.store_state(state);
+  state.frame += frames;
+}
+
+} // namespace soda

@@ -1,0 +1,112 @@
+// FastStepper: the exact SodaConstructor step (spec 5), fast.
+//
+// Equal bit for bit to the reference step (step.hpp) for every model and every
+// number of frames: same operations in the same order per value, only grouped
+// differently.
+//
+// How (see fast_step.cpp for details):
+//  - scene analysis once per model (scene_analysis.hpp) picks specialised kernels:
+//    no wave work without muscles, no gravity when it is +0, no bar tests without
+//    bars, no wall test for walls no mass can reach in the next chunk of frames;
+//  - muscle targets: one sin per distinct muscle phase per frame (shared), computed
+//    for the next frames in one SIMD batch (the phases the wave will have if its
+//    direction holds; a row is used only when the phase matches bit for bit), from
+//    tables where the result provably equals std::sin's, std::sin otherwise; the
+//    target update is skipped while the wave phase does not change (manual mode,
+//    speed 0);
+//  - links: impulses of all links computed in SIMD (SSE2, AVX2 or AVX-512, chosen
+//    at run time; all bit-exact, no FMA) from positions only - positions do not
+//    change while links act. The square root and division per link are the cost
+//    that matters, and their cost per instruction does not depend on the width;
+//  - masses: each mass sums its impulses in file order of the links (the order of
+//    the additions into one velocity is the only order that matters), then
+//    gravity, friction, rest test, move and walls, in SIMD over masses, with the
+//    frame loop inside the specialised function;
+//  - autoreverse hits are replayed in mass order, fixed-bar tests run per mass in
+//    order after the container (exactly as the reference does per mass); with a
+//    bar that has a free-mass end, masses go one by one in file order.
+//
+// The Model must outlive the stepper. The stepper keeps scratch arrays, so one
+// stepper is used by one thread at a time; make one per thread (cheap).
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "model.hpp"
+#include "scene_analysis.hpp"
+
+namespace soda {
+
+/// Instruction set of the SIMD kernels. All give identical results.
+enum class SimdLevel { Auto, Sse2, Avx2, Avx512 };
+
+/// The best level this CPU runs.
+SimdLevel best_simd_level();
+const char* simd_level_name(SimdLevel level);
+bool simd_level_supported(SimdLevel level);
+
+/// sin of n arguments, each equal bit for bit to std::sin's: table and SIMD where
+/// the result is provably the same (fast_step.cpp explains), std::sin elsewhere.
+void exact_sines(const double* args, double* out, int n, SimdLevel level = SimdLevel::Auto);
+
+struct FastStepOptions {
+  SimdLevel simd = SimdLevel::Auto;
+  /// Re-check, every chunk of frames, which walls a mass could reach (exact).
+  bool adaptive_walls = true;
+  /// Force the per-mass ordered kernel (the one used with moving bars); for tests.
+  bool force_ordered = false;
+  /// Muscle sines from tables in SIMD where the result is provably std::sin's
+  /// (fast_step.cpp explains), std::sin elsewhere. Off: std::sin everywhere. Both
+  /// give the same bits.
+  bool table_sines = true;
+};
+
+/// The kernel a chunk of frames ran with, for tests and diagnostics.
+struct KernelChoice {
+  SimdLevel simd = SimdLevel::Sse2;
+  bool ordered = false; ///< masses one by one in file order (bars with a free-mass end)
+  bool wave = false;
+  bool gravity = false;
+  WallNeeds walls;
+  BarKind bars = BarKind::None;
+  [[nodiscard]] std::string describe() const;
+  bool operator==(const KernelChoice&) const = default;
+};
+
+class FastStepper {
+ public:
+  /// `frame_budget`: how many frames the caller means to run from the model's
+  /// initial state (used by the scene analysis; running more is still exact).
+  FastStepper(const Model& model, long long frame_budget, FastStepOptions options = {});
+  ~FastStepper();
+  FastStepper(FastStepper&&) noexcept;
+  FastStepper& operator=(FastStepper&&) noexcept;
+  FastStepper(const FastStepper&) = delete;
+  FastStepper& operator=(const FastStepper&) = delete;
+
+  /// Steps `state` (a state of this model) by `frames` frames; afterwards it equals,
+  /// bit for bit, what soda::run(model, state, frames) gives.
+  void run(State& state, long long frames);
+  /// One frame (for traces).
+  void step(State& state) { run(state, 1); }
+
+  [[nodiscard]] const SceneNeeds& needs() const;
+  [[nodiscard]] const Model& model() const;
+  /// Kernels used since construction, as a bit set over kernel_index(); for tests.
+  [[nodiscard]] bool used(const KernelChoice& k) const;
+  [[nodiscard]] const KernelChoice& last_kernel() const;
+  /// Whether the table sines passed their self-check against this C library.
+  static bool table_sines_usable();
+  /// Sines evaluated since construction (shared per phase, skipped when the wave
+  /// phase did not move).
+  [[nodiscard]] long long sines_evaluated() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+} // namespace soda

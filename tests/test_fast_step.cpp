@@ -1,0 +1,506 @@
+// The fast stepper against the reference step: bit for bit, on every model file
+// we have and on synthetic scenes built to hit each special case and each kernel
+// specialisation the scene analysis can choose.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "bench/baselines.hpp"
+#include "bench/synthetic.hpp"
+#include "core/fast_step.hpp"
+#include "core/input_error.hpp"
+#include "core/model_file.hpp"
+#include "core/scene_analysis.hpp"
+#include "core/step.hpp"
+#include "evolve/parallel_for.hpp"
+#include "test_support.hpp"
+
+using namespace sodaevo::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+/// Empty string if equal in every bit, else where they first differ.
+std::string compare_states(const soda::Model& m, const soda::State& a, const soda::State& b) {
+  if (a.frame != b.frame) return "frame counter";
+  if (!same_bits(a.wave_phase, b.wave_phase)) return "wave phase";
+  if (a.wave_mode != b.wave_mode) return "wave mode";
+  if (a.last_side_wall != b.last_side_wall) return "last side wall";
+  for (int p = 0; p < m.point_count; ++p) {
+    if (!same_bits(a.x[p], b.x[p]) || !same_bits(a.y[p], b.y[p]) || !same_bits(a.vx[p], b.vx[p]) ||
+        !same_bits(a.vy[p], b.vy[p])) {
+      return "point " + std::to_string(p);
+    }
+  }
+  return {};
+}
+
+std::vector<soda::SimdLevel> supported_levels() {
+  std::vector<soda::SimdLevel> levels;
+  for (auto l : {soda::SimdLevel::Sse2, soda::SimdLevel::Avx2, soda::SimdLevel::Avx512}) {
+    if (soda::simd_level_supported(l)) levels.push_back(l);
+  }
+  return levels;
+}
+
+/// Runs the reference and the fast stepper side by side, comparing at a few
+/// checkpoints (run() in uneven pieces and single steps, as traces do).
+/// Returns the first mismatch, or an empty string.
+std::string run_both(const soda::Model& model, long long frames, soda::FastStepOptions options,
+                     soda::FastStepper* keep = nullptr) {
+  soda::State ref = soda::make_state(model);
+  soda::State fast = soda::make_state(model);
+  soda::FastStepper stepper(model, frames, options);
+  const long long pieces[] = {1, 1, 7, 100, 391};
+  long long done = 0;
+  std::size_t next = 0;
+  while (done < frames) {
+    const long long n = std::min(frames - done, next < std::size(pieces) ? pieces[next++] : frames);
+    soda::run(model, ref, n);
+    if (n == 1) stepper.step(fast);
+    else stepper.run(fast, n);
+    done += n;
+    const std::string diff = compare_states(model, ref, fast);
+    if (!diff.empty()) return "frame " + std::to_string(done) + ": " + diff;
+  }
+  if (keep) *keep = std::move(stepper);
+  return {};
+}
+
+struct LoadResult {
+  bool skipped = false;
+  Scene scene;
+};
+
+LoadResult try_load(const fs::path& path) {
+  try {
+    return {false, load_scene(path)};
+  } catch (const soda::InputError& e) {
+    if (std::string(e.what()).find("race") != std::string::npos) return {true, {}};
+    throw;
+  }
+}
+
+std::vector<fs::path> model_files(const fs::path& dir) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (e.is_regular_file() && e.path().extension() == ".xml") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+void check_directory(const fs::path& dir, long long frames) {
+  int compared = 0;
+  for (const fs::path& file : model_files(dir)) {
+    const LoadResult loaded = try_load(file);
+    if (loaded.skipped) continue;
+    for (soda::SimdLevel level : supported_levels()) {
+      soda::FastStepOptions opt;
+      opt.simd = level;
+      const std::string diff = run_both(loaded.scene.model, frames, opt);
+      INFO(file.string() << " [" << soda::simd_level_name(level) << "]");
+      CHECK(diff.empty());
+      if (!diff.empty()) UNSCOPED_INFO(diff);
+    }
+    ++compared;
+  }
+  INFO(dir.string());
+  CHECK(compared > 0);
+}
+
+// --- synthetic scenes -------------------------------------------------------
+
+soda::NodeDef mass(double x, double y, double vx = 0, double vy = 0) { return {"m", false, x, y, vx, vy}; }
+soda::NodeDef node(double x, double y) { return {"n", true, x, y, 0, 0}; }
+soda::LinkDef spring(int a, int b, double rest) { return {soda::LinkKind::Spring, a, b, rest, 0, 0}; }
+soda::LinkDef muscle(int a, int b, double rest, double amp, double phase) {
+  return {soda::LinkKind::Muscle, a, b, rest, amp, phase};
+}
+soda::LinkDef bar(int a, int b) { return {soda::LinkKind::FixedBar, a, b, 0, 0, 0}; }
+
+/// A lattice creature with springs and muscles of a few shared phases.
+soda::ModelDef lattice(int cols, int rows, double x0, double y0, double spacing = 30.0) {
+  soda::ModelDef def;
+  def.width = 2000;
+  def.height = 800;
+  def.wave = {0.6, 0.1, 0.013};
+  auto id = [cols](int c, int r) { return r * cols + c; };
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) def.nodes.push_back(mass(x0 + c * spacing, y0 + r * spacing, 0.3, -0.1));
+  }
+  int k = 0;
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < cols; ++c) {
+      if (c + 1 < cols) def.links.push_back(spring(id(c, r), id(c + 1, r), spacing));
+      if (r + 1 < rows) def.links.push_back(spring(id(c, r), id(c, r + 1), spacing));
+      if (c + 1 < cols && r + 1 < rows) {
+        def.links.push_back(muscle(id(c, r), id(c + 1, r + 1), spacing * 1.4142, 0.5, (k++ % 4) / 4.0));
+        def.links.push_back(spring(id(c + 1, r), id(c, r + 1), spacing * 1.4142));
+      }
+    }
+  }
+  return def;
+}
+
+soda::Model build(const soda::ModelDef& def) { return soda::build_model(def); }
+
+} // namespace
+
+TEST_CASE("fast step equals the reference on every bundled test model for 10,000 frames", "[fast_step]") {
+  check_directory(data_dir() / "soda", 10000);
+}
+
+TEST_CASE("fast step equals the reference on the shared models for 10,000 frames", "[fast_step]") {
+  const fs::path shared = shared_models_dir();
+  if (shared.empty()) {
+    WARN("../shared/models/soda is absent: the shared models are not compared (only tests/data/soda is)");
+    return;
+  }
+  check_directory(shared, 10000);
+}
+
+TEST_CASE("fast step equals the reference on the bundled creatures", "[fast_step]") {
+  if (!fs::is_directory(models_dir())) return;
+  for (const fs::path& file : model_files(models_dir())) {
+    const Scene scene = load_scene(file);
+    const std::string diff = run_both(scene.model, 10000, {});
+    INFO(file.string() << ": " << diff);
+    CHECK(diff.empty());
+  }
+}
+
+TEST_CASE("scene analysis: what each scene needs", "[fast_step]") {
+  SECTION("Dainty Walker in its 651 px box") {
+    const Scene dw = load_scene(golden_dir() / "dw_v1_container651.xml");
+    const soda::SceneNeeds n = soda::analyse_scene(dw.model, 10000);
+    CHECK(n.wave);
+    CHECK(n.wave_muscles == 8);
+    CHECK(n.distinct_phases == 6); // 0.7901786 and 0.2857143 are used twice
+    CHECK(n.gravity);
+    CHECK(n.bars == soda::BarKind::None);
+    CHECK(n.autoreverse);
+    CHECK(n.walls == soda::WallNeeds{true, true, true}); // 10,000 frames reach everything
+    const soda::SceneNeeds short_run = soda::analyse_scene(dw.model, 2);
+    CHECK(short_run.walls == soda::WallNeeds{true, false, false}); // 2 frames: only the floor (masses at y=2)
+  }
+  SECTION("gravity +0 is skipped, -0 (g = 0, up) is not") {
+    soda::ModelDef def = lattice(3, 2, 500, 300);
+    def.environment.gravity = 0.0;
+    def.settings.gravity_direction = soda::GravityDirection::Down;
+    CHECK_FALSE(soda::analyse_scene(build(def), 100).gravity);
+    def.settings.gravity_direction = soda::GravityDirection::Off;
+    def.environment.gravity = 2.0;
+    CHECK_FALSE(soda::analyse_scene(build(def), 100).gravity);
+    def.environment.gravity = 0.0;
+    def.settings.gravity_direction = soda::GravityDirection::Up;
+    CHECK(soda::analyse_scene(build(def), 100).gravity);
+  }
+  SECTION("muscles of power 0 are springs; fixed-fixed links drop out") {
+    soda::ModelDef def;
+    def.nodes = {mass(100, 100), mass(150, 100), node(0, 0), node(10, 0)};
+    def.links = {muscle(0, 1, 50, 0.0, 0.3), spring(2, 3, 5), muscle(2, 3, 10, 0.5, 0.2)};
+    const soda::SceneNeeds n = soda::analyse_scene(build(def), 100);
+    CHECK(n.muscles == 2);
+    CHECK(n.wave_muscles == 0);
+    CHECK_FALSE(n.wave);
+    CHECK(n.active_links == 1);
+  }
+  SECTION("bars") {
+    soda::ModelDef def;
+    def.nodes = {mass(100, 100), node(0, 50), node(300, 50)};
+    def.links = {bar(1, 2)};
+    CHECK(soda::analyse_scene(build(def), 10).bars == soda::BarKind::FixedSegments);
+    def.links = {bar(0, 2)};
+    CHECK(soda::analyse_scene(build(def), 10).bars == soda::BarKind::MovingEnds);
+  }
+}
+
+TEST_CASE("fast step: synthetic stress cases, each kernel specialisation", "[fast_step]") {
+  using soda::KernelChoice;
+  using soda::WallNeeds;
+  for (soda::SimdLevel level : supported_levels()) {
+    DYNAMIC_SECTION("simd " << soda::simd_level_name(level)) {
+      soda::FastStepOptions opt;
+      opt.simd = level;
+      auto check = [&](const soda::ModelDef& def, long long frames, soda::FastStepOptions o) {
+        const soda::Model model = build(def);
+        soda::FastStepper s(model, frames, o);
+        const std::string diff = run_both(model, frames, o, &s);
+        INFO(diff);
+        CHECK(diff.empty());
+        return s.last_kernel(); // the stepper refers to `model`: only its records are used
+      };
+
+      SECTION("zero-length links, coincident masses, links listed twice, fixed-fixed links, -0 velocities") {
+        soda::ModelDef def = lattice(4, 3, 400, 200);
+        const int base = static_cast<int>(def.nodes.size());
+        def.nodes.push_back(mass(700, 300, -0.0, -0.0));
+        def.nodes.push_back(mass(700, 300, -0.0, 0.0)); // same point
+        def.nodes.push_back(node(700, 300));            // fixed node on the same point
+        def.nodes.push_back(node(720, 300));
+        def.links.push_back(spring(base, base + 1, 0.0));
+        def.links.push_back(spring(base, base + 1, 0.0)); // twice
+        def.links.push_back(muscle(base + 1, base + 2, 0.0, 0.5, 0.25));
+        def.links.push_back(spring(base + 2, base + 3, 20.0)); // two fixed nodes
+        def.links.push_back(spring(0, 1, 30.0));               // a lattice link again
+        def.links.push_back(spring(1, 0, 31.0));               // and reversed
+        def.environment.gravity = 0.0;                          // keep the pair together for a while
+        check(def, 3000, opt);
+      }
+
+      SECTION("gravity up, off and -0; walls reached and not; kernels chosen accordingly") {
+        soda::ModelDef def = lattice(5, 3, 900, 400);
+        def.width = 100000;
+        def.height = 100000;
+        def.nodes.clear();
+        def = lattice(5, 3, 50000, 50000);
+        def.width = 100000;
+        def.height = 100000;
+        def.settings.gravity_direction = soda::GravityDirection::Off;
+        KernelChoice k = check(def, 2000, opt);
+        CHECK_FALSE(k.gravity);
+        CHECK(k.walls == WallNeeds{false, false, false});
+        CHECK(k.wave);
+
+        def.settings.gravity_direction = soda::GravityDirection::Up;
+        def.environment.gravity = 1.0;
+        def.height = 51000; // out of reach for the first 44 frames, then reached
+        const soda::Model up = build(def);
+        soda::FastStepper s(up, 3000, opt);
+        CHECK(run_both(up, 3000, opt, &s).empty());
+        CHECK(s.used(KernelChoice{s.last_kernel().simd, false, true, true, WallNeeds{false, false, false}}));
+        CHECK(s.used(KernelChoice{s.last_kernel().simd, false, true, true, WallNeeds{false, true, false}}));
+
+        def.environment.gravity = 0.0; // g*d = -0: kept
+        k = check(def, 500, opt);
+        CHECK(k.gravity);
+      }
+
+      SECTION("masses outside the container, all walls and corners, autoreverse flips") {
+        soda::ModelDef def = lattice(4, 3, -50, -40, 40.0);
+        def.width = 300;
+        def.height = 200;
+        def.nodes.push_back(mass(320, 250, 30, 30)); // beyond the top right corner, fast
+        def.nodes.push_back(mass(-10, 100, -5, 0));
+        def.environment.gravity = 0.5;
+        def.wave.speed = 0.05;
+        def.collisions = {1.0, -1.0}; // slippery: bounces a lot
+        const soda::Model model = build(def);
+        soda::FastStepper s(model, 5000, opt);
+        CHECK(run_both(model, 5000, opt, &s).empty());
+        CHECK(s.used(KernelChoice{s.last_kernel().simd, false, true, true, WallNeeds{true, true, true}}));
+      }
+
+      SECTION("Dainty Walker: autoreverse flip at frame 251; side walls skipped in a wide box") {
+        const Scene dw = load_scene(golden_dir() / "dw_v1_container651.xml");
+        soda::FastStepper s(dw.model, 2000, opt);
+        CHECK(run_both(dw.model, 2000, opt, &s).empty());
+        CHECK(s.used(KernelChoice{s.last_kernel().simd, false, true, true, WallNeeds{true, true, true}}));
+        const Scene wide = load_scene(golden_dir() / "dw_v1_wide100000_noautorev.xml");
+        soda::FastStepper w(wide.model, 2000, opt);
+        CHECK(run_both(wide.model, 2000, opt, &w).empty());
+        CHECK(w.last_kernel().walls == WallNeeds{true, true, false});
+      }
+
+      SECTION("manual wave: sines once, not per frame") {
+        soda::ModelDef def = lattice(4, 3, 400, 10);
+        def.settings.wave_direction = soda::WaveDirection::Manual;
+        const soda::Model model = build(def);
+        soda::FastStepper s(model, 1000, opt);
+        CHECK(run_both(model, 1000, opt, &s).empty());
+        CHECK(s.sines_evaluated() <= 4 * 6); // one evaluation per run() piece at most
+        def.wave.speed = 0.0;                 // a stopped wave is the same
+        def.settings.wave_direction = soda::WaveDirection::Forward;
+        check(def, 500, opt);
+      }
+
+      SECTION("no muscles: no wave kernel") {
+        soda::ModelDef def = lattice(3, 3, 400, 10);
+        for (auto& l : def.links) l.kind = soda::LinkKind::Spring;
+        CHECK_FALSE(check(def, 1000, opt).wave);
+      }
+
+      SECTION("a creature dropped on the mountain terrain (fixed bars)") {
+        Scene terrain = load_scene(data_dir() / "soda" / "OptimusLime_MINS.js" / "mountain_terrain.xml");
+        const Scene dw = load_scene(golden_dir() / "dw_v1_container651.xml");
+        for (const double dx : {900.0, 250.0, 1700.0}) {
+          soda::ModelDef def = terrain.def;
+          const int base = static_cast<int>(def.nodes.size());
+          for (soda::NodeDef n : dw.def.nodes) {
+            n.x += dx;
+            n.y += 130.0;
+            def.nodes.push_back(n);
+          }
+          for (soda::LinkDef l : dw.def.links) {
+            l.a += base;
+            l.b += base;
+            def.links.push_back(l);
+          }
+          const soda::KernelChoice k = check(def, 3000, opt);
+          CHECK(k.bars == soda::BarKind::FixedSegments);
+          CHECK_FALSE(k.ordered);
+        }
+      }
+
+      SECTION("bars with a free-mass end: masses in order") {
+        soda::ModelDef def = lattice(4, 2, 100, 100);
+        def.nodes.push_back(node(0, 60));
+        def.nodes.push_back(mass(400, 40, 0, 0));
+        const int n0 = static_cast<int>(def.nodes.size()) - 2;
+        def.links.push_back(bar(n0, n0 + 1));
+        def.links.push_back(bar(0, n0));
+        const soda::KernelChoice k = check(def, 2000, opt);
+        CHECK(k.ordered);
+        CHECK(k.bars == soda::BarKind::MovingEnds);
+      }
+
+      SECTION("forced ordered kernel and fixed walls (adaptive off) agree too") {
+        const Scene cs = load_scene(data_dir() / "soda" / "KeniF_SodaSumo" / "carefulslug.xml");
+        soda::FastStepOptions o = opt;
+        o.force_ordered = true;
+        CHECK(run_both(cs.model, 2000, o).empty());
+        o.force_ordered = false;
+        o.adaptive_walls = false;
+        soda::FastStepper s(cs.model, 2000, o);
+        CHECK(run_both(cs.model, 2000, o, &s).empty());
+        CHECK(s.last_kernel().walls == WallNeeds{true, true, true});
+      }
+    }
+  }
+}
+
+TEST_CASE("fast step: random creatures stay bit-exact", "[fast_step]") {
+  std::uint64_t seed = 99;
+  auto uniform = [&seed]() {
+    std::uint64_t z = (seed += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
+  };
+  for (int trial = 0; trial < 40; ++trial) {
+    soda::ModelDef def;
+    def.width = 200 + static_cast<int>(800 * uniform());
+    def.height = 200 + static_cast<int>(400 * uniform());
+    def.environment = {4.0 * uniform() * uniform(), 0.2 * uniform(), 0.5 * uniform()};
+    def.collisions = {uniform(), -uniform()};
+    def.wave = {uniform(), uniform(), 0.1 * (uniform() - 0.3)};
+    def.settings.gravity_direction = static_cast<soda::GravityDirection>(static_cast<int>(uniform() * 3) - 1);
+    def.settings.wave_direction = static_cast<soda::WaveDirection>(static_cast<int>(uniform() * 3) - 1);
+    def.settings.autoreverse = uniform() < 0.7;
+    const int n = 2 + static_cast<int>(uniform() * 30);
+    for (int i = 0; i < n; ++i) {
+      const bool fixed = uniform() < 0.1;
+      const double x = def.width * (1.2 * uniform() - 0.1), y = def.height * (1.2 * uniform() - 0.1);
+      def.nodes.push_back(fixed ? node(x, y) : mass(x, y, 30 * (uniform() - 0.5), 30 * (uniform() - 0.5)));
+    }
+    const int links = static_cast<int>(uniform() * 3 * n);
+    for (int l = 0; l < links; ++l) {
+      const int a = static_cast<int>(uniform() * n);
+      int b = static_cast<int>(uniform() * n);
+      if (b == a) b = (a + 1) % n;
+      const double rest = 150 * uniform();
+      if (uniform() < 0.4) def.links.push_back(muscle(a, b, rest, uniform(), std::floor(uniform() * 8) / 8));
+      else def.links.push_back(spring(a, b, rest));
+    }
+    const soda::Model model = build(def);
+    for (soda::SimdLevel level : supported_levels()) {
+      soda::FastStepOptions opt;
+      opt.simd = level;
+      const std::string diff = run_both(model, 2000, opt);
+      INFO("trial " << trial << " [" << soda::simd_level_name(level) << "]: " << diff);
+      CHECK(diff.empty());
+    }
+  }
+}
+
+TEST_CASE("exact sines equal std::sin bit for bit", "[fast_step]") {
+  REQUIRE(soda::FastStepper::table_sines_usable()); // the self-check passed on this C library
+  std::uint64_t seed = 7;
+  auto uniform = [&seed]() {
+    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(seed >> 11) * 0x1.0p-53;
+  };
+  // Muscle arguments 2pi*(phi_m - phi_w): quantised phases k/255 (as saved files
+  // have) against a running wave, plus uniform ones and edge values.
+  std::vector<double> args;
+  for (int k = 0; k < 255; ++k) {
+    double phase = uniform();
+    for (int f = 0; f < 400; ++f) {
+      args.push_back(soda::kTwoPi * (static_cast<double>(static_cast<float>(k / 255.0)) - phase));
+      phase = soda::wrap_phase(phase + 2.5 / 255.0);
+    }
+  }
+  for (int i = 0; i < 400000; ++i) args.push_back(soda::kTwoPi * (uniform() - uniform()));
+  for (double v : {0.0, -0.0, 1e-300, 0x1p-5, -0x1p-5, 3.141592653589793, 6.28, 6.2831853071795862, -6.283185307179586,
+                   1.5707963267948966, 100.0, -1e6}) {
+    args.push_back(v);
+  }
+  std::vector<double> out(args.size());
+  for (soda::SimdLevel level : supported_levels()) {
+    soda::exact_sines(args.data(), out.data(), static_cast<int>(args.size()), level);
+    std::size_t bad = 0;
+    for (std::size_t i = 0; i < args.size(); ++i) bad += same_bits(out[i], std::sin(args[i])) ? 0 : 1;
+    INFO(soda::simd_level_name(level));
+    CHECK(bad == 0);
+  }
+}
+
+TEST_CASE("table sines on and off give the same trajectory", "[fast_step]") {
+  const Scene cs = load_scene(data_dir() / "soda" / "KeniF_SodaSumo" / "carefulslug.xml");
+  soda::FastStepOptions on, off;
+  off.table_sines = false;
+  soda::State a = soda::make_state(cs.model), b = soda::make_state(cs.model);
+  soda::FastStepper(cs.model, 3000, on).run(a, 3000);
+  soda::FastStepper(cs.model, 3000, off).run(b, 3000);
+  CHECK(compare_states(cs.model, a, b).empty());
+}
+
+TEST_CASE("bench baselines: the plain loop is the reference, synthetic creatures have the asked size", "[fast_step]") {
+  const Scene dw = load_scene(golden_dir() / "dw_v1_container651.xml");
+  soda::State ref = soda::make_state(dw.model), plain = soda::make_state(dw.model);
+  soda::run(dw.model, ref, 3000);
+  sodaevo::bench::PlainLoop(dw.model).run(plain, 3000);
+  CHECK(compare_states(dw.model, ref, plain).empty());
+
+  sodaevo::bench::SeedBaseline seed(dw.model);
+  seed.run(1000);
+  CHECK(std::isfinite(seed.checksum()));
+
+  for (int links : {10, 100, 1000, 100000}) {
+    const soda::Model m = soda::build_model(sodaevo::bench::synthetic_creature(links));
+    CHECK(m.link_count() == links);
+    if (links <= 1000) {
+      const std::string diff = run_both(m, 500, {});
+      INFO(links << " links: " << diff);
+      CHECK(diff.empty());
+    }
+  }
+}
+
+TEST_CASE("a population evaluated on 1 and 2 threads gives the same states", "[fast_step]") {
+  std::vector<soda::Model> models;
+  for (const char* f :
+       {"golden/dw_v1_container651.xml", "KeniF_SodaSumo/carefulslug.xml", "KeniF_SodaSumo/wheel.xml"}) {
+    models.push_back(load_scene(data_dir() / "soda" / f).model);
+  }
+  auto evaluate = [&](int threads) {
+    std::vector<soda::State> states(12);
+    sodaevo::parallel_for_index(states.size(), threads, [&](std::size_t i) {
+      const soda::Model& m = models[i % models.size()];
+      soda::FastStepper stepper(m, 800);
+      states[i] = soda::make_state(m);
+      stepper.run(states[i], 800 + 10 * static_cast<long long>(i));
+    });
+    return states;
+  };
+  const auto one = evaluate(1), two = evaluate(2);
+  for (std::size_t i = 0; i < one.size(); ++i) CHECK(compare_states(models[i % models.size()], one[i], two[i]).empty());
+}
