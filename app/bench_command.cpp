@@ -199,6 +199,7 @@ void add_bench_command(CLI::App& app) {
     if (opt->threads > 0) command += " --threads " + std::to_string(opt->threads);
     run_bench_speed(*opt, command);
   });
+  add_bench_evolve_command(*bench);
 }
 
 } // namespace sodaevo::app

@@ -12,5 +12,7 @@ void add_evolve_command(CLI::App& app);
 void add_export_command(CLI::App& app);
 void add_replay_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
+/// `bench evolve`, registered by add_bench_command on its `bench` subcommand.
+void add_bench_evolve_command(CLI::App& bench);
 
 } // namespace sodaevo::app

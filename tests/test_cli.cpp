@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -169,4 +170,33 @@ TEST_CASE("bad input: clear message with file and line, non-zero exit, no crash"
   r = run_sodaevo("simulate " + (golden_dir() / "random_5.xml").string() + " --frames -3");
   CHECK(r.exit_code != 0);
   fs::remove_all(dir);
+}
+
+TEST_CASE("bench evolve compares the three search methods at equal evaluations", "[cli]") {
+  const fs::path out = temp_dir() / "bench_evolve";
+  fs::remove_all(out);
+  const fs::path root = fs::path(SODAEVO_MODELS_DIR).parent_path();
+  const CommandResult r = run_sodaevo("bench evolve --config " + (root / "configs" / "quick.json").string() +
+                                      " --classic " + (root / "models" / "dainty_walker.xml").string() +
+                                      " --generations 2 --seeds 2 --skip-full-run --out " + out.string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  // One row per method and seed, all at the same evaluation count: the GA's two
+  // generations of 24 minus the 2 elites it does not re-evaluate.
+  std::istringstream csv(read_text(out / "evolve.csv"));
+  std::string line;
+  std::getline(csv, line);
+  CHECK(line.rfind("method,seed,evaluations,", 0) == 0);
+  int rows = 0;
+  std::map<std::string, int> per_method;
+  while (std::getline(csv, line)) {
+    ++rows;
+    per_method[line.substr(0, line.find(','))]++;
+    CHECK(line.find(",46,") != std::string::npos);
+  }
+  CHECK(rows == 6);
+  CHECK(per_method == std::map<std::string, int>{{"ga", 2}, {"hill", 2}, {"random", 2}});
+  CHECK(read_text(out / "evolve.svg").find("<svg") != std::string::npos);
+  CHECK(read_text(out / "evolve.md").find("Dainty Walker under the same fitness settings") != std::string::npos);
+  fs::remove_all(out);
 }
