@@ -19,6 +19,7 @@
 #include "core/model_file.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
+#include "evolve/run_reader.hpp"
 #include "evolve/run_store.hpp"
 
 namespace sodaevo::app {
@@ -128,6 +129,12 @@ void run_bench_evolve(const BenchEvolveOptions& opt, const std::string& command)
     full.generations = outcome.last_generation + 1;
     full.best_fitness = outcome.best_fitness;
     full.best_id = outcome.best_id;
+    // The champion as SodaConstructor XML next to the figures (the run folder
+    // itself is large and not kept in the repository).
+    for (const Individual& champion : best_individuals(full.run_dir, 1)) {
+      soda::write_model_file(fs::path(opt.out) / "evolve_champion.xml",
+                             export_form(champion.creature, champion.id, champion.evaluation, config));
+    }
   }
 
   std::ostringstream md;
@@ -162,7 +169,7 @@ void run_bench_evolve(const BenchEvolveOptions& opt, const std::string& command)
        << " evaluations, " << (opt.threads > 0 ? std::to_string(opt.threads) : std::string("all")) << " threads): "
        << fixed(full.wall_seconds, 1) << " s, champion " << full.best_id << " at " << fixed(champion, 3)
        << " px/frame = " << fixed(champion / dw.best_fitness_px_per_frame, 2)
-       << "x the Dainty Walker's best. Run folder: `" << full.run_dir << "`.\n";
+       << "x the Dainty Walker's best. Champion: `evolve_champion.xml`; run folder (not committed): `" << full.run_dir << "`.\n";
   }
 
   fs::create_directories(opt.out);
