@@ -6,6 +6,8 @@
 // the first problem: every error is collected and reported together.
 #include "run_config.hpp"
 
+#include <fnmatch.h>
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -583,6 +585,26 @@ class ConfigReader {
       fs::path resolved = fs::absolute(given.is_absolute() ? given : base_dir_ / given, ec);
       if (ec) resolved = base_dir_ / given;
       resolved = resolved.lexically_normal();
+      const std::string pattern = resolved.filename().string();
+      if (pattern.find_first_of("*?[") != std::string::npos) {
+        // A pattern in the file name (e.g. "../models/*.xml"): every matching
+        // regular file of that folder, sorted by name, so the resolved config (and
+        // with it the run) does not depend on the order the folder lists them in.
+        std::vector<std::string> matches;
+        for (const fs::directory_entry& e : fs::directory_iterator(resolved.parent_path(), ec)) {
+          if (e.is_regular_file(ec) && ::fnmatch(pattern.c_str(), e.path().filename().c_str(), 0) == 0) {
+            matches.push_back(e.path().string());
+          }
+        }
+        std::sort(matches.begin(), matches.end());
+        if (matches.empty()) {
+          expected(pi, "a pattern matching at least one model file (looked in " + resolved.parent_path().string() + ")",
+                   item);
+          all_ok = false;
+        }
+        models.insert(models.end(), matches.begin(), matches.end());
+        continue;
+      }
       if (!fs::is_regular_file(resolved, ec)) {
         std::string what = "an existing model file";
         if (resolved.string() != item.get<std::string>()) what += " (looked for " + resolved.string() + ")";

@@ -670,9 +670,11 @@ TEST_CASE("config: the bundled configs parse", "[config]") {
       CHECK(c.budget.generations == 10);
       CHECK(c.fitness.frames == 1000);
     } else if (stem == "default") {
-      CHECK(c.population.size == 60);
-      CHECK(c.budget.generations == 60);
-      CHECK(c.fitness.frames == 2000);
+      // As configs/README.md describes it.
+      CHECK(c.population.size == 200);
+      CHECK(c.budget.generations == 200);
+      CHECK(c.fitness.frames == 4000);
+      CHECK(c.fitness.settle_frames == 400);
     } else if (stem == "long") {
       CHECK(c.population.size == 200);
       CHECK(c.budget.generations == 300);
@@ -710,4 +712,26 @@ TEST_CASE("config: the example of configs/README.md is valid", "[config]") {
     }
   }
   CHECK(examples >= 1);
+}
+
+TEST_CASE("config: a seed-model pattern expands to the matching files, sorted", "[config]") {
+  TempDir dir;
+  // Created out of order, plus files the pattern must not take.
+  dir.write("seeds/walker_c.xml", "<x/>");
+  dir.write("seeds/walker_a.xml", "<x/>");
+  dir.write("seeds/walker_b.xml", "<x/>");
+  dir.write("seeds/notes.txt", "x");
+  dir.write("seeds/other.xml", "<x/>");
+  const RunConfig c = sodaevo::parse_run_config(
+      R"({"population": {"seed_models": ["seeds/walker_*.xml", "seeds/other.xml"]}})", "p.json", dir.path);
+  REQUIRE(c.population.seed_models.size() == 4);
+  const char* expected_names[] = {"walker_a.xml", "walker_b.xml", "walker_c.xml", "other.xml"};
+  for (int i = 0; i < 4; ++i) {
+    CHECK(fs::path(c.population.seed_models[i]).filename() == expected_names[i]);
+    CHECK(fs::path(c.population.seed_models[i]).is_absolute());
+  }
+  const std::string error = error_of(R"({"population": {"seed_models": ["seeds/none_*.xml"]}})", dir.path);
+  CHECK(error.find("t.json: /population/seed_models/0: expected a pattern matching at least one model file") !=
+        std::string::npos);
+  CHECK(error.find("\"seeds/none_*.xml\"") != std::string::npos);
 }
