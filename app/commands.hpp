@@ -14,5 +14,7 @@ void add_replay_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 /// `bench evolve`, registered by add_bench_command on its `bench` subcommand.
 void add_bench_evolve_command(CLI::App& bench);
+void add_render_command(CLI::App& app);
+void add_report_command(CLI::App& app);
 
 } // namespace sodaevo::app

@@ -21,6 +21,8 @@ int main(int argc, char** argv) {
   sodaevo::app::add_export_command(app);
   sodaevo::app::add_replay_command(app);
   sodaevo::app::add_bench_command(app);
+  sodaevo::app::add_render_command(app);
+  sodaevo::app::add_report_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,8 +1,5 @@
 // The SVG chart writer (app/svg_chart.hpp): well-formed XML with the expected
 // elements, log scales, escaping and robustness against odd data.
-//
-// app/ sources are built into the executable only, so the writer's source is
-// compiled into this test directly.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -12,7 +9,7 @@
 
 #include <pugixml.hpp>
 
-#include "app/svg_chart.cpp" // NOLINT(bugprone-suspicious-include)
+#include "app/svg_chart.hpp"
 
 using sodaevo::app::BarChart;
 using sodaevo::app::LineChart;

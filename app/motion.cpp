@@ -1,0 +1,77 @@
+#include "app/motion.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+#include "core/fast_step.hpp"
+#include "core/model.hpp"
+
+namespace sodaevo::app {
+
+int sample_interval(long long frames, int max_samples) {
+  if (frames <= 0 || max_samples <= 1) return 1;
+  const long long every = (frames + max_samples - 2) / (max_samples - 1); // samples: 0, k, 2k, ... and the last
+  return static_cast<int>(std::max(1LL, std::min(every, 1000000000LL)));
+}
+
+namespace {
+
+double tenth(double v) { return std::round(v * 10.0) / 10.0; }
+
+bool finite_state(const soda::Model& model, const soda::State& s) {
+  for (int i = 0; i < model.mass_count; ++i) {
+    if (!std::isfinite(s.x[i]) || !std::isfinite(s.y[i])) return false;
+  }
+  return true;
+}
+
+} // namespace
+
+Motion record_motion(const soda::ModelDef& def, long long frames, int every) {
+  if (frames < 0) throw std::invalid_argument("record_motion: negative frame count");
+  if (every < 1) every = 1;
+  const soda::Model model = soda::build_model(def);
+  Motion m;
+  m.name = def.name;
+  m.masses = model.mass_count;
+  m.width = model.width;
+  m.height = model.height;
+  m.frames = frames;
+  m.every = every;
+  for (int p = model.mass_count; p < model.point_count; ++p) {
+    m.fixed_xy.push_back(model.x0[p]);
+    m.fixed_xy.push_back(model.y0[p]);
+  }
+  for (int l = 0; l < model.link_count(); ++l) {
+    m.links.push_back({model.link_a[l], model.link_b[l],
+                       model.link_muscle[l] ? soda::LinkKind::Muscle : soda::LinkKind::Spring, model.link_rest[l]});
+  }
+  for (int b = 0; b < model.bar_count(); ++b) m.links.push_back({model.bar_a[b], model.bar_b[b], soda::LinkKind::FixedBar, 0.0});
+
+  soda::State state = soda::make_state(model);
+  soda::FastStepper stepper(model, frames);
+  auto keep = [&] {
+    std::vector<double> xy(2 * static_cast<std::size_t>(model.mass_count));
+    double sum = 0.0;
+    for (int i = 0; i < model.mass_count; ++i) {
+      xy[2 * i] = tenth(state.x[i]);
+      xy[2 * i + 1] = tenth(state.y[i]);
+      sum += state.x[i];
+    }
+    m.sample_frames.push_back(state.frame);
+    m.mass_xy.push_back(std::move(xy));
+    m.centroid_x.push_back(model.mass_count > 0 ? sum / model.mass_count : 0.0);
+  };
+  keep();
+  while (state.frame < frames) {
+    stepper.run(state, std::min<long long>(every, frames - state.frame));
+    if (!finite_state(model, state)) {
+      m.diverged = "the state became non-finite by frame " + std::to_string(state.frame);
+      break;
+    }
+    keep();
+  }
+  return m;
+}
+
+} // namespace sodaevo::app

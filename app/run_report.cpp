@@ -1,0 +1,367 @@
+#include "app/run_report.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/classic_models.hpp"
+#include "app/motion.hpp"
+#include "app/player_html.hpp"
+#include "app/svg_chart.hpp"
+#include "core/atomic_file.hpp"
+#include "core/input_error.hpp"
+#include "core/model_file.hpp"
+#include "core/number_text.hpp"
+#include "evolve/fitness.hpp"
+#include "evolve/run_config.hpp"
+#include "evolve/run_store.hpp"
+#include "evolve/variation.hpp"
+
+namespace sodaevo::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+/// One row of generations.csv.
+struct GenerationRow {
+  int generation = 0;
+  long long evaluations = 0;
+  double best = 0, mean = 0, median = 0, worst = 0;
+  int invalid = 0, diverged = 0;
+  std::string best_id;
+};
+
+double csv_number(const std::string& text, const std::string& where) {
+  if (text == "-inf") return -INFINITY;
+  if (text == "inf") return INFINITY;
+  const std::optional<double> v = soda::parse_double(text);
+  if (!v) throw soda::InputError(where + ": expected a number, got '" + text + "'");
+  return *v;
+}
+
+long long csv_integer(const std::string& text, const std::string& where) {
+  const std::optional<long long> v = soda::parse_integer(text);
+  if (!v || *v < 0) throw soda::InputError(where + ": expected a count, got '" + text + "'");
+  return *v;
+}
+
+std::vector<GenerationRow> read_generations_csv(const fs::path& path) {
+  if (!fs::exists(path)) throw soda::InputError(path.string() + ": missing: not a sodaevo run folder?");
+  std::istringstream in(soda::read_whole_file(path));
+  std::string line;
+  std::vector<GenerationRow> rows;
+  long line_number = 0;
+  static const char* kColumns[] = {"generation", "evaluations", "best", "mean", "median", "worst", "invalid", "diverged", "best_id"};
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    std::string cell;
+    while (std::getline(ls, cell, ',')) cells.push_back(cell);
+    if (!line.empty() && line.back() == ',') cells.emplace_back();
+    const std::string where = path.string() + ":" + std::to_string(line_number);
+    if (line_number == 1) {
+      if (cells.size() < 9 || cells[0] != "generation") throw soda::InputError(where + ": expected the header 'generation,evaluations,best,...'");
+      continue;
+    }
+    if (cells.size() != 9) throw soda::InputError(where + ": expected 9 columns, got " + std::to_string(cells.size()));
+    GenerationRow r;
+    auto at = [&](int i) { return where + " (" + kColumns[i] + ")"; };
+    r.generation = static_cast<int>(csv_integer(cells[0], at(0)));
+    r.evaluations = csv_integer(cells[1], at(1));
+    r.best = csv_number(cells[2], at(2));
+    r.mean = csv_number(cells[3], at(3));
+    r.median = csv_number(cells[4], at(4));
+    r.worst = csv_number(cells[5], at(5));
+    r.invalid = static_cast<int>(csv_integer(cells[6], at(6)));
+    r.diverged = static_cast<int>(csv_integer(cells[7], at(7)));
+    r.best_id = cells[8];
+    rows.push_back(r);
+  }
+  return rows;
+}
+
+std::string fixed(double v, int digits) {
+  if (!std::isfinite(v)) return v < 0 ? "&#8722;&#8734;" : "&#8734;";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+std::string esc(const std::string& s) { return html_escape(s); }
+
+/// A creature to animate: a prepared model, scored as in the run.
+struct Shown {
+  std::string caption;
+  soda::ModelDef prepared;
+};
+
+void config_table(std::ostringstream& o, const RunConfig& c, const nlohmann::json& manifest) {
+  auto row = [&](const std::string& k, const std::string& v) {
+    o << "<tr><th>" << esc(k) << "</th><td>" << esc(v) << "</td></tr>\n";
+  };
+  using soda::format_double_plain;
+  o << "<table class=\"config\">\n";
+  row("name", c.name);
+  row("seed", std::to_string(c.seed));
+  if (manifest.contains("started") && manifest["started"].is_string()) row("started", manifest["started"].get<std::string>());
+  if (manifest.contains("command") && manifest["command"].is_string()) row("command", manifest["command"].get<std::string>());
+  row("generations", std::to_string(c.budget.generations));
+  row("population", std::to_string(c.population.size) + " (random fraction " + format_double_plain(c.population.random_fraction) + ")");
+  std::string seeds;
+  for (const std::string& s : c.population.seed_models) seeds += (seeds.empty() ? "" : ", ") + fs::path(s).filename().string();
+  row("seed models", seeds.empty() ? "none" : seeds);
+  row("selection", "tournament of " + std::to_string(c.selection.tournament_size) + ", " + std::to_string(c.selection.elites) + " elites");
+  row("crossover rate", format_double_plain(c.crossover_rate));
+  row("fitness", "centroid x moved " + direction_name(c.fitness.direction) + " in " + std::to_string(c.fitness.frames) +
+                     " frames after " + std::to_string(c.fitness.settle_frames) + " settle frames; scaling " +
+                     scaling_name(c.fitness.scaling) + "; dropped from " + format_double_plain(c.fitness.drop_height) + " px");
+  row("world", "gravity " + format_double_plain(c.world.gravity) + " " + gravity_direction_name(c.world.gravity_direction) +
+                   ", friction " + format_double_plain(c.world.friction) + ", springyness " + format_double_plain(c.world.springyness) +
+                   ", surface friction " + format_double_plain(c.world.surface_friction) + ", reflection " +
+                   format_double_plain(c.world.surface_reflection));
+  std::string evolves;
+  for (const std::string& s : c.world.evolve) evolves += (evolves.empty() ? "" : ", ") + s;
+  row("creatures choose", evolves.empty() ? "nothing (fixed world)" : evolves);
+  row("limits", std::to_string(c.limits.min_masses) + "-" + std::to_string(c.limits.max_masses) + " masses, up to " +
+                    std::to_string(c.limits.max_links) + " links");
+  o << "</table>\n";
+}
+
+constexpr const char* kPageStyle = R"css(
+body { font-family: Helvetica, Arial, sans-serif; margin: 20px auto; max-width: 1560px; color: #222; padding: 0 16px; }
+h1 { margin-bottom: 4px; } h2 { margin-top: 28px; border-bottom: 1px solid #ddd; padding-bottom: 4px; }
+table { border-collapse: collapse; font-size: 14px; }
+th, td { padding: 3px 10px; border-bottom: 1px solid #eee; text-align: left; vertical-align: top; }
+table.best td.n { text-align: right; font-variant-numeric: tabular-nums; }
+table.config th { color: #555; font-weight: normal; white-space: nowrap; }
+.charts svg { max-width: 100%; height: auto; margin-right: 12px; }
+.note { color: #555; font-size: 14px; }
+tr.classic td { color: #7a4b00; }
+)css";
+
+} // namespace
+
+fs::path default_report_path(const fs::path& run_dir) { return run_dir / "report.html"; }
+
+std::string run_report_html(const fs::path& run_dir, const ReportOptions& options) {
+  if (!fs::is_directory(run_dir)) throw soda::InputError(run_dir.string() + ": no such run folder");
+  const RunConfig config = read_run_config(run_dir / "config.json");
+  nlohmann::json manifest = nlohmann::json::object();
+  if (fs::exists(run_dir / "manifest.json")) {
+    try {
+      manifest = nlohmann::json::parse(soda::read_whole_file(run_dir / "manifest.json"));
+    } catch (const nlohmann::json::exception& e) {
+      throw soda::InputError((run_dir / "manifest.json").string() + ": not valid JSON: " + e.what());
+    }
+  }
+  const std::vector<GenerationRow> rows = read_generations_csv(run_dir / "generations.csv");
+  const long long trial_frames = config.fitness.settle_frames + config.fitness.frames;
+
+  std::ostringstream o;
+  o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>sodaevo run " << esc(config.name)
+    << "</title>\n<style>" << kPageStyle << "</style>\n" << player_head() << "</head>\n<body>\n"
+    << "<pre id=\"page-errors\" hidden></pre>\n"
+    << "<h1>Run <code>" << esc(config.name) << "</code></h1>\n<p class=\"note\">" << esc(run_dir.string()) << " &#183; ";
+  if (rows.empty()) {
+    o << "no generation finished yet";
+  } else {
+    o << rows.size() << " of " << config.budget.generations << " generations, " << rows.back().evaluations
+      << " evaluations";
+  }
+  o << " &#183; report written by sodaevo 0.1.0</p>\n";
+
+  o << "<h2>Config</h2>\n";
+  config_table(o, config, manifest);
+
+  // Fitness over generations.
+  o << "<h2>Fitness over generations</h2>\n";
+  int invalid_total = 0, diverged_total = 0;
+  for (const GenerationRow& r : rows) invalid_total += r.invalid, diverged_total += r.diverged;
+  if (!rows.empty()) {
+    LineChart fitness;
+    fitness.title = "Fitness: centroid distance " + direction_name(config.fitness.direction) + " in " +
+                    std::to_string(config.fitness.frames) + " frames";
+    fitness.x_axis = {"generation"};
+    fitness.y_axis = {"fitness (px)"};
+    auto named = [](const char* name) {
+      LineSeries s;
+      s.name = name;
+      return s;
+    };
+    LineSeries best = named("best"), mean = named("mean"), median = named("median");
+    LineSeries invalid = named("invalid"), diverged = named("diverged");
+    const bool markers = rows.size() <= 60;
+    best.markers = mean.markers = median.markers = invalid.markers = diverged.markers = markers;
+    median.dashed = true;
+    for (const GenerationRow& r : rows) {
+      const double g = r.generation;
+      best.x.push_back(g), best.y.push_back(r.best);
+      mean.x.push_back(g), mean.y.push_back(r.mean);
+      median.x.push_back(g), median.y.push_back(r.median);
+      invalid.x.push_back(g), invalid.y.push_back(r.invalid);
+      diverged.x.push_back(g), diverged.y.push_back(r.diverged);
+    }
+    fitness.series = {best, mean, median};
+    LineChart failures;
+    failures.title = "Creatures that could not be scored, per generation";
+    failures.x_axis = {"generation"};
+    failures.y_axis = {"creatures", false, 0.0};
+    failures.series = {invalid, diverged};
+    failures.width = 560;
+    auto inline_svg = [](std::string svg) { // drop the XML declaration inside HTML
+      if (svg.rfind("<?xml", 0) == 0) svg.erase(0, svg.find('\n') + 1);
+      return svg;
+    };
+    o << "<div class=\"charts\">\n" << inline_svg(render_line_chart(fitness)) << inline_svg(render_line_chart(failures)) << "</div>\n";
+  }
+  o << "<p class=\"note\">Invalid creatures (could not be built or prepared): " << invalid_total
+    << "; diverged (non-finite state): " << diverged_total << "; over all generations.</p>\n";
+
+  // Best creatures: the best of each generation, best first, each creature once
+  // (elites are copied into later generations under new ids); read from best/.
+  auto best_file = [&](int generation) { return run_dir / "best" / generation_file_name(generation); };
+  auto body = [](soda::ModelDef def) { // the creature without its name and score comment
+    def.name.clear();
+    def.comment.clear();
+    return def;
+  };
+  struct Ranked {
+    GenerationRow row;
+    soda::ModelDef prepared; ///< best/ file as read
+    std::string problem;     ///< why best/ could not be read
+  };
+  std::vector<Ranked> ranked;
+  {
+    std::vector<GenerationRow> by_fitness = rows;
+    std::stable_sort(by_fitness.begin(), by_fitness.end(), [](const GenerationRow& a, const GenerationRow& b) { return a.best > b.best; });
+    for (const GenerationRow& r : by_fitness) {
+      if (static_cast<int>(ranked.size()) >= options.table_rows) break;
+      if (r.best_id.empty() || !std::isfinite(r.best)) continue;
+      Ranked k{r, {}, {}};
+      try {
+        k.prepared = soda::read_model_file(best_file(r.generation)).def;
+      } catch (const soda::InputError& e) {
+        k.problem = e.what();
+      }
+      const bool seen = std::any_of(ranked.begin(), ranked.end(), [&](const Ranked& q) {
+        return q.row.best_id == r.best_id || (k.problem.empty() && q.problem.empty() && body(q.prepared) == body(k.prepared));
+      });
+      if (!seen) ranked.push_back(std::move(k));
+    }
+  }
+  std::vector<Shown> shown;
+
+  // The classic, prepared and scored exactly like every creature of the run.
+  std::optional<Shown> classic;
+  std::optional<Evaluation> classic_evaluation;
+  std::string classic_problem;
+  try {
+    const soda::ModelDef dainty = soda::read_model_text(dainty_walker_xml(), "built-in models/dainty_walker.xml").def;
+    const soda::ModelDef creature = creature_from_seed(dainty, config);
+    classic_evaluation = evaluate_creature(creature, config);
+    if (classic_evaluation->status == EvaluationStatus::Invalid) {
+      classic_problem = classic_evaluation->reason;
+    } else {
+      soda::ModelDef prepared = prepare_for_evaluation(creature, config.fitness, config.world);
+      prepared.name = "Dainty Walker (classic, same fitness settings)";
+      classic = Shown{prepared.name, prepared};
+    }
+  } catch (const soda::InputError& e) {
+    classic_problem = e.what();
+  }
+
+  o << "<h2>Best creatures</h2>\n";
+  if (ranked.empty()) {
+    o << "<p class=\"note\">No creature has been scored yet.</p>\n";
+  } else {
+    o << "<table class=\"best\">\n<tr><th>#</th><th>creature</th><th>best of generation</th><th>fitness (px)</th>"
+      << "<th>distance (px)</th><th>speed (px/frame)</th><th>file</th></tr>\n";
+    int rank = 0;
+    for (const Ranked& k : ranked) {
+      const GenerationRow& r = k.row;
+      ++rank;
+      std::string distance = esc(k.problem), speed;
+      if (k.problem.empty()) {
+        const Evaluation e = evaluate_prepared(k.prepared, config.fitness);
+        if (e.ok()) distance = fixed(e.distance, 1), speed = fixed(e.px_per_frame, 3);
+        else distance = esc(e.reason);
+      }
+      o << "<tr><td class=\"n\">" << rank << "</td><td>" << esc(r.best_id) << "</td><td class=\"n\">" << r.generation
+        << "</td><td class=\"n\">" << fixed(r.best, 1) << "</td><td class=\"n\">" << distance << "</td><td class=\"n\">"
+        << speed << "</td><td><a href=\"best/" << generation_file_name(r.generation) << "\">best/"
+        << generation_file_name(r.generation) << "</a></td></tr>\n";
+    }
+    if (classic_evaluation && classic_evaluation->ok()) {
+      o << "<tr class=\"classic\"><td></td><td>Dainty Walker (classic)</td><td></td><td class=\"n\">"
+        << fixed(classic_evaluation->fitness, 1) << "</td><td class=\"n\">" << fixed(classic_evaluation->distance, 1)
+        << "</td><td class=\"n\">" << fixed(classic_evaluation->px_per_frame, 3) << "</td><td>built in</td></tr>\n";
+    }
+    o << "</table>\n";
+  }
+
+  // Animations: the champion, the best of a few generations along the run (each
+  // creature once), the classic.
+  if (!ranked.empty() && ranked.front().problem.empty()) {
+    const GenerationRow& champion = ranked.front().row;
+    shown.push_back({"Champion " + champion.best_id + " (best of generation " + std::to_string(champion.generation) +
+                         ", fitness " + fixed(champion.best, 1) + " px)",
+                     ranked.front().prepared});
+    const int last = rows.back().generation, first = rows.front().generation;
+    const int k = std::max(1, options.chosen_generations);
+    for (int i = 0; i < k; ++i) {
+      const int g = k == 1 ? first : first + static_cast<int>(std::lround(static_cast<double>(i) * (last - first) / (k - 1)));
+      const auto row = std::find_if(rows.begin(), rows.end(), [&](const GenerationRow& r) { return r.generation == g; });
+      if (row == rows.end() || row->best_id.empty()) continue;
+      try {
+        const soda::ModelDef def = soda::read_model_file(best_file(g)).def;
+        const bool seen = std::any_of(shown.begin(), shown.end(), [&](const Shown& s) { return body(s.prepared) == body(def); });
+        if (seen) continue;
+        shown.push_back({"Generation " + std::to_string(g) + ": " + row->best_id + " (its best, fitness " + fixed(row->best, 1) + " px)", def});
+      } catch (const soda::InputError& e) {
+        o << "<p class=\"note\">" << esc(e.what()) << "</p>\n";
+      }
+    }
+  }
+  if (classic) shown.push_back(*classic);
+  o << "<h2>Watch them</h2>\n<p class=\"note\">Each animation is the fitness trial, simulated again by the engine: "
+    << config.fitness.settle_frames << " settle frames, then " << config.fitness.frames
+    << " scored frames (the dashed mark shows where scoring starts). Masses blue, springs grey, muscles red (dark and "
+       "thick when contracted); marks on the floor are px from the start. Add <code>#frame=N</code> to the address to "
+       "stop every player at frame N.</p>\n";
+  if (!classic_problem.empty()) o << "<p class=\"note\">Dainty Walker not shown: " << esc(classic_problem) << "</p>\n";
+  const int every = sample_interval(trial_frames, options.max_samples);
+  int index = 0;
+  for (const Shown& s : shown) {
+    try {
+      const Motion motion = record_motion(s.prepared, trial_frames, every);
+      PlayerView view;
+      view.id = "player" + std::to_string(index++);
+      view.caption = s.caption;
+      view.scored_from = config.fitness.settle_frames;
+      view.width = 720;
+      view.height = 280;
+      o << player_element(motion, view);
+    } catch (const soda::InputError& e) {
+      o << "<p class=\"note\">" << esc(s.caption) << ": " << esc(e.what()) << "</p>\n";
+    }
+  }
+  o << player_script() << "</body>\n</html>\n";
+  return o.str();
+}
+
+void write_run_report(const fs::path& run_dir, const fs::path& out, const ReportOptions& options) {
+  soda::write_file_atomically(out, run_report_html(run_dir, options));
+}
+
+} // namespace sodaevo::app
