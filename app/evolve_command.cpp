@@ -10,6 +10,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "app/run_report.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "evolve/evaluator.hpp"
@@ -31,6 +32,10 @@ struct EvolveOptions {
 };
 
 std::atomic<bool> g_stop_requested{false};
+
+/// report.html in the run folder is refreshed after every this many generations
+/// (a few trials each time: cheap next to a generation) and at the end.
+constexpr int kReportEveryGenerations = 5;
 
 extern "C" void on_interrupt(int) {
   // First Ctrl-C: finish the generation and save. Second: stop at once.
@@ -77,7 +82,15 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
 
   EvolutionOptions options;
   options.stop_requested = &g_stop_requested;
+  auto refresh_report = [&] {
+    try {
+      write_run_report(store->dir(), default_report_path(store->dir()));
+    } catch (const std::exception& e) {
+      std::cerr << "\nsodaevo: warning: report not written: " << e.what() << '\n';
+    }
+  };
   options.on_generation = [&](const Progress& p) {
+    if (p.generation % kReportEveryGenerations == 0) refresh_report();
     if (opt.quiet) return;
     const double per_generation = p.wall_seconds / (p.generation + 1);
     const double left = per_generation * (p.generations - p.generation - 1);
@@ -91,6 +104,7 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
   std::signal(SIGINT, on_interrupt);
   const EvolutionOutcome outcome = run_evolution(*store, evaluator, options);
   std::signal(SIGINT, SIG_DFL);
+  refresh_report();
   if (!opt.quiet) {
     if (tty) std::cerr << '\n';
     std::cerr << "stopped: " << outcome.stopped_because << " after generation " << outcome.last_generation << " ("
@@ -101,6 +115,7 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
             << " px in " << store->config().fitness.frames << " frames ("
             << soda::format_double_plain(outcome.best_fitness / static_cast<double>(store->config().fitness.frames))
             << " px/frame)\n"
+            << "report       " << default_report_path(store->dir()).string() << "\n"
             << "export with  sodaevo export " << store->dir().string() << " --best 5 --out DIR\n";
 }
 
@@ -112,7 +127,8 @@ void add_evolve_command(CLI::App& app) {
       "evolve",
       "Evolve walkers with a genetic algorithm from a JSON config (see configs/README.md).\n"
       "Writes a run folder: resolved config, generations.csv, timing.csv, the best creature\n"
-      "of every generation as SodaConstructor XML, saved generations and checkpoints.");
+      "of every generation as SodaConstructor XML, saved generations, checkpoints and report.html\n"
+      "(see `sodaevo report`, refreshed every few generations).");
   cmd->add_option("config", opt->config, "Run config (.json)")->check(CLI::ExistingFile);
   cmd->add_option("--out", opt->out, "Run folder (default results/<config name>-<timestamp>)");
   cmd->add_option("--resume", opt->resume, "Continue the interrupted run in this folder from its last checkpoint")

@@ -1,5 +1,10 @@
 #include "test_support.hpp"
 
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -56,6 +61,25 @@ Scene load_scene(const fs::path& path) {
   soda::LoadedModel loaded = soda::read_model_file(path);
   soda::Model model = soda::build_model(loaded.def);
   return {std::move(loaded.def), std::move(model)};
+}
+
+ShellResult run_shell(const std::string& command) {
+  ShellResult r;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  if (pipe == nullptr) throw std::runtime_error("cannot run: " + command);
+  std::array<char, 4096> buf{};
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+fs::path fresh_temp_dir(const std::string& name) {
+  fs::path d = fs::temp_directory_path() / ("sodaevo_test_" + std::to_string(::getpid())) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
 }
 
 } // namespace sodaevo::test

@@ -42,4 +42,14 @@ struct Scene {
 };
 Scene load_scene(const std::filesystem::path& path);
 
+/// Runs a shell command; its exit code and stdout+stderr together.
+struct ShellResult {
+  int exit_code = -1;
+  std::string output;
+};
+ShellResult run_shell(const std::string& command);
+
+/// A fresh, empty folder under the system's temp folder, unique to this process.
+std::filesystem::path fresh_temp_dir(const std::string& name);
+
 } // namespace sodaevo::test
