@@ -103,19 +103,20 @@ constexpr const char* kPlayerScript = R"js(
     var lastFrame = data.frames[n - 1];
     var scoredFrom = data.scored_from;
     var x0 = data.cx[0] / 10;
-    // One scale for the whole clip: the widest reach from the centroid, and the
-    // height the creature stays under 90% of the time (the camera rises for jumps).
-    var halfWidth = 10, tops = [];
+    // One scale for the whole clip: the reach from the centroid and the height the
+    // creature stays within 90% of the time (the camera rises for higher jumps).
+    var halves = [], tops = [];
     for (var s = 0; s < n; ++s) {
-      var xy = data.xy[s], c = data.cx[s], t = 10;
+      var xy = data.xy[s], c = data.cx[s], h = 10, t = 10;
       for (var i = 0; i + 1 < xy.length; i += 2) {
-        halfWidth = Math.max(halfWidth, Math.abs(xy[i] - c) / 10);
+        h = Math.max(h, Math.abs(xy[i] - c) / 10);
         t = Math.max(t, xy[i + 1] / 10);
       }
+      halves.push(h);
       tops.push(t);
     }
-    var sortedTops = tops.slice().sort(function (a, b) { return a - b; });
-    var top = sortedTops[Math.floor(0.9 * (n - 1))];
+    function ninetieth(values) { return values.slice().sort(function (a, b) { return a - b; })[Math.floor(0.9 * (n - 1))]; }
+    var halfWidth = ninetieth(halves), top = ninetieth(tops);
     var baseFloorY = H - 42;
     var scale = Math.min(W * 0.3 / halfWidth, (baseFloorY - 30) / top);
     var scoredIndex = 0;
@@ -153,7 +154,8 @@ constexpr const char* kPlayerScript = R"js(
         var fx = sx(scoredX);
         if (fx >= 0 && fx <= W) {
           ctx.setLineDash([4, 4]); ctx.beginPath(); ctx.moveTo(fx, floorY); ctx.lineTo(fx, floorY - 40); ctx.stroke();
-          ctx.setLineDash([]); ctx.fillText('scored from here', fx, floorY - 44);
+          ctx.setLineDash([]); ctx.textAlign = fx < 60 ? 'left' : fx > W - 60 ? 'right' : 'center';
+          ctx.fillText('scored from here', fx, floorY - 44);
         }
       }
       // Container walls and ceiling, where they are in view.

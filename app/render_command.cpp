@@ -49,8 +49,9 @@ void run_render(const RenderOptions& opt) {
     text = render_filmstrip_svg(motion, film);
   } else {
     const std::string subtitle = std::filesystem::path(opt.model).filename().string() + ": " + std::to_string(opt.frames) +
-                                 " frames in its own world, a picture every " + std::to_string(every) +
-                                 " frames; centroid moved " + soda::format_double_plain(std::round(motion.distance() * 10) / 10) +
+                                 " frames in its own world, " +
+                                 (every == 1 ? std::string("every frame") : "a picture every " + std::to_string(every) + " frames") +
+                                 " shown; centroid moved " + soda::format_double_plain(std::round(motion.distance() * 10) / 10) +
                                  " px" + (motion.diverged.empty() ? "" : " (" + motion.diverged + ")") + ".";
     text = render_player_page(motion, motion.name, subtitle);
   }

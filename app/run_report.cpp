@@ -192,7 +192,8 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     LineChart fitness;
     fitness.title = "Fitness: centroid distance " + direction_name(config.fitness.direction) + " in " +
                     std::to_string(config.fitness.frames) + " frames";
-    fitness.x_axis = {"generation"};
+    fitness.x_axis.label = "generation";
+    fitness.x_axis.integer = true;
     fitness.y_axis = {"fitness (px)"};
     auto named = [](const char* name) {
       LineSeries s;
@@ -215,8 +216,11 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     fitness.series = {best, mean, median};
     LineChart failures;
     failures.title = "Creatures that could not be scored, per generation";
-    failures.x_axis = {"generation"};
-    failures.y_axis = {"creatures", false, 0.0};
+    failures.x_axis.label = "generation";
+    failures.x_axis.integer = true;
+    failures.y_axis.label = "creatures";
+    failures.y_axis.integer = true;
+    failures.y_axis.min = 0.0;
     failures.series = {invalid, diverged};
     failures.width = 560;
     auto inline_svg = [](std::string svg) { // drop the XML declaration inside HTML

@@ -22,6 +22,7 @@ std::string num(double v) {
 /// Maps data values to pixels along one axis.
 struct Scale {
   bool log = false;
+  bool integer = false;      // ticks at whole numbers only
   double lo = 0, hi = 1;     // data range (log10 of it for log axes)
   double p_lo = 0, p_hi = 1; // pixel range
   [[nodiscard]] double operator()(double v) const {
@@ -82,6 +83,7 @@ std::vector<double> ticks_for(const Scale& s) {
       break;
     }
   }
+  if (s.integer) step = std::max(1.0, std::round(step));
   for (double v = std::ceil(s.lo / step) * step; v <= s.hi + step * 1e-9; v += step) {
     ticks.push_back(std::fabs(v) < step * 1e-9 ? 0.0 : v);
   }
@@ -195,7 +197,7 @@ std::string render_line_chart(const LineChart& chart) {
     xs.insert(xs.end(), s.x.begin(), s.x.end());
     ys.insert(ys.end(), s.y.begin(), s.y.end());
   }
-  Scale sx{chart.x_axis.log}, sy{chart.y_axis.log};
+  Scale sx{chart.x_axis.log, chart.x_axis.integer}, sy{chart.y_axis.log, chart.y_axis.integer};
   fit_range(chart.x_axis, xs, false, sx.lo, sx.hi);
   fit_range(chart.y_axis, ys, false, sy.lo, sy.hi);
   sx.p_lo = f.x0(), sx.p_hi = f.x1();
@@ -250,7 +252,7 @@ std::string render_bar_chart(const BarChart& chart) {
   Frame f{chart.width, chart.height};
   std::vector<double> ys;
   for (const BarSeries& s : chart.series) ys.insert(ys.end(), s.values.begin(), s.values.end());
-  Scale sy{chart.y_axis.log};
+  Scale sy{chart.y_axis.log, chart.y_axis.integer};
   fit_range(chart.y_axis, ys, true, sy.lo, sy.hi);
   sy.p_lo = f.y0(), sy.p_hi = f.y1();
 

@@ -16,6 +16,7 @@ struct ChartAxis {
   /// Fixed range; NaN = from the data (with a little margin).
   double min = std::numeric_limits<double>::quiet_NaN();
   double max = std::numeric_limits<double>::quiet_NaN();
+  bool integer = false; ///< linear axes: ticks only at whole numbers (generations, counts)
 };
 
 struct LineSeries {

@@ -125,3 +125,18 @@ TEST_CASE("tick labels are compact", "[svg_chart]") {
   CHECK(sodaevo::app::format_tick(0.25) == "0.25");
   CHECK(sodaevo::app::svg_escape("a<b & \"c\"") == "a&lt;b &amp; &quot;c&quot;");
 }
+
+TEST_CASE("line chart: an integer axis has ticks at whole numbers only", "[svg_chart]") {
+  LineChart c;
+  c.x_axis.label = "generation";
+  c.x_axis.integer = true;
+  c.y_axis.label = "fitness";
+  c.series.push_back({"best", {0, 1, 2}, {10, 20, 15}});
+  const pugi::xml_document doc = parse(render_line_chart(c));
+  const pugi::xpath_node_set ticks = doc.child("svg").select_nodes("//g[@class='x-axis']/text[@class='tick']");
+  REQUIRE(ticks.size() == 3);
+  for (const pugi::xpath_node& t : ticks) {
+    const double v = std::stod(t.node().child_value());
+    CHECK(v == std::round(v));
+  }
+}

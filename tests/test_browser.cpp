@@ -1,0 +1,192 @@
+// The pictures in a real browser: headless Chromium (Debian package `chromium`,
+// installed by ./build.sh test) opens a rendered player, a filmstrip and a run
+// report written by `evolve`. Checked: no console message at all (script errors,
+// failed loads and console.error all land there), every player started, and the
+// canvas read back at two frames shows the creature (ink in its box) and shows
+// it moving (the box's pixels differ). Screenshots go to
+// <build>/browser_screenshots for people to look at.
+#include <catch2/catch.hpp>
+
+#include <fstream>
+#include <map>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "core/atomic_file.hpp"
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+using sodaevo::test::run_shell;
+
+namespace {
+
+std::string find_chromium() {
+  for (const char* name : {"chromium", "chromium-browser"}) {
+    const auto r = run_shell(std::string("command -v ") + name);
+    if (r.exit_code == 0 && !r.output.empty()) return r.output.substr(0, r.output.find('\n'));
+  }
+  return {};
+}
+
+struct Player {
+  bool ready = false;
+  long long frame = -1;
+  long long ink = -1;
+  std::string hash;
+};
+
+struct LoadedPage {
+  std::string dom;
+  std::vector<std::string> console; ///< CONSOLE lines of Chromium's log
+  std::vector<Player> players;
+};
+
+std::string attribute(const std::string& tag, const std::string& name) {
+  const std::regex re(" " + name + "=\"([^\"]*)\"");
+  std::smatch m;
+  return std::regex_search(tag, m, re) ? m[1].str() : std::string();
+}
+
+std::string chromium_command(const std::string& chromium, const fs::path& profile) {
+  return "timeout 90 " + chromium +
+         " --headless --no-sandbox --disable-gpu --disable-background-networking --no-first-run"
+         " --disable-extensions --user-data-dir=" + profile.string() + " --enable-logging=stderr --v=0";
+}
+
+LoadedPage load(const std::string& chromium, const fs::path& page, long long frame, const fs::path& work) {
+  static int runs = 0;
+  const fs::path profile = work / ("profile" + std::to_string(++runs));
+  const fs::path dom = work / ("dom" + std::to_string(runs) + ".html"), log = work / ("log" + std::to_string(runs) + ".txt");
+  const std::string url = "file://" + fs::absolute(page).string() + (frame >= 0 ? "#frame=" + std::to_string(frame) : "");
+  const auto r = run_shell("( " + chromium_command(chromium, profile) + " --dump-dom '" + url + "' > " + dom.string() +
+                           " 2> " + log.string() + " )");
+  INFO("chromium on " << url << ":\n" << r.output);
+  REQUIRE(r.exit_code == 0);
+  LoadedPage p;
+  p.dom = soda::read_whole_file(dom);
+  std::ifstream in(log);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find(":CONSOLE") != std::string::npos) p.console.push_back(line);
+  }
+  const std::regex player_tag("<div class=\"soda-player\"[^>]*>");
+  for (auto it = std::sregex_iterator(p.dom.begin(), p.dom.end(), player_tag); it != std::sregex_iterator(); ++it) {
+    const std::string tag = it->str();
+    Player pl;
+    pl.ready = attribute(tag, "data-ready") == "1";
+    const std::string f = attribute(tag, "data-frame"), ink = attribute(tag, "data-ink");
+    pl.frame = f.empty() ? -1 : std::stoll(f);
+    pl.ink = ink.empty() ? -1 : std::stoll(ink);
+    pl.hash = attribute(tag, "data-hash");
+    p.players.push_back(pl);
+  }
+  return p;
+}
+
+void screenshot(const std::string& chromium, const std::string& url, const fs::path& png, const std::string& size,
+                const fs::path& work) {
+  static int runs = 0;
+  fs::remove(png);
+  const auto r = run_shell(chromium_command(chromium, work / ("shot-profile" + std::to_string(++runs))) +
+                           " --hide-scrollbars --window-size=" + size + " --screenshot=" + png.string() + " '" + url + "'");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  REQUIRE(fs::exists(png));
+  CHECK(fs::file_size(png) > 1000);
+}
+
+void require_clean(const LoadedPage& p) {
+  std::string console;
+  for (const std::string& l : p.console) console += l + "\n";
+  INFO("console:\n" << console);
+  CHECK(p.console.empty());
+  CHECK(p.dom.find("data-errors=") == std::string::npos);
+  CHECK(p.dom.find("<pre id=\"page-errors\" hidden=\"\"></pre>") != std::string::npos);
+}
+
+/// Players at two frames: each drawn (ink in the creature's box) and moving.
+void require_drawn_and_moving(const LoadedPage& a, const LoadedPage& b, long long frame_a, long long frame_b) {
+  REQUIRE(!a.players.empty());
+  REQUIRE(a.players.size() == b.players.size());
+  for (std::size_t i = 0; i < a.players.size(); ++i) {
+    INFO("player " << i);
+    CHECK(a.players[i].ready);
+    CHECK(b.players[i].ready);
+    CHECK(a.players[i].frame <= frame_a);
+    CHECK(a.players[i].frame > frame_a - 20);
+    CHECK(b.players[i].frame <= frame_b);
+    CHECK(a.players[i].ink > 50);
+    CHECK(b.players[i].ink > 50);
+    CHECK(!a.players[i].hash.empty());
+    CHECK(a.players[i].hash != b.players[i].hash);
+  }
+}
+
+} // namespace
+
+TEST_CASE("browser: the player, the filmstrip and the run report work in headless Chromium", "[browser]") {
+  const std::string chromium = find_chromium();
+  if (chromium.empty()) {
+    FAIL("Chromium not found (looked for `chromium` and `chromium-browser` on PATH). The browser test needs the "
+         "Debian package `chromium`: ./build.sh test installs it, or run `apt-get install chromium`.");
+  }
+  const fs::path work = sodaevo::test::fresh_temp_dir("browser");
+  const fs::path shots = SODAEVO_SCREENSHOT_DIR;
+  fs::create_directories(shots);
+  const std::string bin = SODAEVO_BINARY;
+  const fs::path dainty = fs::absolute(sodaevo::test::models_dir() / "dainty_walker.xml");
+
+  // A player and a filmstrip of the Dainty Walker.
+  auto r = run_shell(bin + " render " + dainty.string() + " --frames 800 -o " + (work / "dainty.html").string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  r = run_shell(bin + " render " + dainty.string() + " --frames 800 -o " + (work / "dainty.svg").string());
+  REQUIRE(r.exit_code == 0);
+
+  // A short run; evolve writes its report.
+  soda::write_file_atomically(work / "config.json",
+                      "{\"name\": \"browser\", \"seed\": 3, \"generations\": 3,"
+                      " \"population\": {\"size\": 8, \"seed_models\": [\"" + dainty.string() + "\"], \"random_fraction\": 0.5},"
+                      " \"fitness\": {\"frames\": 400, \"settle_frames\": 50}, \"save\": {\"generation_every\": 1}}");
+  r = run_shell(bin + " evolve " + (work / "config.json").string() + " --out " + (work / "run").string() + " --quiet --threads 1");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const fs::path report = work / "run" / "report.html";
+  REQUIRE(fs::exists(report));
+
+  SECTION("render: one player, drawn and moving, no console messages") {
+    const LoadedPage a = load(chromium, work / "dainty.html", 100, work);
+    const LoadedPage b = load(chromium, work / "dainty.html", 700, work);
+    require_clean(a);
+    require_clean(b);
+    REQUIRE(a.players.size() == 1);
+    require_drawn_and_moving(a, b, 100, 700);
+    const LoadedPage playing = load(chromium, work / "dainty.html", -1, work); // as a user opens it: playing
+    require_clean(playing);
+    REQUIRE(playing.players.size() == 1);
+    CHECK(playing.players[0].ready);
+    const std::string url = "file://" + (work / "dainty.html").string();
+    screenshot(chromium, url + "#frame=100", shots / "render_frame100.png", "800,520", work);
+    screenshot(chromium, url + "#frame=700", shots / "render_frame700.png", "800,520", work);
+    CHECK(soda::read_whole_file(shots / "render_frame100.png") != soda::read_whole_file(shots / "render_frame700.png"));
+  }
+  SECTION("filmstrip: opens without console messages") {
+    const LoadedPage p = load(chromium, work / "dainty.svg", -1, work);
+    CHECK(p.console.empty());
+    CHECK(p.dom.find("class=\"still\"") != std::string::npos);
+    screenshot(chromium, "file://" + (work / "dainty.svg").string(), shots / "filmstrip.png", "1600,320", work);
+  }
+  SECTION("report: every player drawn and moving, no console messages") {
+    const LoadedPage a = load(chromium, report, 60, work);
+    const LoadedPage b = load(chromium, report, 400, work);
+    require_clean(a);
+    require_clean(b);
+    CHECK(a.players.size() >= 2); // the champion and the Dainty Walker at least
+    require_drawn_and_moving(a, b, 60, 400);
+    CHECK(a.dom.find("<svg") != std::string::npos);
+    const std::string url = "file://" + report.string();
+    screenshot(chromium, url + "#frame=60", shots / "report_frame60.png", "1400,2000", work);
+    screenshot(chromium, url + "#frame=400", shots / "report_frame400.png", "1400,2000", work);
+    CHECK(soda::read_whole_file(shots / "report_frame60.png") != soda::read_whole_file(shots / "report_frame400.png"));
+  }
+}
