@@ -13,10 +13,12 @@ cd "$(dirname "$0")"
 
 BUILD_DIR=${SODAEVO_BUILD_DIR:-build}
 PACKAGES=(g++ cmake make libpugixml-dev libcli11-dev nlohmann-json3-dev catch2)
+# Only the test suite needs these: headless Chromium opens the rendered pages.
+TEST_PACKAGES=(chromium)
 
 install_deps() {
   local missing=()
-  for p in "${PACKAGES[@]}"; do
+  for p in "${PACKAGES[@]}" "$@"; do
     dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
   done
   [ ${#missing[@]} -eq 0 ] && return 0
@@ -43,7 +45,7 @@ case "${1:-}" in
     "$BUILD_DIR/sodaevo" evolve configs/default.json
     ;;
   test)
-    install_deps; build
+    install_deps "${TEST_PACKAGES[@]}"; build
     ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$(nproc)"
     ;;
   *)

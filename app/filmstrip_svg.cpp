@@ -36,29 +36,20 @@ std::string render_filmstrip_svg(const Motion& motion, const FilmstripOptions& o
     chosen.push_back(stills == 1 ? 0 : static_cast<int>(std::lround(static_cast<double>(i) * (n_samples - 1) / (stills - 1))));
   }
 
-  // One scale for every panel: the creature's widest reach from its centroid over
-  // the chosen frames, and the height it stays under 90% of the time (a panel
-  // where it jumps higher shows it higher, the floor lower).
-  double half_width = 10.0;
-  std::vector<double> tops;
-  for (std::size_t s = 0; s < motion.mass_xy.size(); ++s) {
-    double t = 10.0;
-    for (std::size_t i = 0; i + 1 < motion.mass_xy[s].size(); i += 2) t = std::max(t, motion.mass_xy[s][i + 1]);
-    tops.push_back(t);
-  }
+  // One scale for every panel: the creature's widest reach from its centroid and
+  // its greatest height over the chosen frames.
+  double half_width = 10.0, top = 10.0;
   for (int s : chosen) {
     const std::vector<double>& xy = motion.mass_xy[static_cast<std::size_t>(s)];
     for (std::size_t i = 0; i + 1 < xy.size(); i += 2) {
       half_width = std::max(half_width, std::fabs(xy[i] - motion.centroid_x[static_cast<std::size_t>(s)]));
+      top = std::max(top, xy[i + 1]);
     }
   }
-  std::vector<double> sorted_tops = tops;
-  std::sort(sorted_tops.begin(), sorted_tops.end());
-  const double top = sorted_tops.empty() ? 10.0 : sorted_tops[static_cast<std::size_t>(0.9 * static_cast<double>(sorted_tops.size() - 1))];
   const double pw = std::max(80, options.panel_width);
   const double scale = std::min((pw - 24.0) / (2.0 * half_width), 170.0 / top);
-  const double base_floor_y = 34.0 + top * scale + 12.0; // panel-local pixel y of the floor
-  const double ph = base_floor_y + 40.0;
+  const double floor_y = 34.0 + top * scale + 12.0; // panel-local pixel y of the floor
+  const double ph = floor_y + 40.0;
   const double gap = 8.0, margin = 10.0;
   const double width = margin * 2 + stills * pw + (stills - 1) * gap;
   const double height = 40.0 + ph + margin;
@@ -90,7 +81,6 @@ std::string render_filmstrip_svg(const Motion& motion, const FilmstripOptions& o
     const std::size_t s = static_cast<std::size_t>(chosen[static_cast<std::size_t>(k)]);
     const std::vector<double>& xy = motion.mass_xy[s];
     const double cx = motion.centroid_x[s];
-    const double floor_y = base_floor_y + std::max(0.0, tops[s] - top) * scale;
     auto sx = [&](double x) { return pw / 2 + (x - cx) * scale; };
     auto sy = [&](double y) { return floor_y - y * scale; };
     auto point = [&](int p, double& x, double& y) {
@@ -106,7 +96,7 @@ std::string render_filmstrip_svg(const Motion& motion, const FilmstripOptions& o
     o << "<g class=\"still\" data-frame=\"" << motion.sample_frames[s] << "\" transform=\"translate(" << num(px) << " 40)\">\n"
       << "<g clip-path=\"url(#still-clip-" << k << ")\">\n"
       << "<rect x=\"0\" y=\"0\" width=\"" << num(pw) << "\" height=\"" << num(ph) << "\" fill=\"" << style::kBackground << "\"/>\n"
-      << "<rect class=\"ground\" x=\"0\" y=\"" << num(floor_y) << "\" width=\"" << num(pw) << "\" height=\"" << num(std::max(0.0, ph - floor_y))
+      << "<rect class=\"ground\" x=\"0\" y=\"" << num(floor_y) << "\" width=\"" << num(pw) << "\" height=\"" << num(ph - floor_y)
       << "\" fill=\"" << style::kGround << "\"/>\n"
       << "<line class=\"floor\" x1=\"0\" y1=\"" << num(floor_y) << "\" x2=\"" << num(pw) << "\" y2=\"" << num(floor_y)
       << "\" stroke=\"" << style::kFloor << "\" stroke-width=\"2\"/>\n";

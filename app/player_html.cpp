@@ -152,10 +152,10 @@ constexpr const char* kPlayerScript = R"js(
       }
       if (scoredFrom > 0 && index >= scoredIndex) {
         var fx = sx(scoredX);
-        if (fx >= 0 && fx <= W) {
-          ctx.setLineDash([4, 4]); ctx.beginPath(); ctx.moveTo(fx, floorY); ctx.lineTo(fx, floorY - 40); ctx.stroke();
-          ctx.setLineDash([]); ctx.textAlign = fx < 60 ? 'left' : fx > W - 60 ? 'right' : 'center';
-          ctx.fillText('scored from here', fx, floorY - 44);
+        if (fx >= 0 && fx <= W) { // under the floor, out of the creature's way
+          ctx.setLineDash([3, 3]); ctx.beginPath(); ctx.moveTo(fx, floorY); ctx.lineTo(fx, H); ctx.stroke(); ctx.setLineDash([]);
+          ctx.textAlign = fx > W - 110 ? 'right' : 'left';
+          ctx.fillText(' scoring starts here ', fx, floorY + 38);
         }
       }
       // Container walls and ceiling, where they are in view.

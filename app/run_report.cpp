@@ -340,7 +340,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   if (classic) shown.push_back(*classic);
   o << "<h2>Watch them</h2>\n<p class=\"note\">Each animation is the fitness trial, simulated again by the engine: "
     << config.fitness.settle_frames << " settle frames, then " << config.fitness.frames
-    << " scored frames (the dashed mark shows where scoring starts). Masses blue, springs grey, muscles red (dark and "
+    << " scored frames (the dashed mark under the floor shows where scoring starts). Masses blue, springs grey, muscles red (dark and "
        "thick when contracted); marks on the floor are px from the start. Add <code>#frame=N</code> to the address to "
        "stop every player at frame N.</p>\n";
   if (!classic_problem.empty()) o << "<p class=\"note\">Dainty Walker not shown: " << esc(classic_problem) << "</p>\n";
@@ -353,7 +353,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
       view.id = "player" + std::to_string(index++);
       view.caption = s.caption;
       view.scored_from = config.fitness.settle_frames;
-      view.width = 720;
+      view.width = 640;
       view.height = 280;
       o << player_element(motion, view);
     } catch (const soda::InputError& e) {
