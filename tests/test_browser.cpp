@@ -21,6 +21,9 @@ using sodaevo::test::run_shell;
 
 namespace {
 
+/// Headless Chromium runs animation frames only in virtual time, and only a few.
+const std::string kLetItPlay = "--virtual-time-budget=5000 --run-all-compositor-stages-before-draw";
+
 std::string find_chromium() {
   for (const char* name : {"chromium", "chromium-browser"}) {
     const auto r = run_shell(std::string("command -v ") + name);
@@ -31,6 +34,7 @@ std::string find_chromium() {
 
 struct Player {
   bool ready = false;
+  long long shown = -1; ///< the frame in its info line
   long long frame = -1;
   long long ink = -1;
   std::string hash;
@@ -54,12 +58,14 @@ std::string chromium_command(const std::string& chromium, const fs::path& profil
          " --disable-extensions --user-data-dir=" + profile.string() + " --enable-logging=stderr --v=0";
 }
 
-LoadedPage load(const std::string& chromium, const fs::path& page, long long frame, const fs::path& work) {
+/// Opens `page` (at `frame` if >= 0, else playing as a user sees it) and dumps the DOM.
+LoadedPage load(const std::string& chromium, const fs::path& page, long long frame, const fs::path& work,
+                const std::string& extra_flags = "") {
   static int runs = 0;
   const fs::path profile = work / ("profile" + std::to_string(++runs));
   const fs::path dom = work / ("dom" + std::to_string(runs) + ".html"), log = work / ("log" + std::to_string(runs) + ".txt");
   const std::string url = "file://" + fs::absolute(page).string() + (frame >= 0 ? "#frame=" + std::to_string(frame) : "");
-  const auto r = run_shell("( " + chromium_command(chromium, profile) + " --dump-dom '" + url + "' > " + dom.string() +
+  const auto r = run_shell("( " + chromium_command(chromium, profile) + " " + extra_flags + " --dump-dom '" + url + "' > " + dom.string() +
                            " 2> " + log.string() + " )");
   INFO("chromium on " << url << ":\n" << r.output);
   REQUIRE(r.exit_code == 0);
@@ -70,6 +76,7 @@ LoadedPage load(const std::string& chromium, const fs::path& page, long long fra
     if (line.find(":CONSOLE") != std::string::npos) p.console.push_back(line);
   }
   const std::regex player_tag("<div class=\"soda-player\"[^>]*>");
+  const std::regex info("<div class=\"info\">frame ([0-9]+)");
   for (auto it = std::sregex_iterator(p.dom.begin(), p.dom.end(), player_tag); it != std::sregex_iterator(); ++it) {
     const std::string tag = it->str();
     Player pl;
@@ -78,6 +85,9 @@ LoadedPage load(const std::string& chromium, const fs::path& page, long long fra
     pl.frame = f.empty() ? -1 : std::stoll(f);
     pl.ink = ink.empty() ? -1 : std::stoll(ink);
     pl.hash = attribute(tag, "data-hash");
+    std::smatch m;
+    const std::string rest = p.dom.substr(static_cast<std::size_t>(it->position()));
+    if (std::regex_search(rest, m, info)) pl.shown = std::stoll(m[1].str());
     p.players.push_back(pl);
   }
   return p;
@@ -161,10 +171,12 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
     require_clean(b);
     REQUIRE(a.players.size() == 1);
     require_drawn_and_moving(a, b, 100, 700);
-    const LoadedPage playing = load(chromium, work / "dainty.html", -1, work); // as a user opens it: playing
+    // As a user opens it: playing. Virtual time lets a few animation frames run.
+    const LoadedPage playing = load(chromium, work / "dainty.html", -1, work, kLetItPlay);
     require_clean(playing);
     REQUIRE(playing.players.size() == 1);
     CHECK(playing.players[0].ready);
+    CHECK(playing.players[0].shown > 0);
     const std::string url = "file://" + (work / "dainty.html").string();
     screenshot(chromium, url + "#frame=100", shots / "render_frame100.png", "800,520", work);
     screenshot(chromium, url + "#frame=700", shots / "render_frame700.png", "800,520", work);
@@ -184,6 +196,9 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
     CHECK(a.players.size() >= 2); // the champion and the Dainty Walker at least
     require_drawn_and_moving(a, b, 60, 400);
     CHECK(a.dom.find("<svg") != std::string::npos);
+    const LoadedPage playing = load(chromium, report, -1, work, kLetItPlay);
+    require_clean(playing);
+    for (const Player& p : playing.players) CHECK(p.shown > 0);
     const std::string url = "file://" + report.string();
     screenshot(chromium, url + "#frame=60", shots / "report_frame60.png", "1400,2000", work);
     screenshot(chromium, url + "#frame=400", shots / "report_frame400.png", "1400,2000", work);
