@@ -46,6 +46,12 @@ std::string render_filmstrip_svg(const Motion& motion, const FilmstripOptions& o
       top = std::max(top, xy[i + 1]);
     }
   }
+  if (motion.masses == 0 && !motion.centroid_x.empty()) { // a bare scene: fit its fixed nodes
+    for (std::size_t i = 0; i + 1 < motion.fixed_xy.size(); i += 2) {
+      half_width = std::max(half_width, std::fabs(motion.fixed_xy[i] - motion.centroid_x.front()));
+      top = std::max(top, motion.fixed_xy[i + 1]);
+    }
+  }
   const double pw = std::max(80, options.panel_width);
   const double scale = std::min((pw - 24.0) / (2.0 * half_width), 170.0 / top);
   const double floor_y = 34.0 + top * scale + 12.0; // panel-local pixel y of the floor

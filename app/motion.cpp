@@ -48,6 +48,9 @@ Motion record_motion(const soda::ModelDef& def, long long frames, int every) {
   }
   for (int b = 0; b < model.bar_count(); ++b) m.links.push_back({model.bar_a[b], model.bar_b[b], soda::LinkKind::FixedBar, 0.0});
 
+  // Without masses (a bare terrain) the camera looks at the middle of the fixed nodes.
+  double fixed_centre = 0.0;
+  for (std::size_t i = 0; i < m.fixed_xy.size(); i += 2) fixed_centre += m.fixed_xy[i] / static_cast<double>(m.fixed_xy.size() / 2);
   soda::State state = soda::make_state(model);
   soda::FastStepper stepper(model, frames);
   auto keep = [&] {
@@ -60,7 +63,7 @@ Motion record_motion(const soda::ModelDef& def, long long frames, int every) {
     }
     m.sample_frames.push_back(state.frame);
     m.mass_xy.push_back(std::move(xy));
-    m.centroid_x.push_back(model.mass_count > 0 ? sum / model.mass_count : 0.0);
+    m.centroid_x.push_back(model.mass_count > 0 ? sum / model.mass_count : fixed_centre);
   };
   keep();
   while (state.frame < frames) {

@@ -29,7 +29,7 @@ struct Motion {
   int every = 1;                      ///< a sample every `every` frames (and the last frame)
   std::vector<long long> sample_frames;     ///< frame number of each sample, from 0
   std::vector<std::vector<double>> mass_xy; ///< per sample: x0 y0 x1 y1 ... of the masses, rounded to 0.1 px
-  std::vector<double> centroid_x;           ///< per sample: mean x of the masses (not rounded)
+  std::vector<double> centroid_x;           ///< per sample: mean x of the masses (not rounded); of the fixed nodes if there are no masses
   /// Non-empty if the state became non-finite: the recording stops before it.
   std::string diverged;
 

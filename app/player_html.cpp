@@ -117,6 +117,12 @@ constexpr const char* kPlayerScript = R"js(
     }
     function ninetieth(values) { return values.slice().sort(function (a, b) { return a - b; })[Math.floor(0.9 * (n - 1))]; }
     var halfWidth = ninetieth(halves), top = ninetieth(tops);
+    if (data.masses === 0) { // a bare scene: fit its fixed nodes
+      for (var q = 0; q + 1 < data.fixed.length; q += 2) {
+        halfWidth = Math.max(halfWidth, Math.abs(data.fixed[q] - data.cx[0]) / 10);
+        top = Math.max(top, data.fixed[q + 1] / 10);
+      }
+    }
     var baseFloorY = H - 42;
     var scale = Math.min(W * 0.3 / halfWidth, (baseFloorY - 30) / top);
     var scoredIndex = 0;
