@@ -138,6 +138,19 @@ void config_table(std::ostringstream& o, const RunConfig& c, const nlohmann::jso
   o << "</table>\n";
 }
 
+/// "3, 5-9" for {9, 3, 5, 6, 7, 8}.
+std::string generation_ranges(std::vector<int> g) {
+  std::sort(g.begin(), g.end());
+  std::string out;
+  for (std::size_t i = 0; i < g.size();) {
+    std::size_t j = i;
+    while (j + 1 < g.size() && g[j + 1] == g[j] + 1) ++j;
+    out += (out.empty() ? "" : ", ") + std::to_string(g[i]) + (j > i ? "&#8211;" + std::to_string(g[j]) : "");
+    i = j + 1;
+  }
+  return out;
+}
+
 constexpr const char* kPageStyle = R"css(
 body { font-family: Helvetica, Arial, sans-serif; margin: 20px auto; max-width: 1560px; color: #222; padding: 0 16px; }
 h1 { margin-bottom: 4px; } h2 { margin-top: 28px; border-bottom: 1px solid #ddd; padding-bottom: 4px; }
@@ -241,27 +254,31 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     return def;
   };
   struct Ranked {
-    GenerationRow row;
+    GenerationRow row;       ///< where it was first the best
     soda::ModelDef prepared; ///< best/ file as read
     std::string problem;     ///< why best/ could not be read
+    std::vector<int> generations; ///< every generation it was the best of
   };
   std::vector<Ranked> ranked;
   {
     std::vector<GenerationRow> by_fitness = rows;
     std::stable_sort(by_fitness.begin(), by_fitness.end(), [](const GenerationRow& a, const GenerationRow& b) { return a.best > b.best; });
     for (const GenerationRow& r : by_fitness) {
-      if (static_cast<int>(ranked.size()) >= options.table_rows) break;
       if (r.best_id.empty() || !std::isfinite(r.best)) continue;
-      Ranked k{r, {}, {}};
+      // Once the table is full, only copies of listed creatures (same fitness) matter.
+      const bool full = static_cast<int>(ranked.size()) >= options.table_rows;
+      if (full && r.best < ranked.back().row.best) break;
+      Ranked k{r, {}, {}, {r.generation}};
       try {
         k.prepared = soda::read_model_file(best_file(r.generation)).def;
       } catch (const soda::InputError& e) {
         k.problem = e.what();
       }
-      const bool seen = std::any_of(ranked.begin(), ranked.end(), [&](const Ranked& q) {
+      const auto same = std::find_if(ranked.begin(), ranked.end(), [&](const Ranked& q) {
         return q.row.best_id == r.best_id || (k.problem.empty() && q.problem.empty() && body(q.prepared) == body(k.prepared));
       });
-      if (!seen) ranked.push_back(std::move(k));
+      if (same != ranked.end()) same->generations.push_back(r.generation);
+      else if (!full) ranked.push_back(std::move(k));
     }
   }
   std::vector<Shown> shown;
@@ -289,7 +306,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   if (ranked.empty()) {
     o << "<p class=\"note\">No creature has been scored yet.</p>\n";
   } else {
-    o << "<table class=\"best\">\n<tr><th>#</th><th>creature</th><th>best of generation</th><th>fitness (px)</th>"
+    o << "<table class=\"best\">\n<tr><th>#</th><th>creature</th><th>best of generations</th><th>fitness (px)</th>"
       << "<th>distance (px)</th><th>speed (px/frame)</th><th>file</th></tr>\n";
     int rank = 0;
     for (const Ranked& k : ranked) {
@@ -301,7 +318,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
         if (e.ok()) distance = fixed(e.distance, 1), speed = fixed(e.px_per_frame, 3);
         else distance = esc(e.reason);
       }
-      o << "<tr><td class=\"n\">" << rank << "</td><td>" << esc(r.best_id) << "</td><td class=\"n\">" << r.generation
+      o << "<tr><td class=\"n\">" << rank << "</td><td>" << esc(r.best_id) << "</td><td class=\"n\">" << generation_ranges(k.generations)
         << "</td><td class=\"n\">" << fixed(r.best, 1) << "</td><td class=\"n\">" << distance << "</td><td class=\"n\">"
         << speed << "</td><td><a href=\"best/" << generation_file_name(r.generation) << "\">best/"
         << generation_file_name(r.generation) << "</a></td></tr>\n";
