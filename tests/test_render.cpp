@@ -4,6 +4,7 @@
 #include <catch2/catch.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <regex>
@@ -65,6 +66,46 @@ std::vector<std::string> svg_fragments(const std::string& html) {
     a = b;
   }
   return out;
+}
+
+/// Checks that every element of an HTML page is closed in order (void elements
+/// and self-closed SVG elements aside); script and style bodies are skipped.
+/// Returns an empty string if so, else what is wrong and where.
+std::string unbalanced_html(const std::string& html) {
+  static const std::set<std::string> kVoid = {"meta", "input", "br", "img", "link", "hr", "wbr", "source"};
+  std::vector<std::string> open;
+  for (std::size_t p = html.find('<'); p != std::string::npos; p = html.find('<', p + 1)) {
+    if (html.compare(p, 4, "<!--") == 0) {
+      p = html.find("-->", p);
+      if (p == std::string::npos) return "unclosed comment";
+      continue;
+    }
+    if (html.compare(p, 2, "<!") == 0 || html.compare(p, 2, "<?") == 0) continue;
+    const std::size_t end = html.find('>', p);
+    if (end == std::string::npos) return "unclosed tag at " + std::to_string(p);
+    const bool closing = html[p + 1] == '/';
+    const std::size_t name_start = p + (closing ? 2 : 1);
+    std::size_t name_end = name_start;
+    while (name_end < end && (std::isalnum(static_cast<unsigned char>(html[name_end])) || html[name_end] == '-')) ++name_end;
+    const std::string name = html.substr(name_start, name_end - name_start);
+    if (name.empty()) return "stray '<' at " + std::to_string(p);
+    if (closing) {
+      if (open.empty() || open.back() != name) {
+        return "</" + name + "> at " + std::to_string(p) + " closes <" + (open.empty() ? std::string("nothing") : open.back()) + ">";
+      }
+      open.pop_back();
+    } else if (html[end - 1] != '/' && kVoid.count(name) == 0) {
+      if (name == "script" || name == "style") { // raw text up to the closing tag
+        const std::size_t close = html.find("</" + name + ">", end);
+        if (close == std::string::npos) return "unclosed <" + name + ">";
+        p = close + name.size() + 2;
+        continue;
+      }
+      open.push_back(name);
+    }
+    p = end;
+  }
+  return open.empty() ? std::string() : "unclosed <" + open.back() + ">";
 }
 
 int count_of(const std::string& text, const std::string& needle) {
@@ -157,6 +198,8 @@ TEST_CASE("player page: self-contained, controls present, every sample embedded"
   const Motion m = record_motion(def, 600, 3);
   const std::string html = render_player_page(m, "Dainty </script> Walker", "subtitle");
   CHECK(html.rfind("<!DOCTYPE html>", 0) == 0);
+  CHECK(unbalanced_html(html) == "");
+  CHECK(unbalanced_html("<div><p>x</div></p>") != ""); // the checker itself can fail
   for (const char* part : {"<canvas", "class=\"play\"", "class=\"speed\"", "class=\"slider\"", "class=\"info\"", "id=\"page-errors\""}) {
     INFO(part);
     CHECK(html.find(part) != std::string::npos);
@@ -198,6 +241,7 @@ TEST_CASE("run report: config, charts, table and players for a finished run", "[
   }
   const std::string html = run_report_html(dir);
   CHECK(html.find("report-test") != std::string::npos);
+  CHECK(unbalanced_html(html) == "");
 
   // Charts: well-formed SVG; fitness has best, mean and median with a point per generation.
   const std::vector<std::string> svgs = svg_fragments(html);
