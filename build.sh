@@ -12,7 +12,7 @@ set -euo pipefail
 cd "$(dirname "$0")"
 
 BUILD_DIR=${SODAEVO_BUILD_DIR:-build}
-PACKAGES=(g++ cmake make libpugixml-dev libcli11-dev nlohmann-json3-dev catch2)
+PACKAGES=(g++ cmake make libpugixml-dev libcli11-dev nlohmann-json3-dev catch2 libopenmpi-dev openmpi-bin)
 # Only the test suite needs these: headless Chromium opens the rendered pages.
 TEST_PACKAGES=(chromium)
 

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <ctime>
 #include <iostream>
 #include <memory>
@@ -15,10 +16,23 @@
 #include "core/number_text.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
+#include "evolve/mpi_launch.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_store.hpp"
+#if SODAEVO_HAS_MPI
+#include "evolve/mpi/mpi_evaluator.hpp"
+#endif
+#include "app/mpi_context.hpp"
 
 namespace sodaevo::app {
+
+#if SODAEVO_HAS_MPI
+namespace {
+MpiSession* g_mpi_session = nullptr;
+}
+void set_current_mpi_session(MpiSession* session) { g_mpi_session = session; }
+MpiSession* current_mpi_session() { return g_mpi_session; }
+#endif
 
 namespace {
 
@@ -42,6 +56,26 @@ extern "C" void on_interrupt(int) {
   if (g_stop_requested.exchange(true)) std::_Exit(130);
 }
 
+extern "C" void on_polite_stop(int) { g_stop_requested = true; }
+
+// What to say when the process is terminated (mpirun sends SIGTERM to every rank
+// when one dies or the job is cancelled). Filled before the run starts, so the
+// handler only calls write(2) and _exit(2).
+char g_terminated_message[1024] = "";
+
+extern "C" void on_terminate(int) {
+  const std::size_t length = std::strlen(g_terminated_message);
+  if (length > 0 && ::write(STDERR_FILENO, g_terminated_message, length) < 0) {}
+  std::_Exit(143);
+}
+
+void prepare_terminated_message(const std::string& dir) {
+  const std::string text = "\nsodaevo: terminated by a signal (under mpirun: a rank died or the job was cancelled).\n"
+                           "The run folder is intact at its last checkpoint; continue with (any number of ranks):\n"
+                           "  sodaevo evolve --resume " + dir + "\n";
+  std::snprintf(g_terminated_message, sizeof g_terminated_message, "%s", text.c_str());
+}
+
 std::string timestamp() {
   const std::time_t t = std::time(nullptr);
   std::tm tm{};
@@ -62,6 +96,13 @@ std::string format_duration(double seconds) {
 }
 
 void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
+  if (!mpi_support_built() && launcher_rank_count() > 1) {
+    throw soda::InputError("this sodaevo was built without MPI support, so it cannot share one run between the " +
+                           std::to_string(launcher_rank_count()) +
+                           " processes the MPI launcher started (each would run the whole evolution into the "
+                           "same folder). Run it without mpirun, or rebuild with MPI (install libopenmpi-dev; "
+                           "CMake option SODAEVO_MPI). `sodaevo --version` says whether MPI is built in.");
+  }
   if (opt.resume.empty() == opt.config.empty()) {
     throw soda::InputError("give either a CONFIG.json to start a run or --resume RUN_FOLDER to continue one");
   }
@@ -73,11 +114,27 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     const std::string dir = opt.out.empty() ? "results/" + config.name + "-" + timestamp() : opt.out;
     store.emplace(RunStore::create(dir, config, opt.force, command_line));
   }
-  ThreadEvaluator evaluator(opt.threads);
+  std::unique_ptr<Evaluator> evaluator;
+  std::string where;
+#if SODAEVO_HAS_MPI
+  MpiEvaluator* mpi_evaluator = nullptr;
+  if (MpiSession* session = current_mpi_session()) {
+    auto e = std::make_unique<MpiEvaluator>(*session, opt.threads);
+    mpi_evaluator = e.get();
+    where = std::to_string(session->size()) + " MPI rank(s), " + std::to_string(e->local_threads()) +
+            " thread(s) on rank 0; kill -USR1 on mpirun";
+    evaluator = std::move(e);
+  }
+#endif
+  if (!evaluator) {
+    auto e = std::make_unique<ThreadEvaluator>(opt.threads);
+    where = std::to_string(e->threads()) + " thread(s); Ctrl-C";
+    evaluator = std::move(e);
+  }
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   if (!opt.quiet) {
     std::cerr << (opt.resume.empty() ? "evolving" : "resuming") << " '" << store->config().name << "' into "
-              << store->dir().string() << " on " << evaluator.threads() << " thread(s); Ctrl-C stops after the current generation\n";
+              << store->dir().string() << " on " << where << " stops after the current generation\n";
   }
 
   EvolutionOptions options;
@@ -101,14 +158,41 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     if (tty) std::cerr << "\r\033[K" << line << std::flush;
     else std::cerr << line << '\n';
   };
+  prepare_terminated_message(store->dir().string());
   std::signal(SIGINT, on_interrupt);
-  const EvolutionOutcome outcome = run_evolution(*store, evaluator, options);
+  std::signal(SIGUSR1, on_polite_stop);
+  std::signal(SIGTERM, on_terminate);
+  EvolutionOutcome outcome;
+  try {
+    outcome = run_evolution(*store, *evaluator, options);
+  } catch (const std::exception& e) {
+    // Nothing of the failed generation was recorded: every file is still the one
+    // written at or before the last checkpoint (or a log row --resume drops).
+    if (tty && !opt.quiet) std::cerr << '\n';
+    throw std::runtime_error(std::string(e.what()) + "\nThe run stopped; the run folder is intact at its last checkpoint. Continue with:\n  sodaevo evolve --resume " +
+                             store->dir().string());
+  }
+  std::signal(SIGTERM, SIG_DFL);
+  std::signal(SIGUSR1, SIG_DFL);
   std::signal(SIGINT, SIG_DFL);
   refresh_report();
   if (!opt.quiet) {
     if (tty) std::cerr << '\n';
     std::cerr << "stopped: " << outcome.stopped_because << " after generation " << outcome.last_generation << " ("
               << outcome.evaluations << " evaluations)\n";
+#if SODAEVO_HAS_MPI
+    if (mpi_evaluator) {
+      const MpiTraffic& t = mpi_evaluator->traffic();
+      const double farmed = static_cast<double>(std::max<long long>(1, t.creatures_farmed));
+      char line[256];
+      std::snprintf(line, sizeof line,
+                    "MPI: %lld creatures evaluated on rank 0, %lld on other ranks in %lld chunks; "
+                    "%.0f bytes per creature sent, %.0f bytes per creature returned\n",
+                    t.creatures_local, t.creatures_farmed, t.work_messages, static_cast<double>(t.bytes_sent) / farmed,
+                    static_cast<double>(t.bytes_received) / farmed);
+      std::cerr << line;
+    }
+#endif
   }
   std::cout << "run folder   " << store->dir().string() << "\n"
             << "best         " << outcome.best_id << "  fitness " << soda::format_double_plain(outcome.best_fitness)
@@ -128,12 +212,15 @@ void add_evolve_command(CLI::App& app) {
       "Evolve walkers with a genetic algorithm from a JSON config (see configs/README.md).\n"
       "Writes a run folder: resolved config, generations.csv, timing.csv, the best creature\n"
       "of every generation as SodaConstructor XML, saved generations, checkpoints and report.html\n"
-      "(see `sodaevo report`, refreshed every few generations).");
+      "(see `sodaevo report`, refreshed every few generations).\n"
+      "On a cluster: mpirun -np N sodaevo evolve CONFIG runs the algorithm on rank 0 and\n"
+      "evaluates on every rank, with results identical to one process (" + mpi_support_summary() + ").");
   cmd->add_option("config", opt->config, "Run config (.json)")->check(CLI::ExistingFile);
   cmd->add_option("--out", opt->out, "Run folder (default results/<config name>-<timestamp>)");
   cmd->add_option("--resume", opt->resume, "Continue the interrupted run in this folder from its last checkpoint")
       ->check(CLI::ExistingDirectory);
-  cmd->add_option("--threads", opt->threads, "Evaluation threads (0 = all cores); results do not depend on it")
+  cmd->add_option("--threads", opt->threads, "Evaluation threads per process (0 = all cores; under MPI, the node's cores shared\n"
+                  "between its ranks); results do not depend on it")
       ->default_val(0)
       ->check(CLI::Range(0, 1024));
   cmd->add_flag("--force", opt->force, "Replace an existing run folder");

@@ -1,0 +1,22 @@
+// The worker side of the MPI evaluator: what every rank except 0 runs.
+//
+// A worker never reads the command line, never touches the run folder and never
+// prints progress. It waits for the master's setup (the resolved config), then
+// evaluates the chunks of creatures it is sent on its own threads and sends the
+// evaluations back by index, until told to stop. An exception while evaluating
+// is sent to the master as a Failure message (the run then stops cleanly), not a
+// crash.
+//
+// For the fault tests, SODAEVO_TEST_FAULT="kill:RANK:N" makes rank RANK kill
+// itself (SIGKILL) when it starts its (N+1)-th evaluation, and "fail:RANK:N" makes
+// that evaluation throw. Unset, it costs one branch per creature.
+#pragma once
+
+#include "evolve/mpi/mpi_session.hpp"
+
+namespace sodaevo {
+
+/// Runs the worker loop; returns the process exit code (0 after Stop).
+int run_mpi_worker(MpiSession& session);
+
+} // namespace sodaevo
