@@ -102,8 +102,6 @@ long long MpiEvaluator::evaluate(Generation& g, const RunConfig& config) {
   };
   std::vector<std::thread> pool;
   pool.reserve(static_cast<std::size_t>(local_threads_));
-  for (int t = 0; t < local_threads_; ++t) pool.emplace_back(local_work);
-
   std::string failure;
   std::exception_ptr mpi_error;
   try {
@@ -134,7 +132,10 @@ long long MpiEvaluator::evaluate(Generation& g, const RunConfig& config) {
       ++traffic_.work_messages;
       traffic_.bytes_sent += static_cast<long long>(w.bytes().size());
     };
+    // Workers get their first chunk before rank 0's threads start, so every worker
+    // has work in every generation that has enough creatures.
     for (int r = 1; r < session_.size(); ++r) send_chunk(r);
+    for (int t = 0; t < local_threads_; ++t) pool.emplace_back(local_work);
 
     Backoff backoff;
     while (outstanding > 0 || local_running.load() > 0) {

@@ -106,10 +106,9 @@ class Worker {
       }
       r.expect_end();
       evaluations.resize(creatures.size());
-      parallel_for_index(creatures.size(), threads_, [&](std::size_t k) {
-        inject_test_fault();
-        evaluations[k] = evaluate_creature(creatures[k], *config_);
-      });
+      inject_test_fault();
+      parallel_for_index(creatures.size(), threads_,
+                         [&](std::size_t k) { evaluations[k] = evaluate_creature(creatures[k], *config_); });
     } catch (const std::exception& e) {
       return fail(std::string("evaluation failed: ") + e.what());
     }
@@ -124,14 +123,14 @@ class Worker {
 
   void inject_test_fault() {
     if (fault_.kind == TestFault::Kind::None) return;
-    if (started_.fetch_add(1) < fault_.after) return;
+    if (chunks_started_++ < fault_.after) return;
     if (fault_.kind == TestFault::Kind::Kill) std::raise(SIGKILL);
     throw std::runtime_error("test fault injected by SODAEVO_TEST_FAULT");
   }
 
   MpiSession& session_;
   TestFault fault_;
-  std::atomic<long long> started_{0};
+  long long chunks_started_ = 0;
   std::optional<RunConfig> config_;
   int threads_ = 1;
 };

@@ -8,8 +8,9 @@
 // crash.
 //
 // For the fault tests, SODAEVO_TEST_FAULT="kill:RANK:N" makes rank RANK kill
-// itself (SIGKILL) when it starts its (N+1)-th evaluation, and "fail:RANK:N" makes
-// that evaluation throw. Unset, it costs one branch per creature.
+// itself (SIGKILL) when it receives its (N+1)-th chunk, and "fail:RANK:N" makes
+// the evaluation of that chunk throw. Every worker gets at least one chunk per
+// generation, so the fault lands in a known generation. Unset, it costs nothing.
 #pragma once
 
 #include "evolve/mpi/mpi_session.hpp"

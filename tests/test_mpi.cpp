@@ -1,0 +1,192 @@
+// The MPI evaluator as users run it: mpirun around the built binary, compared
+// byte for byte with a single-process run; a rank killed or an evaluation failing
+// mid-run leaves a run folder that resumes to the same result on another N.
+//
+// Skipped (with a message) only when mpirun is not on PATH or the build has no
+// MPI; `./build.sh test` installs Open MPI, so CI runs them. Every mpirun runs
+// under `timeout`, so a hung job cannot block the suite.
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "core/atomic_file.hpp"
+#include "evolve/run_reader.hpp"
+#include "evolve/run_store.hpp"
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Ran {
+  int exit_code = -1;
+  std::string output;
+};
+
+Ran run_shell(const std::string& command) {
+  Ran r;
+  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  std::array<char, 4096> buf{};
+  std::size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+bool mpirun_available() { return run_shell("command -v mpirun").exit_code == 0; }
+
+/// Why the MPI tests cannot run here, or empty.
+std::string why_skip() {
+  if (SODAEVO_HAS_MPI == 0) return "this build has no MPI (SODAEVO_MPI off or no MPI library)";
+  if (!mpirun_available()) return "mpirun not found (install openmpi-bin; ./build.sh test does)";
+  return {};
+}
+
+std::string sodaevo_command(const std::string& args) { return std::string(SODAEVO_BINARY) + " " + args; }
+
+std::string mpirun(int ranks, const std::string& args, const std::string& env = "") {
+  return env + " timeout -k 10 180 mpirun --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) + " " +
+         sodaevo_command(args);
+}
+
+fs::path work_dir(const std::string& name) {
+  fs::path d = fs::temp_directory_path() / ("sodaevo_mpi_test_" + std::to_string(::getpid())) / name;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+fs::path write_config(const fs::path& dir, int generations) {
+  const fs::path config = dir / "mpi_test.json";
+  std::ofstream(config) << R"({ "name": "mpitest", "seed": 42, "generations": )" << generations << R"(,
+  "population": { "size": 12, "seed_models": [")"
+                        << fs::absolute(sodaevo::test::models_dir() / "dainty_walker.xml").string() << R"("],
+                  "random_fraction": 0.5 },
+  "crossover": { "rate": 0.3 },
+  "fitness": { "frames": 400, "settle_frames": 50 },
+  "save": { "generation_every": 2, "checkpoint_every": 1 } })";
+  return config;
+}
+
+std::string file(const fs::path& p) { return soda::read_whole_file(p); }
+
+/// Everything but timing.csv, manifest.json and checkpoint.json (wall times).
+void require_same_run_folder(const fs::path& a, const fs::path& b) {
+  CHECK(file(a / "config.json") == file(b / "config.json"));
+  CHECK(file(a / "generations.csv") == file(b / "generations.csv"));
+  const std::vector<int> saved = sodaevo::saved_generations(a);
+  REQUIRE(!saved.empty());
+  CHECK(saved == sodaevo::saved_generations(b));
+  for (const auto& entry : fs::directory_iterator(a / "best")) {
+    INFO(entry.path().filename());
+    CHECK(file(entry.path()) == file(b / "best" / entry.path().filename()));
+  }
+  for (int g : saved) {
+    INFO("generation " << g);
+    CHECK(file(a / "generations" / sodaevo::generation_file_name(g)) ==
+          file(b / "generations" / sodaevo::generation_file_name(g)));
+  }
+  CHECK(std::distance(fs::directory_iterator(a / "best"), fs::directory_iterator()) ==
+        std::distance(fs::directory_iterator(b / "best"), fs::directory_iterator()));
+}
+
+} // namespace
+
+TEST_CASE("mpirun -np 3 writes the same run folder as one process", "[mpi]") {
+  if (const std::string why = why_skip(); !why.empty()) {
+    WARN("skipped: " << why);
+    return;
+  }
+  const fs::path dir = work_dir("identical");
+  const fs::path config = write_config(dir, 6);
+  const Ran one = run_shell(sodaevo_command("evolve " + config.string() + " --out " + (dir / "one").string() + " --threads 2 --quiet"));
+  INFO(one.output);
+  REQUIRE(one.exit_code == 0);
+  const Ran three = run_shell(mpirun(3, "evolve " + config.string() + " --out " + (dir / "three").string() + " --threads 1"));
+  INFO(three.output);
+  REQUIRE(three.exit_code == 0);
+  // The work really was shared: other ranks evaluated creatures.
+  CHECK(three.output.find("MPI: ") != std::string::npos);
+  CHECK(three.output.find(" 0 on other ranks") == std::string::npos);
+  require_same_run_folder(dir / "one", dir / "three");
+  fs::remove_all(dir.parent_path() / "identical");
+}
+
+TEST_CASE("a rank killed mid-run leaves a run folder that resumes on another N", "[mpi]") {
+  if (const std::string why = why_skip(); !why.empty()) {
+    WARN("skipped: " << why);
+    return;
+  }
+  const fs::path dir = work_dir("killed");
+  const fs::path config = write_config(dir, 8);
+  REQUIRE(run_shell(sodaevo_command("evolve " + config.string() + " --out " + (dir / "ref").string() + " --quiet")).exit_code == 0);
+
+  // Rank 2 kills itself (SIGKILL) as it starts its 3rd chunk, in generation 2 at the latest.
+  const Ran killed = run_shell(mpirun(3, "evolve " + config.string() + " --out " + (dir / "run").string() + " --threads 1",
+                                      "SODAEVO_TEST_FAULT=kill:2:2"));
+  INFO(killed.output);
+  CHECK(killed.exit_code != 0);
+  CHECK(killed.output.find("sodaevo evolve --resume") != std::string::npos);
+  // Intact: a readable checkpoint of a generation before the end, no other damage.
+  sodaevo::RunStore store = sodaevo::RunStore::open(dir / "run");
+  const auto checkpoint = store.read_checkpoint();
+  REQUIRE(checkpoint.has_value());
+  CHECK(checkpoint->generation.index <= 1);
+
+  const Ran resumed = run_shell(mpirun(2, "evolve --resume " + (dir / "run").string() + " --threads 1 --quiet"));
+  INFO(resumed.output);
+  REQUIRE(resumed.exit_code == 0);
+  require_same_run_folder(dir / "ref", dir / "run");
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a failed evaluation on a worker stops the run with a message; it resumes in one process", "[mpi]") {
+  if (const std::string why = why_skip(); !why.empty()) {
+    WARN("skipped: " << why);
+    return;
+  }
+  const fs::path dir = work_dir("failed");
+  const fs::path config = write_config(dir, 6);
+  REQUIRE(run_shell(sodaevo_command("evolve " + config.string() + " --out " + (dir / "ref").string() + " --quiet")).exit_code == 0);
+  const Ran failed = run_shell(mpirun(3, "evolve " + config.string() + " --out " + (dir / "run").string() + " --threads 1 --quiet",
+                                      "SODAEVO_TEST_FAULT=fail:1:2"));
+  INFO(failed.output);
+  CHECK(failed.exit_code != 0);
+  CHECK(failed.output.find("sodaevo: error: MPI rank 1 on ") != std::string::npos);
+  CHECK(failed.output.find("test fault injected") != std::string::npos);
+  CHECK(failed.output.find("sodaevo evolve --resume " + (dir / "run").string()) != std::string::npos);
+  // Stopped politely (workers told to stop), not by MPI_Abort.
+  CHECK(failed.output.find("MPI_ABORT") == std::string::npos);
+
+  const Ran resumed = run_shell(sodaevo_command("evolve --resume " + (dir / "run").string() + " --quiet"));
+  INFO(resumed.output);
+  REQUIRE(resumed.exit_code == 0);
+  require_same_run_folder(dir / "ref", dir / "run");
+  fs::remove_all(dir);
+}
+
+TEST_CASE("the CLI says whether MPI is built in", "[mpi]") {
+  const Ran version = run_shell(sodaevo_command("--version"));
+  REQUIRE(version.exit_code == 0);
+  CHECK(version.output.find(SODAEVO_HAS_MPI ? "MPI: yes" : "MPI: no") != std::string::npos);
+  if (SODAEVO_HAS_MPI == 0) {
+    // Started as if by mpirun with 3 ranks: refused with a clear message, nothing written.
+    const fs::path dir = work_dir("no_mpi");
+    const fs::path config = write_config(dir, 2);
+    const Ran r = run_shell("OMPI_COMM_WORLD_SIZE=3 " + sodaevo_command("evolve " + config.string() + " --out " + (dir / "run").string()));
+    INFO(r.output);
+    CHECK(r.exit_code != 0);
+    CHECK(r.output.find("built without MPI support") != std::string::npos);
+    CHECK(!fs::exists(dir / "run"));
+    fs::remove_all(dir);
+  }
+}
