@@ -138,6 +138,8 @@ class Worker {
 } // namespace
 
 int run_mpi_worker(MpiSession& session) {
+  // mpirun forwards SIGUSR1 (the polite stop) to every rank; only rank 0 acts on it.
+  std::signal(SIGUSR1, SIG_IGN);
   try {
     return Worker(session).run();
   } catch (const std::exception& e) {
