@@ -214,7 +214,8 @@ void add_evolve_command(CLI::App& app) {
       "of every generation as SodaConstructor XML, saved generations, checkpoints and report.html\n"
       "(see `sodaevo report`, refreshed every few generations).\n"
       "On a cluster: mpirun -np N sodaevo evolve CONFIG runs the algorithm on rank 0 and\n"
-      "evaluates on every rank, with results identical to one process (" + mpi_support_summary() + ").");
+      "evaluates on every rank, with results identical to one process (README: Running on a\n"
+      "cluster). This build: " + mpi_support_summary() + ".");
   cmd->add_option("config", opt->config, "Run config (.json)")->check(CLI::ExistingFile);
   cmd->add_option("--out", opt->out, "Run folder (default results/<config name>-<timestamp>)");
   cmd->add_option("--resume", opt->resume, "Continue the interrupted run in this folder from its last checkpoint")
