@@ -101,7 +101,7 @@ void require_same_run_folder(const fs::path& a, const fs::path& b) {
 
 } // namespace
 
-TEST_CASE("mpirun -np 3 writes the same run folder as one process", "[mpi]") {
+TEST_CASE("mpirun -np 3 (and -np 2 with 2 threads each) writes the same run folder as one process", "[mpi]") {
   if (const std::string why = why_skip(); !why.empty()) {
     WARN("skipped: " << why);
     return;
@@ -118,7 +118,12 @@ TEST_CASE("mpirun -np 3 writes the same run folder as one process", "[mpi]") {
   CHECK(three.output.find("MPI: ") != std::string::npos);
   CHECK(three.output.find(" 0 on other ranks") == std::string::npos);
   require_same_run_folder(dir / "one", dir / "three");
-  fs::remove_all(dir.parent_path() / "identical");
+  // Several threads per rank (workers evaluate their chunks in parallel too).
+  const Ran two = run_shell(mpirun(2, "evolve " + config.string() + " --out " + (dir / "two").string() + " --threads 2 --quiet"));
+  INFO(two.output);
+  REQUIRE(two.exit_code == 0);
+  require_same_run_folder(dir / "one", dir / "two");
+  fs::remove_all(dir);
 }
 
 TEST_CASE("a rank killed mid-run leaves a run folder that resumes on another N", "[mpi]") {
