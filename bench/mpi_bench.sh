@@ -42,25 +42,30 @@ for rep in $(seq 1 "$REPEATS"); do
 done
 cp "$WORK/runs.csv" "$OUT/mpi.csv"
 
-# Rank 0's serial work per generation (selection, variation, writing the run
-# folder), measured alone: the same run with 1-frame trials, 10 times the
-# generations. Wall time minus CPU time is waiting for the disk (every file is
-# fsync'ed), CPU time is the GA and the XML, which grow with the population.
+# The model's inputs in CPU time, which other work on the machine hardly changes
+# (wall times do): the benchmark run in one process, and the same run with 1-frame
+# trials and 10 times the generations (rank 0's serial work alone: selection,
+# variation, XML, checkpoints, plus the trivial trials). Its wall time minus CPU
+# time is mostly waiting for the disk (every file of the run folder is fsync'ed),
+# though on a loaded machine also waiting for a core.
 sed 's/"frames": *[0-9]*/"frames": 1/; s/"settle_frames": *[0-9]*/"settle_frames": 0/; s/"generations": *\([0-9]*\)/"generations": \10/' \
   "$CONFIG" >bench/.mpi_bench_serial.json
 TIMEFORMAT='%R %U %S'
 serial=$( { time "$BIN" evolve bench/.mpi_bench_serial.json --out "$WORK/serial" --threads 1 --quiet >/dev/null; } 2>&1 )
 rm -f bench/.mpi_bench_serial.json
+full=$( { time "$BIN" evolve "$CONFIG" --out "$WORK/full" --threads 1 --quiet >/dev/null; } 2>&1 )
 read -r s_wall s_user s_sys <<<"$serial"
+read -r f_wall f_user f_sys <<<"$full"
 s_gens=$(($(wc -l <"$WORK/serial/generations.csv") - 1))
 LOAD_AFTER=$(cut -d' ' -f1-3 /proc/loadavg)
 
 # Medians over the repeats, then the scaling model.
-awk -F, -v s_wall="$s_wall" -v s_cpu="$(awk -v u="$s_user" -v s="$s_sys" 'BEGIN { print u + s }')" -v s_gens="$s_gens" -v load="$LOAD_BEFORE before, $LOAD_AFTER after" -v gens="$(sed -n 's/.*"generations": *\([0-9]*\).*/\1/p' "$CONFIG")" \
+awk -F, -v f_cpu="$(awk -v u="$f_user" -v s="$f_sys" 'BEGIN { print u + s }')" -v s_wall="$s_wall" -v s_cpu="$(awk -v u="$s_user" -v s="$s_sys" 'BEGIN { print u + s }')" -v s_gens="$s_gens" -v load="$LOAD_BEFORE before, $LOAD_AFTER after" -v gens="$(sed -n 's/.*"generations": *\([0-9]*\).*/\1/p' "$CONFIG")" \
   -v shape="$(sed -n 's/.*"size": *\([0-9]*\).*/\1/p' "$CONFIG") creatures, $(sed -n 's/.*"frames": *\([0-9]*\).*/\1/p' "$CONFIG") frames" -v cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2- | sed 's/^ //')" -v cores="$(nproc)" '
   function median(a, n,   i, j, t) { for (i = 1; i <= n; i++) for (j = i + 1; j <= n; j++) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
                                      return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2 }
-  NR > 1 { k = $1; n[k]++; rate[k, n[k]] = $6; erate[k, n[k]] = $7; wall[k, n[k]] = $4; evs[k, n[k]] = $5; evals = $3
+  NR > 1 { if ($1 == 1) one[$2] = $6; else if ($2 in one) { np++; ratio[np] = $6 / one[$2] }
+           k = $1; n[k]++; rate[k, n[k]] = $6; erate[k, n[k]] = $7; wall[k, n[k]] = $4; evs[k, n[k]] = $5; evals = $3
            if ($1 == 2) { sent = $8; back = $9 } }
   END {
     for (k = 1; k <= 2; k++) {
@@ -68,10 +73,10 @@ awk -F, -v s_wall="$s_wall" -v s_cpu="$(awk -v u="$s_user" -v s="$s_sys" 'BEGIN 
       R[k] = median(a, n[k]); E[k] = median(b, n[k]); W[k] = median(c, n[k]); T[k] = median(d, n[k])
       lo[k] = a[1]; hi[k] = a[n[k]]                     # median() sorted a
     }
-    te = 1 / E[1]                       # seconds per creature, one thread
     P0 = evals / gens                   # creatures evaluated per generation (about)
-    tio = (s_wall - s_cpu) / s_gens     # waiting for the disk, per generation
-    tcpu = s_cpu / s_gens / P0          # rank 0 CPU per creature (GA, XML, checkpoint)
+    tcpu = s_cpu / s_gens / P0          # rank 0 serial CPU per creature (an upper bound: includes the 1-frame trials)
+    te = (f_cpu - tcpu * evals) / evals # CPU per evaluation, one thread
+    tio = (s_wall - s_cpu) / s_gens     # disk (and, on a loaded machine, core) waits per generation
     m = sent + back                     # bytes per creature over the wire
     printf "# MPI benchmark\n\n"
     printf "`bench/mpi_bench.sh %d` on %s (%d cores; load average %s), `bench/mpi_bench.json`\n", n[1], cpu, cores, load
@@ -79,9 +84,11 @@ awk -F, -v s_wall="$s_wall" -v s_cpu="$(awk -v u="$s_user" -v s="$s_sys" 'BEGIN 
     printf "median of %d repeats; the run folders of 1 and 2 ranks were checked identical. Every run: `mpi.csv`.\n\n", n[1]
     printf "| ranks | evaluations/s (whole run) | range over the repeats | evaluations/s (while evaluating) | speed-up (whole run) | speed-up (evaluating) |\n|---|---|---|---|---|---|\n"
     for (k = 1; k <= 2; k++) printf "| %d | %.0f | %.0f-%.0f | %.0f | %.2fx | %.2fx |\n", k, R[k], lo[k], hi[k], E[k], R[k] / R[1], E[k] / E[1]
-    printf "\nMeasured inputs of the scaling model:\n\n"
-    printf "- evaluation time per creature t_e = %.2f ms (one thread; run of %s)\n", te * 1000, shape
-    printf "- rank 0 serial work per generation: t_io = %.1f ms waiting for the disk (each file fsync'\''ed) + t_cpu = %.0f us per creature (selection, variation, XML, checkpoint)\n", tio * 1000, tcpu * 1e6
+    printf "\nSpeed-up of 2 ranks over 1, median of the %d paired repeats (each 1-rank run is followed at once\n", np
+    printf "by its 2-rank run, so both see about the same load from other work): **%.2fx** (whole run).\n", median(ratio, np)
+    printf "\nMeasured inputs of the scaling model (CPU times, from single-process runs):\n\n"
+    printf "- evaluation time per creature t_e = %.2f ms of CPU (one thread; run of %s)\n", te * 1000, shape
+    printf "- rank 0 serial work per generation: t_io = %.1f ms of waiting (for the disk: each file is fsync'\''ed; here also for a core) + t_cpu = %.0f us of CPU per creature (selection, variation, XML, checkpoint)\n", tio * 1000, tcpu * 1e6
     printf "- message size per creature m = %.0f bytes out (the genome) + %.0f bytes back (the evaluation)\n\n", sent, back
     printf "Model, per generation, population P, N ranks of one thread, rank 0 serving every chunk:\n\n"
     printf "    T_N = t_io + P*t_cpu + max(ceil(P/N)*t_e, c*N*o + P*m/B) + t_e,   E(N) = T_1 / (N*T_N)\n\n"
