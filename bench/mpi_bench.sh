@@ -23,17 +23,20 @@ command -v mpirun >/dev/null || { echo "mpi_bench: mpirun not found (apt-get ins
 MPIRUN=(mpirun --oversubscribe)
 [ "$(id -u)" -eq 0 ] && MPIRUN+=(--allow-run-as-root)
 
-echo "ranks,repeat,evaluations,wall_seconds,evaluation_seconds,evals_per_second,evals_per_second_evaluating,bytes_sent_per_creature,bytes_returned_per_creature" >"$WORK/runs.csv"
+echo "ranks,repeat,evaluations,wall_seconds,evaluation_seconds,evals_per_second,evals_per_second_evaluating,bytes_sent_per_creature,bytes_returned_per_creature,cpu_seconds,cores_obtained" >"$WORK/runs.csv"
+TIMEFORMAT='%R %U %S'   # bash's time: wall, then user and system CPU of mpirun and every rank
 for rep in $(seq 1 "$REPEATS"); do
   for ranks in 1 2; do
     dir="$WORK/np$ranks-$rep"
-    "${MPIRUN[@]}" -np "$ranks" "$BIN" evolve "$CONFIG" --out "$dir" --threads 1 >"$WORK/out" 2>"$WORK/err"
+    times=$( { time "${MPIRUN[@]}" -np "$ranks" "$BIN" evolve "$CONFIG" --out "$dir" --threads 1 >"$WORK/out" 2>"$WORK/err"; } 2>&1 )
+    read -r t_wall t_user t_sys <<<"$times"
     # timing.csv: generation,evaluations,wall_seconds (cumulative),evaluations_per_second (of that generation's evaluation)
     read -r evals wall eval_s < <(awk -F, 'NR>1 { if ($4 > 0) t += ($2 - prev) / $4; prev = $2; e = $2; w = $3 } END { printf "%d %.6f %.6f\n", e, w, t }' "$dir/timing.csv")
     sent=$(sed -n 's/.*; \([0-9.]*\) bytes per creature sent.*/\1/p' "$WORK/err")
     back=$(sed -n 's/.*sent, \([0-9.]*\) bytes per creature returned.*/\1/p' "$WORK/err")
     awk -v r="$ranks" -v rep="$rep" -v e="$evals" -v w="$wall" -v t="$eval_s" -v s="${sent:-0}" -v b="${back:-0}" \
-      'BEGIN { printf "%d,%d,%d,%.6f,%.6f,%.1f,%.1f,%s,%s\n", r, rep, e, w, t, e / w, e / t, s, b }' >>"$WORK/runs.csv"
+      -v cpu="$(awk -v u="$t_user" -v s="$t_sys" 'BEGIN { print u + s }')" -v tw="$t_wall" \
+      'BEGIN { printf "%d,%d,%d,%.6f,%.6f,%.1f,%.1f,%s,%s,%.3f,%.2f\n", r, rep, e, w, t, e / w, e / t, s, b, cpu, cpu / tw }' >>"$WORK/runs.csv"
     echo "mpi_bench: repeat $rep, $ranks rank(s): $(tail -1 "$WORK/runs.csv")" >&2
   done
   for f in generations.csv best; do
@@ -50,7 +53,6 @@ cp "$WORK/runs.csv" "$OUT/mpi.csv"
 # though on a loaded machine also waiting for a core.
 sed 's/"frames": *[0-9]*/"frames": 1/; s/"settle_frames": *[0-9]*/"settle_frames": 0/; s/"generations": *\([0-9]*\)/"generations": \10/' \
   "$CONFIG" >bench/.mpi_bench_serial.json
-TIMEFORMAT='%R %U %S'
 serial=$( { time "$BIN" evolve bench/.mpi_bench_serial.json --out "$WORK/serial" --threads 1 --quiet >/dev/null; } 2>&1 )
 rm -f bench/.mpi_bench_serial.json
 full=$( { time "$BIN" evolve "$CONFIG" --out "$WORK/full" --threads 1 --quiet >/dev/null; } 2>&1 )
@@ -65,13 +67,15 @@ awk -F, -v f_cpu="$(awk -v u="$f_user" -v s="$f_sys" 'BEGIN { print u + s }')" -
   function median(a, n,   i, j, t) { for (i = 1; i <= n; i++) for (j = i + 1; j <= n; j++) if (a[j] < a[i]) { t = a[i]; a[i] = a[j]; a[j] = t }
                                      return n % 2 ? a[(n + 1) / 2] : (a[n / 2] + a[n / 2 + 1]) / 2 }
   NR > 1 { if ($1 == 1) one[$2] = $6; else if ($2 in one) { np++; ratio[np] = $6 / one[$2] }
-           k = $1; n[k]++; rate[k, n[k]] = $6; erate[k, n[k]] = $7; wall[k, n[k]] = $4; evs[k, n[k]] = $5; evals = $3
+           k = $1; n[k]++; rate[k, n[k]] = $6; per_cpu[k, n[k]] = $3 / $10; got[k, n[k]] = $11; erate[k, n[k]] = $7; wall[k, n[k]] = $4; evs[k, n[k]] = $5; evals = $3
            if ($1 == 2) { sent = $8; back = $9 } }
   END {
     for (k = 1; k <= 2; k++) {
       for (i = 1; i <= n[k]; i++) { a[i] = rate[k, i]; b[i] = erate[k, i]; c[i] = wall[k, i]; d[i] = evs[k, i] }
       R[k] = median(a, n[k]); E[k] = median(b, n[k]); W[k] = median(c, n[k]); T[k] = median(d, n[k])
       lo[k] = a[1]; hi[k] = a[n[k]]                     # median() sorted a
+      for (i = 1; i <= n[k]; i++) { a[i] = per_cpu[k, i]; b[i] = got[k, i] }
+      PC[k] = median(a, n[k]); CO[k] = median(b, n[k])
     }
     P0 = evals / gens                   # creatures evaluated per generation (about)
     tcpu = s_cpu / s_gens / P0          # rank 0 serial CPU per creature (an upper bound: includes the 1-frame trials)
@@ -86,6 +90,11 @@ awk -F, -v f_cpu="$(awk -v u="$f_user" -v s="$f_sys" 'BEGIN { print u + s }')" -
     for (k = 1; k <= 2; k++) printf "| %d | %.0f | %.0f-%.0f | %.0f | %.2fx | %.2fx |\n", k, R[k], lo[k], hi[k], E[k], R[k] / R[1], E[k] / E[1]
     printf "\nSpeed-up of 2 ranks over 1, median of the %d paired repeats (each 1-rank run is followed at once\n", np
     printf "by its 2-rank run, so both see about the same load from other work): **%.2fx** (whole run).\n", median(ratio, np)
+    printf "\nWhat the machine gave (medians; CPU time of mpirun and every rank, from bash'\''s time):\n\n"
+    printf "| ranks | cores obtained (CPU s / wall s) | evaluations per CPU second |\n|---|---|---|\n"
+    for (k = 1; k <= 2; k++) printf "| %d | %.2f | %.0f |\n", k, CO[k], PC[k]
+    printf "\nEvaluations per CPU second are what the MPI evaluator costs: equal for 1 and 2 ranks means\n"
+    printf "farming creatures out adds no work; the speed-up then follows the cores the machine gives.\n"
     printf "\nMeasured inputs of the scaling model (CPU times, from single-process runs):\n\n"
     printf "- evaluation time per creature t_e = %.2f ms of CPU (one thread; run of %s)\n", te * 1000, shape
     printf "- rank 0 serial work per generation: t_io = %.1f ms of waiting (for the disk: each file is fsync'\''ed; here also for a core) + t_cpu = %.0f us of CPU per creature (selection, variation, XML, checkpoint)\n", tio * 1000, tcpu * 1e6
