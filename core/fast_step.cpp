@@ -10,8 +10,10 @@
 #include <limits>
 #include <map>
 #include <new>
+#include <stdexcept>
 #include <vector>
 
+#include "fused_scene.hpp"
 #include "physics_rules.hpp"
 
 // GCC 12's AVX-512 headers trip -Wmaybe-uninitialized inside their own intrinsics
@@ -414,73 +416,90 @@ SinTable build_sin_table() {
 } // namespace
 
 // ---------------------------------------------------------------------------
-// The stepper's data.
+// The scene's data.
 // ---------------------------------------------------------------------------
 
-struct FastStepper::Impl {
-  const Model* model = nullptr;
-  SceneNeeds needs;
+struct FusedScene::Data {
   FastStepOptions options;
   SimdLevel simd = SimdLevel::Sse2;
   int W = 2;
 
-  // Working points, as (x, y) pairs: masses [0, nm), padding masses [nm, nm_pad)
-  // (at rest at (0, 0); their results are never read), fixed nodes
-  // [nm_pad, nm_pad + nf), and one spare pair.
-  int nm = 0, nm_pad = 0, nf = 0, sink = 0;
-  std::vector<int> work_of_point; ///< [point_count] model point -> working index
-  AVec<double> pos, vel;          ///< [2*(sink+1)] x, y / vx, vy pairs
-  AVec<double> old_pos;           ///< [2*nm_pad] positions before the move (bars)
-  AVec<double> side;              ///< [2*nm_pad] side wall hit this frame (-1, 0, +1), twice per mass
+  // One entry per model of the scene, in the order given.
+  struct Creature {
+    const Model* model = nullptr;
+    SceneNeeds needs;
+    int mass_base = 0;              ///< working index of its first mass
+    std::vector<int> work_of_point; ///< [point_count] model point -> working index
+    int group_base = 0, groups = 0; ///< its distinct muscle phases in group_phase
+    // Sines for the next rows frames, computed for the phases the wave will have if
+    // its direction does not change (a row is used only if its phase is the
+    // current one, bit for bit). Row r's sines at row_sin[rows*group_base + r*groups].
+    int row_count = 0, row_next = 0;
+    WaveDirection rows_mode = WaveDirection::Forward;
+    // The wave advance of this frame, already computed for the rows (same rule,
+    // same inputs) when the phase and direction are still the predicted ones.
+    bool has_prediction = false;
+    std::uint64_t predicted_from = 0;
+    double predicted_next = 0.0;
+    WaveDirection predicted_mode = WaveDirection::Forward;
+    bool targets_valid = false;
+    std::uint64_t targets_phase_bits = 0;
+  };
+  std::vector<Creature> creatures;
+  bool any_wave = false, any_gravity = false;
+  BarKind bars = BarKind::None; ///< only with a single model
 
-  // Links that can act (a free end), in file order, padded to a multiple of
-  // kMaxWidth with links from point 0 to itself (length 0: no impulse).
+  // Working points, as (x, y) pairs: masses [0, nm) (the creatures' masses one
+  // creature after the other), padding masses [nm, nm_pad) (at rest at (0, 0);
+  // their results are never read), fixed nodes [nm_pad, nm_pad + nf), and one
+  // spare pair.
+  int nm = 0, nm_pad = 0, nf = 0, sink = 0;
+  AVec<double> pos, vel;  ///< [2*(sink+1)] x, y / vx, vy pairs
+  AVec<double> old_pos;   ///< [2*nm_pad] positions before the move (bars)
+  AVec<double> side;      ///< [2*nm_pad] side wall hit this frame (-1, 0, +1), twice per mass
+  // Per-mass parameters, per block of W masses in kLaneLink order (as load_pairs
+  // puts the masses in lanes): each mass's own creature's values.
+  AVec<double> mass_gd;        ///< gravity * direction, as rules::apply_gravity forms it
+  AVec<double> mass_keep;      ///< 1 - friction, as rules::friction_factor forms it
+  AVec<double> mass_width, mass_height, mass_fs, mass_rs;
+
+  // Links that can act (a free end), padded to a multiple of kMaxWidth with links
+  // from point 0 to itself (length 0: no impulse).
   int nl = 0, nl_pad = 0;
   std::vector<std::uint32_t> la, lb; ///< [nl_pad] 2 * working index of the ends (offset in pos)
   // Impulses as (x, y) pairs: pair k = end A of acting link k (+c*d), pair
   // nl_pad + k = end B (-c*d), pair 2*nl_pad = (-0, -0), the identity of +.
   AVec<double> imp; ///< [4*nl_pad + 2]
   std::int32_t identity_pair = 0;
-  // Impulse pairs per mass in file order of the links, by groups of kGatherGroup
-  // masses sorted by degree: group b, round r, lane l at the next slots; lists
-  // shorter than the group's longest are padded with identity_pair (fixed trip
-  // counts: no branch mispredictions).
+  // Impulse pairs per mass in file order of its model's links, by groups of
+  // kGatherGroup masses sorted by degree: group b, round r, lane l at the next
+  // slots; lists shorter than the group's longest are padded with identity_pair
+  // (fixed trip counts: no branch mispredictions).
   std::vector<std::uint32_t> slots;      ///< double offsets into imp (2 * pair)
   std::vector<std::int32_t> block_rounds; ///< per gather group
   std::vector<std::uint32_t> gather_vel;  ///< per gather group, kGatherGroup offsets into vel (2 * mass)
   std::vector<std::int32_t> slot_of_mass; ///< [nm] first slot of mass i; its rounds stride kGatherGroup
   std::vector<std::int32_t> rounds_of_mass;
-  AVec<double> target;              ///< [nl_pad] desired length D, per block in kLaneLink order
+  AVec<double> target;    ///< [nl_pad] desired length D, per block in kLaneLink order
+  AVec<double> link_k;    ///< [nl_pad] springyness of the link's model, same order
 
-  // Wave muscles (muscles whose power Aw*Am is not 0).
-  // Kernel link order puts the wave muscles first, so target slots [0, nwm_pad)
-  // are the ones that change per frame: target = rest * (1 + power * sine[group])
-  // (springs sharing those blocks have power 0: rest * (1 + +-0) = rest exactly).
+  // Wave muscles (muscles whose power Aw*Am is not 0), first in the link order,
+  // so target slots [0, nwm_pad) are the ones that change per frame:
+  // target = rest * (1 + power * sine[group]) (springs sharing those blocks have
+  // power 0: rest * (1 + +-0) = rest exactly).
   int nwm = 0, nwm_pad = 0;
   std::vector<double> tm_rest, tm_power; ///< [nwm_pad] rest length, Aw*Am
-  std::vector<std::int32_t> tm_group;    ///< [nwm_pad] index into a row of sines
-  std::vector<double> group_phase;       ///< distinct muscle phases
-  int groups = 0;
-  // Sines for the next kSineRows frames, computed in one batch for the phases the
-  // wave will have if its direction does not change (a row is used only if its
-  // phase is the current one, bit for bit).
-  int rows = 1, row_count = 0, row_next = 0;
-  std::vector<std::uint64_t> row_phase_bits; ///< [rows]
-  std::vector<double> row_phase_after;        ///< [rows] rules::advance_wave_phase of the row's phase
-  WaveDirection rows_mode = WaveDirection::Forward;
-  // The wave advance of this frame, already computed for the batch (same rule,
-  // same inputs) when the phase and direction are still the predicted ones.
-  bool has_prediction = false;
-  std::uint64_t predicted_from = 0;
-  double predicted_next = 0.0;
-  WaveDirection predicted_mode = WaveDirection::Forward;
-  AVec<double> row_arg, row_sin;             ///< [rows * groups, padded] row r at r * groups
-  bool targets_valid = false;
-  std::uint64_t targets_phase_bits = 0;
+  std::vector<std::int32_t> tm_group;    ///< [nwm_pad] index into frame_sine
+  std::vector<double> group_phase;       ///< distinct muscle phases, per creature
+  int groups = 0;                        ///< all creatures'
+  int rows = 1;
+  std::vector<std::uint64_t> row_phase_bits; ///< [creatures * rows]
+  std::vector<double> row_phase_after;        ///< [creatures * rows] rules::advance_wave_phase of the row's phase
+  AVec<double> row_arg, row_sin;             ///< [rows * groups, padded]
+  AVec<double> frame_sine;                   ///< [groups] this frame's sines
   long long sines = 0;
 
   std::vector<int> bar_a, bar_b; ///< 2 * working index (offset of x in pos), file order
-  double gd = 0.0;               ///< gravity * direction, as rules::apply_gravity forms it
 
   std::vector<KernelChoice> used;
   KernelChoice last;
@@ -490,18 +509,22 @@ struct FastStepper::Impl {
   [[nodiscard]] double& pvx(int w) { return vel[2 * static_cast<std::size_t>(w)]; }
   [[nodiscard]] double& pvy(int w) { return vel[2 * static_cast<std::size_t>(w) + 1]; }
 
-  void build(const Model& m, long long budget, FastStepOptions opt);
-  void load_state(const State& s);
-  void store_state(State& s);
-  void update_targets(double wave_phase, WaveDirection mode);
-  [[nodiscard]] double advance_phase(const State& st) const {
-    if (has_prediction && bits_of(st.wave_phase) == predicted_from && st.wave_mode == predicted_mode) {
-      return predicted_next;
+  void build(const std::vector<const Model*>& models, long long budget, FastStepOptions opt);
+  void load_state(State* const* st);
+  void store_state(State* const* st);
+  void update_targets(State* const* st);
+  void fill_rows(State* const* st);
+  [[nodiscard]] double advance_phase(const Creature& c, const State& st) const {
+    if (c.has_prediction && bits_of(st.wave_phase) == c.predicted_from && st.wave_mode == c.predicted_mode) {
+      return c.predicted_next;
     }
-    return rules::advance_wave_phase(st.wave_phase, model->wave_speed, st.wave_mode);
+    return rules::advance_wave_phase(st.wave_phase, c.model->wave_speed, st.wave_mode);
+  }
+  void advance_waves(State* const* st) {
+    for (std::size_t c = 0; c < creatures.size(); ++c) st[c]->wave_phase = advance_phase(creatures[c], *st[c]);
   }
   void ordered_frame(State& s);
-  void replay_side_hits(State& s);
+  void replay_side_hits(State* const* st);
   void bars_pass();
   void ordered_masses(State& s);
   void collide_with_bars(int i, double x0, double y0);
@@ -511,11 +534,12 @@ struct FastStepper::Impl {
 // ---------------------------------------------------------------------------
 // Kernels. The formulas are those of physics_rules.hpp (and of the link loop of
 // step.cpp), lane by lane, in the same operation order; the comment on each says
-// which rule it is. tests/test_fast_step.cpp checks the results bit for bit.
+// which rule it is. tests/test_fast_step.cpp and tests/test_batch_step.cpp check
+// the results bit for bit.
 // ---------------------------------------------------------------------------
 namespace {
 
-using Impl = FastStepper::Impl;
+using Impl = FusedScene::Data;
 
 /// The links (spec 5.2; step.cpp apply_links): impulses of all acting links in
 /// SIMD from the positions (which do not change while links act).
@@ -528,7 +552,7 @@ void link_kernel(Impl& s) {
   double* imp_b = s.imp.data() + 2 * static_cast<std::size_t>(s.nl_pad);
   const std::uint32_t* la = s.la.data();
   const std::uint32_t* lb = s.lb.data();
-  const V k = O::set1(s.model->springyness);
+  const double* link_k = s.link_k.data();
   const V zero = O::set1(0.0);
   const V neg_zero = O::set1(-0.0);
   const int n = (s.nl + O::W - 1) / O::W * O::W;
@@ -540,7 +564,7 @@ void link_kernel(Impl& s) {
     const V dy = O::sub(yb, ya);
     const V length = O::sqrt(O::add(O::mul(dx, dx), O::mul(dy, dy)));
     // rules::link_impulse_factor: springyness * (length - target) / length
-    const V c = O::div(O::mul(k, O::sub(length, O::load(target + i))), length);
+    const V c = O::div(O::mul(O::load(link_k + i), O::sub(length, O::load(target + i))), length);
     const V px = O::mul(c, dx);
     const V py = O::mul(c, dy);
     // End B: v -= p is v + (-p) exactly. A zero-length link is skipped: both its
@@ -581,23 +605,19 @@ void gather_impulses(Impl& s) {
 }
 
 /// The masses (spec 5.3) in SIMD over masses: gravity, friction with the syrup
-/// limit, rest test, move, container walls. Returns whether some mass responded to
-/// a side wall (autoreverse is then replayed in mass order).
+/// limit, rest test, move, container walls, each mass with its own creature's
+/// parameters. Returns whether some mass responded to a side wall (autoreverse is
+/// then replayed in mass order).
 template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
 bool mass_kernel(Impl& s) {
   using V = typename O::V;
   using M = typename O::M;
-  const Model& m = *s.model;
   double* pos = s.pos.data();
   double* vel = s.vel.data();
-  const V gd = O::set1(s.gd);
-  const V one_minus_f = O::set1(1.0 - m.friction); // rules::friction_factor
   const V syrup = O::set1(kSyrupThreshold);
   const V syrup2 = O::set1(kSyrupThreshold * kSyrupThreshold); // 400, exact
   const V rest_limit = O::set1(kZeroVelocity);
   const V zero = O::set1(0.0);
-  const V width = O::set1(m.width), height = O::set1(m.height);
-  const V fs = O::set1(m.surface_friction), rs = O::set1(m.surface_reflection);
   const V left = O::set1(-1.0), right = O::set1(1.0);
   M any_side = O::m_none();
   gather_impulses<O>(s);
@@ -606,13 +626,14 @@ bool mass_kernel(Impl& s) {
     O::load_pairs(vel + 2 * i, vx, vy);
     O::load_pairs(pos + 2 * i, x0, y0);
     if (!s.bar_a.empty()) O::store_pairs(s.old_pos.data() + 2 * i, x0, y0);
-    if constexpr (Gravity) vy = O::sub(vy, gd); // rules::apply_gravity
+    if constexpr (Gravity) vy = O::sub(vy, O::load(s.mass_gd.data() + i)); // rules::apply_gravity
     // rules::friction_factor: (1 - f), times (20 / speed) when speed > 20.
     // The square-root/divide unit is the bottleneck of the whole step, so both are
     // skipped when no lane can be above the limit: sqrt is correctly rounded and
     // monotonic with sqrt(400) = 20, so vx^2 + vy^2 <= 400 gives speed <= 20
     // exactly. The other lanes keep 1 - f either way.
     const V speed2 = O::add(O::mul(vx, vx), O::mul(vy, vy));
+    const V one_minus_f = O::load(s.mass_keep.data() + i); // rules::friction_factor
     V factor = one_minus_f;
     if (O::any(O::gt(speed2, syrup2))) {
       const V speed = O::sqrt(speed2);
@@ -626,12 +647,14 @@ bool mass_kernel(Impl& s) {
     V cvx = vx, cvy = vy;
     // rules::collide_with_container, without the walls no mass can reach.
     M fc = O::m_none();
+    const V fs = O::load(s.mass_fs.data() + i), rs = O::load(s.mass_rs.data() + i);
     if constexpr (Floor) {
       const M below = O::lt(y, zero);
       y = O::select(below, zero, y);
       fc = below;
     }
     if constexpr (Ceiling) {
+      const V height = O::load(s.mass_height.data() + i);
       const M above = O::gt(y, height); // after the floor clamp: the "else if"
       y = O::select(above, height, y);
       fc = O::m_or(fc, above);
@@ -643,6 +666,7 @@ bool mass_kernel(Impl& s) {
     if constexpr (Sides) {
       const M lw = O::lt(x, zero);
       x = O::select(lw, zero, x);
+      const V width = O::load(s.mass_width.data() + i);
       const M rw = O::gt(x, width);
       x = O::select(rw, width, x);
       const M respond = O::m_andnot(O::m_or(lw, rw), fc); // the corner rule
@@ -675,20 +699,20 @@ void targets_kernel(Impl& s, const double* sine) {
 /// Frames with the SIMD kernels for one wall/gravity specialisation: the frame
 /// loop is inside the specialised function, so nothing is looked up per frame.
 template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
-void run_chunk(Impl& s, State& st, long long frames) {
+void run_chunk(Impl& s, State* const* st, long long frames) {
   const bool wave = s.nwm > 0;
   for (long long f = 0; f < frames; ++f) {
-    if (wave) s.update_targets(st.wave_phase, st.wave_mode);
+    if (wave) s.update_targets(st);
     if (s.nl > 0) link_kernel<O>(s);
     if (mass_kernel<O, Gravity, Floor, Ceiling, Sides>(s)) s.replay_side_hits(st);
     if (!s.bar_a.empty()) s.bars_pass();
-    st.wave_phase = s.advance_phase(st);
+    s.advance_waves(st);
   }
 }
 
 using LinkFn = void (*)(Impl&);
 using TargetFn = void (*)(Impl&, const double*);
-using ChunkFn = void (*)(Impl&, State&, long long);
+using ChunkFn = void (*)(Impl&, State* const*, long long);
 
 template <class O>
 struct KernelTable {
@@ -717,22 +741,22 @@ struct KernelTable {
   template bool mass_kernel<O, true, true, true, false>(Impl&);                                           \
   template bool mass_kernel<O, true, true, true, true>(Impl&);                                            \
   template void link_kernel<O>(Impl&);                                                                     \
-  template void run_chunk<O, false, false, false, false>(Impl&, State&, long long);                       \
-  template void run_chunk<O, false, false, false, true>(Impl&, State&, long long);                        \
-  template void run_chunk<O, false, false, true, false>(Impl&, State&, long long);                        \
-  template void run_chunk<O, false, false, true, true>(Impl&, State&, long long);                         \
-  template void run_chunk<O, false, true, false, false>(Impl&, State&, long long);                        \
-  template void run_chunk<O, false, true, false, true>(Impl&, State&, long long);                         \
-  template void run_chunk<O, false, true, true, false>(Impl&, State&, long long);                         \
-  template void run_chunk<O, false, true, true, true>(Impl&, State&, long long);                          \
-  template void run_chunk<O, true, false, false, false>(Impl&, State&, long long);                        \
-  template void run_chunk<O, true, false, false, true>(Impl&, State&, long long);                         \
-  template void run_chunk<O, true, false, true, false>(Impl&, State&, long long);                         \
-  template void run_chunk<O, true, false, true, true>(Impl&, State&, long long);                          \
-  template void run_chunk<O, true, true, false, false>(Impl&, State&, long long);                         \
-  template void run_chunk<O, true, true, false, true>(Impl&, State&, long long);                          \
-  template void run_chunk<O, true, true, true, false>(Impl&, State&, long long);                          \
-  template void run_chunk<O, true, true, true, true>(Impl&, State&, long long);                           \
+  template void run_chunk<O, false, false, false, false>(Impl&, State* const*, long long);                       \
+  template void run_chunk<O, false, false, false, true>(Impl&, State* const*, long long);                        \
+  template void run_chunk<O, false, false, true, false>(Impl&, State* const*, long long);                        \
+  template void run_chunk<O, false, false, true, true>(Impl&, State* const*, long long);                         \
+  template void run_chunk<O, false, true, false, false>(Impl&, State* const*, long long);                        \
+  template void run_chunk<O, false, true, false, true>(Impl&, State* const*, long long);                         \
+  template void run_chunk<O, false, true, true, false>(Impl&, State* const*, long long);                         \
+  template void run_chunk<O, false, true, true, true>(Impl&, State* const*, long long);                          \
+  template void run_chunk<O, true, false, false, false>(Impl&, State* const*, long long);                        \
+  template void run_chunk<O, true, false, false, true>(Impl&, State* const*, long long);                         \
+  template void run_chunk<O, true, false, true, false>(Impl&, State* const*, long long);                         \
+  template void run_chunk<O, true, false, true, true>(Impl&, State* const*, long long);                          \
+  template void run_chunk<O, true, true, false, false>(Impl&, State* const*, long long);                         \
+  template void run_chunk<O, true, true, false, true>(Impl&, State* const*, long long);                          \
+  template void run_chunk<O, true, true, true, false>(Impl&, State* const*, long long);                          \
+  template void run_chunk<O, true, true, true, true>(Impl&, State* const*, long long);                           \
   template unsigned table_sin<O>(const SinTable&, const double*, double*);                                \
   template void sines<O>(const double*, double*, int);                                                     \
   template void targets_kernel<O>(Impl&, const double*);                                                   \
@@ -860,34 +884,97 @@ std::string KernelChoice::describe() const {
 // Building the plan.
 // ---------------------------------------------------------------------------
 
-void FastStepper::Impl::build(const Model& m, long long budget, FastStepOptions opt) {
-  model = &m;
+namespace {
+
+/// `values` (one per natural index) rearranged so that block b of W holds item
+/// b + kLaneLink(W, l) in lane l; padded with `fill` to `padded` entries.
+AVec<double> in_lane_order(const std::vector<double>& values, int w, std::size_t padded, double fill) {
+  AVec<double> out(padded, fill);
+  for (std::size_t b = 0; b < padded; b += static_cast<std::size_t>(w)) {
+    for (int l = 0; l < w; ++l) {
+      const std::size_t item = b + static_cast<std::size_t>(kLaneLink(w, l));
+      if (item < values.size()) out[b + static_cast<std::size_t>(l)] = values[item];
+    }
+  }
+  return out;
+}
+
+} // namespace
+
+void FusedScene::Data::build(const std::vector<const Model*>& models, long long budget, FastStepOptions opt) {
   options = opt;
-  needs = analyse_scene(m, budget);
   simd = opt.simd == SimdLevel::Auto ? best_simd_level() : opt.simd;
   if (!simd_level_supported(simd)) simd = best_simd_level();
   W = width_of(simd);
 
-  nm = m.mass_count;
+  creatures.assign(models.size(), {});
+  nm = 0;
+  nf = 0;
+  for (std::size_t c = 0; c < models.size(); ++c) {
+    Creature& cr = creatures[c];
+    cr.model = models[c];
+    cr.needs = analyse_scene(*models[c], budget);
+    cr.mass_base = nm;
+    nm += models[c]->mass_count;
+    any_wave = any_wave || cr.needs.wave;
+    any_gravity = any_gravity || cr.needs.gravity;
+    bars = cr.needs.bars;
+  }
   nm_pad = (nm + kMaxWidth - 1) / kMaxWidth * kMaxWidth;
-  nf = m.point_count - nm;
+  for (Creature& cr : creatures) {
+    const Model& m = *cr.model;
+    cr.work_of_point.resize(static_cast<std::size_t>(m.point_count));
+    for (int p = 0; p < m.point_count; ++p) {
+      cr.work_of_point[p] = p < m.mass_count ? cr.mass_base + p : nm_pad + nf + (p - m.mass_count);
+    }
+    nf += m.point_count - m.mass_count;
+  }
   sink = nm_pad + nf;
-  work_of_point.resize(static_cast<std::size_t>(m.point_count));
-  for (int p = 0; p < m.point_count; ++p) work_of_point[p] = p < nm ? p : nm_pad + (p - nm);
   pos.assign(2 * static_cast<std::size_t>(sink + 1), 0.0);
   vel.assign(2 * static_cast<std::size_t>(sink + 1), 0.0);
   old_pos.assign(2 * static_cast<std::size_t>(nm_pad), 0.0);
   side.assign(2 * static_cast<std::size_t>(nm_pad), 0.0);
 
-  // Acting links (a free end), wave muscles first, each group in file order. The
-  // order links are computed in is free: only the order of the additions into
-  // each velocity matters, and the slots below keep file order for that.
-  auto wave_muscle = [&m](int i) { return m.link_muscle[i] && (m.wave_amplitude * m.link_amplitude[i]) != 0.0; };
-  std::vector<int> acting;
+  // Per-mass parameters (padding masses: gravity +0, so they stay at rest).
+  std::vector<double> gd, keep, width, height, fs, rs;
+  for (const Creature& cr : creatures) {
+    const Model& m = *cr.model;
+    for (int i = 0; i < m.mass_count; ++i) {
+      gd.push_back(m.gravity * static_cast<double>(static_cast<int>(m.gravity_direction))); // rules::apply_gravity
+      keep.push_back(1.0 - m.friction); // rules::friction_factor
+      width.push_back(m.width);
+      height.push_back(m.height);
+      fs.push_back(m.surface_friction);
+      rs.push_back(m.surface_reflection);
+    }
+  }
+  const auto np = static_cast<std::size_t>(nm_pad);
+  mass_gd = in_lane_order(gd, W, np, 0.0);
+  mass_keep = in_lane_order(keep, W, np, 1.0);
+  mass_width = in_lane_order(width, W, np, 1.0);
+  mass_height = in_lane_order(height, W, np, 1.0);
+  mass_fs = in_lane_order(fs, W, np, 1.0);
+  mass_rs = in_lane_order(rs, W, np, 1.0);
+
+  // Acting links (a free end), the wave muscles of every creature first, then the
+  // other links, each creature's in file order. The order links are computed in
+  // is free: only the order of the additions into each velocity matters, and the
+  // slots below keep each model's file order for that.
+  struct Acting {
+    int creature;
+    int link;
+  };
+  auto wave_muscle = [](const Model& m, int i) {
+    return m.link_muscle[i] && (m.wave_amplitude * m.link_amplitude[i]) != 0.0;
+  };
+  std::vector<Acting> acting;
   for (int pass = 0; pass < 2; ++pass) {
-    for (int i = 0; i < m.link_count(); ++i) {
-      if (!m.is_mass(m.link_a[i]) && !m.is_mass(m.link_b[i])) continue; // no effect at all
-      if (wave_muscle(i) == (pass == 0)) acting.push_back(i);
+    for (std::size_t c = 0; c < creatures.size(); ++c) {
+      const Model& m = *creatures[c].model;
+      for (int i = 0; i < m.link_count(); ++i) {
+        if (!m.is_mass(m.link_a[i]) && !m.is_mass(m.link_b[i])) continue; // no effect at all
+        if (wave_muscle(m, i) == (pass == 0)) acting.push_back({static_cast<int>(c), i});
+      }
     }
     if (pass == 0) nwm = static_cast<int>(acting.size());
   }
@@ -897,15 +984,18 @@ void FastStepper::Impl::build(const Model& m, long long budget, FastStepOptions 
   la.assign(static_cast<std::size_t>(nl_pad), 0);
   lb.assign(static_cast<std::size_t>(nl_pad), 0);
   target.assign(static_cast<std::size_t>(nl_pad), 0.0);
+  link_k.assign(static_cast<std::size_t>(nl_pad), 0.0);
   imp.assign(4 * static_cast<std::size_t>(nl_pad) + 2, -0.0);
-  // Per mass, its impulse pairs in file order of the links.
+  // Per mass, its impulse pairs in file order of its model's links.
   std::vector<std::vector<std::pair<int, std::int32_t>>> per_mass_file(static_cast<std::size_t>(nm_pad));
   for (int k = 0; k < nl; ++k) {
-    const int i = acting[k];
-    la[k] = 2 * static_cast<std::uint32_t>(work_of_point[m.link_a[i]]);
-    lb[k] = 2 * static_cast<std::uint32_t>(work_of_point[m.link_b[i]]);
-    if (m.is_mass(m.link_a[i])) per_mass_file[m.link_a[i]].emplace_back(i, k);
-    if (m.is_mass(m.link_b[i])) per_mass_file[m.link_b[i]].emplace_back(i, nl_pad + k);
+    const Creature& cr = creatures[acting[k].creature];
+    const Model& m = *cr.model;
+    const int i = acting[k].link;
+    la[k] = 2 * static_cast<std::uint32_t>(cr.work_of_point[m.link_a[i]]);
+    lb[k] = 2 * static_cast<std::uint32_t>(cr.work_of_point[m.link_b[i]]);
+    if (m.is_mass(m.link_a[i])) per_mass_file[cr.work_of_point[m.link_a[i]]].emplace_back(i, k);
+    if (m.is_mass(m.link_b[i])) per_mass_file[cr.work_of_point[m.link_b[i]]].emplace_back(i, nl_pad + k);
   }
   std::vector<std::vector<std::int32_t>> per_mass(static_cast<std::size_t>(nm_pad));
   for (int w = 0; w < nm_pad; ++w) {
@@ -939,118 +1029,178 @@ void FastStepper::Impl::build(const Model& m, long long budget, FastStepOptions 
       }
     }
   }
-  // Targets in lane order: lane l of block b holds link b*W + kLaneLink(W, l).
+  // Targets and springyness in lane order: lane l of block b holds link b*W + kLaneLink(W, l).
   std::vector<int> slot_of_link(static_cast<std::size_t>(nl_pad));
   for (int b = 0; b < nl_pad; b += W) {
     for (int l = 0; l < W; ++l) slot_of_link[b + kLaneLink(W, l)] = b + l;
   }
-  std::map<std::uint64_t, int> group_of_phase;
   tm_rest.assign(static_cast<std::size_t>(nwm_pad), 0.0);
   tm_power.assign(static_cast<std::size_t>(nwm_pad), 0.0);
   tm_group.assign(static_cast<std::size_t>(nwm_pad), 0);
+  // Distinct phases per creature (its sines depend on its own wave phase).
+  std::vector<std::map<std::uint64_t, int>> group_of_phase(creatures.size());
+  for (int k = 0; k < nwm; ++k) {
+    Creature& cr = creatures[acting[k].creature];
+    const double phase = cr.model->link_phase[acting[k].link];
+    if (group_of_phase[acting[k].creature].try_emplace(bits_of(phase), 0).second) ++cr.groups;
+  }
+  groups = 0;
+  for (std::size_t c = 0; c < creatures.size(); ++c) {
+    creatures[c].group_base = groups; // its groups numbered in order of first use below
+    groups += creatures[c].groups;
+    group_of_phase[c].clear();
+  }
+  group_phase.assign(static_cast<std::size_t>(groups), 0.0);
+  std::vector<int> next_group(creatures.size(), 0);
   for (int k = 0; k < nl; ++k) {
-    const int i = acting[k];
+    const Creature& cr = creatures[acting[k].creature];
+    const Model& m = *cr.model;
+    const int i = acting[k].link;
     const int q = slot_of_link[k];
     target[q] = m.link_rest[i]; // springs, and muscles of power 0: rest*(1 +- 0) = rest
+    link_k[q] = m.springyness;
     if (q < nwm_pad) tm_rest[q] = m.link_rest[i];
     if (k >= nwm) continue;
     tm_power[q] = m.wave_amplitude * m.link_amplitude[i]; // the product muscle_target_length forms
-    auto [it, inserted] = group_of_phase.try_emplace(bits_of(m.link_phase[i]), static_cast<int>(group_phase.size()));
-    if (inserted) group_phase.push_back(m.link_phase[i]);
+    auto [it, inserted] = group_of_phase[acting[k].creature].try_emplace(bits_of(m.link_phase[i]), 0);
+    if (inserted) {
+      it->second = cr.group_base + next_group[acting[k].creature]++;
+      group_phase[it->second] = m.link_phase[i];
+    }
     tm_group[q] = it->second;
   }
-  groups = static_cast<int>(group_phase.size());
-  constexpr int kSinesPerBatch = 128;
-  rows = groups > 0 ? std::clamp(kSinesPerBatch / groups, 1, 16) : 1;
+  // Rows of sines per batch: enough frames that the batch overhead is shared.
+  constexpr int kSinesPerBatch = 256;
+  rows = std::clamp(kSinesPerBatch / std::max(groups, 1), 1, 16);
   const std::size_t row_values = static_cast<std::size_t>((rows * groups + kMaxWidth - 1) / kMaxWidth * kMaxWidth);
-  row_phase_bits.assign(static_cast<std::size_t>(rows), 0);
-  row_phase_after.assign(static_cast<std::size_t>(rows), 0.0);
+  row_phase_bits.assign(creatures.size() * static_cast<std::size_t>(rows), 0);
+  row_phase_after.assign(creatures.size() * static_cast<std::size_t>(rows), 0.0);
   row_arg.assign(row_values, 1.0); // padding lanes: an argument the tables take
   row_sin.assign(row_values, 0.0);
+  frame_sine.assign(static_cast<std::size_t>(groups + kMaxWidth), 0.0);
 
-  for (int b = 0; b < m.bar_count(); ++b) {
-    bar_a.push_back(2 * work_of_point[m.bar_a[b]]);
-    bar_b.push_back(2 * work_of_point[m.bar_b[b]]);
+  if (creatures.size() == 1) {
+    const Model& m = *creatures[0].model;
+    for (int b = 0; b < m.bar_count(); ++b) {
+      bar_a.push_back(2 * creatures[0].work_of_point[m.bar_a[b]]);
+      bar_b.push_back(2 * creatures[0].work_of_point[m.bar_b[b]]);
+    }
   }
-  gd = m.gravity * static_cast<double>(static_cast<int>(m.gravity_direction)); // as rules::apply_gravity
 }
 
-void FastStepper::Impl::load_state(const State& s) {
-  const Model& m = *model;
-  for (int p = 0; p < m.point_count; ++p) {
-    const int w = work_of_point[p];
-    px(w) = s.x[p];
-    py(w) = s.y[p];
-    pvx(w) = s.vx[p];
-    pvy(w) = s.vy[p];
+void FusedScene::Data::load_state(State* const* st) {
+  for (std::size_t c = 0; c < creatures.size(); ++c) {
+    const Creature& cr = creatures[c];
+    const State& s = *st[c];
+    for (int p = 0; p < cr.model->point_count; ++p) {
+      const int w = cr.work_of_point[p];
+      px(w) = s.x[p];
+      py(w) = s.y[p];
+      pvx(w) = s.vx[p];
+      pvy(w) = s.vy[p];
+    }
   }
   for (int w = nm; w < nm_pad; ++w) px(w) = py(w) = pvx(w) = pvy(w) = 0.0;
 }
 
-void FastStepper::Impl::store_state(State& s) {
-  for (int p = 0; p < nm; ++p) {
-    s.x[p] = px(p);
-    s.y[p] = py(p);
-    s.vx[p] = pvx(p);
-    s.vy[p] = pvy(p);
+void FusedScene::Data::store_state(State* const* st) {
+  for (std::size_t c = 0; c < creatures.size(); ++c) {
+    const Creature& cr = creatures[c];
+    State& s = *st[c];
+    for (int p = 0; p < cr.model->mass_count; ++p) {
+      const int w = cr.mass_base + p;
+      s.x[p] = px(w);
+      s.y[p] = py(w);
+      s.vx[p] = pvx(w);
+      s.vy[p] = pvy(w);
+    }
   }
 }
 
-// Muscle targets: rules::muscle_target_length split in two so that the sine is
-// shared, sine = sin(2pi*(phi_m - phi_w)) once per distinct phase, then per muscle
-// rest * (1 + (Aw*Am) * sine) with the same operations in the same order.
-void FastStepper::Impl::update_targets(double wave_phase, WaveDirection mode) {
-  const std::uint64_t phase_bits = bits_of(wave_phase);
-  if (targets_valid && phase_bits == targets_phase_bits) return;
-  int row = 0;
-  if (row_next < row_count && row_phase_bits[row_next] == phase_bits) {
-    row = row_next++;
-  } else {
-    // A batch for this frame and the next ones (while the direction holds).
-    double phase = wave_phase;
-    row_count = 0;
-    rows_mode = mode;
+// Sines for this frame and the next rows - 1 (while each wave's direction holds),
+// for every creature, in one batch.
+void FusedScene::Data::fill_rows(State* const* st) {
+  for (std::size_t c = 0; c < creatures.size(); ++c) {
+    Creature& cr = creatures[c];
+    if (cr.groups == 0) continue; // no wave muscle
+    const std::size_t base = static_cast<std::size_t>(rows) * cr.group_base;
+    std::uint64_t* phase_bits = row_phase_bits.data() + c * static_cast<std::size_t>(rows);
+    double* phase_after = row_phase_after.data() + c * static_cast<std::size_t>(rows);
+    double phase = st[c]->wave_phase;
+    cr.row_count = 0;
+    cr.row_next = 0;
+    cr.rows_mode = st[c]->wave_mode;
     for (int r = 0; r < rows; ++r) {
-      row_phase_bits[r] = bits_of(phase);
-      for (int g = 0; g < groups; ++g) row_arg[r * groups + g] = kTwoPi * (group_phase[g] - phase);
-      ++row_count;
-      const double next = rules::advance_wave_phase(phase, model->wave_speed, mode);
-      row_phase_after[r] = next;
+      phase_bits[r] = bits_of(phase);
+      for (int g = 0; g < cr.groups; ++g) {
+        row_arg[base + static_cast<std::size_t>(r * cr.groups + g)] = kTwoPi * (group_phase[cr.group_base + g] - phase);
+      }
+      ++cr.row_count;
+      const double next = rules::advance_wave_phase(phase, cr.model->wave_speed, cr.rows_mode);
+      phase_after[r] = next;
       if (bits_of(next) == bits_of(phase)) break; // the wave stands still: one row is enough
       phase = next;
     }
-    const int n = row_count * groups;
-    // Two lanes (SSE2) do not pay for the table work: std::sin is as fast there.
-    if (options.table_sines && W >= 4) {
-      sin_fn(simd)(row_arg.data(), row_sin.data(), n);
-    } else {
-      for (int g = 0; g < n; ++g) row_sin[g] = std::sin(row_arg[g]);
-    }
-    sines += static_cast<long long>(row_count) * groups;
-    row = 0;
-    row_next = 1;
   }
-  targets_fn(simd)(*this, row_sin.data() + static_cast<std::size_t>(row) * groups);
-  targets_valid = true;
-  targets_phase_bits = phase_bits;
-  has_prediction = true;
-  predicted_from = phase_bits;
-  predicted_next = row_phase_after[row];
-  predicted_mode = rows_mode;
+  const int n = rows * groups;
+  // Two lanes (SSE2) do not pay for the table work: std::sin is as fast there.
+  if (options.table_sines && W >= 4) {
+    sin_fn(simd)(row_arg.data(), row_sin.data(), n);
+  } else {
+    for (int g = 0; g < n; ++g) row_sin[g] = std::sin(row_arg[g]);
+  }
+  for (const Creature& cr : creatures) sines += static_cast<long long>(cr.row_count) * cr.groups;
 }
 
-// Fixed bars: rules::collide_with_bars on the pair arrays (x at even, y at odd
-// offsets; bar ends and the mass as doubled indices).
-void FastStepper::Impl::collide_with_bars(int i, double x0, double y0) {
-  const Model& m = *model;
+// Muscle targets: rules::muscle_target_length split in two so that the sine is
+// shared, sine = sin(2pi*(phi_m - phi_w)) once per distinct phase per creature,
+// then per muscle rest * (1 + (Aw*Am) * sine) with the same operations in the same
+// order. Nothing is recomputed while no creature's wave phase changes.
+void FusedScene::Data::update_targets(State* const* st) {
+  bool any_change = false, refill = false;
+  for (std::size_t c = 0; c < creatures.size(); ++c) {
+    const Creature& cr = creatures[c];
+    if (cr.groups == 0) continue; // no wave muscle
+    const std::uint64_t phase_bits = bits_of(st[c]->wave_phase);
+    if (cr.targets_valid && phase_bits == cr.targets_phase_bits) continue;
+    any_change = true;
+    const std::uint64_t* row_bits = row_phase_bits.data() + c * static_cast<std::size_t>(rows);
+    if (!(cr.row_next < cr.row_count && row_bits[cr.row_next] == phase_bits)) refill = true;
+  }
+  if (!any_change) return;
+  if (refill) fill_rows(st); // every creature restarts at row 0 = its current phase
+  for (std::size_t c = 0; c < creatures.size(); ++c) {
+    Creature& cr = creatures[c];
+    if (cr.groups == 0) continue;
+    const std::uint64_t phase_bits = bits_of(st[c]->wave_phase);
+    if (cr.targets_valid && phase_bits == cr.targets_phase_bits) continue;
+    const int row = cr.row_next++;
+    const double* row_sines = row_sin.data() + static_cast<std::size_t>(rows) * cr.group_base +
+                              static_cast<std::size_t>(row) * cr.groups;
+    std::copy(row_sines, row_sines + cr.groups, frame_sine.data() + cr.group_base);
+    cr.targets_valid = true;
+    cr.targets_phase_bits = phase_bits;
+    cr.has_prediction = true;
+    cr.predicted_from = phase_bits;
+    cr.predicted_next = row_phase_after[c * static_cast<std::size_t>(rows) + static_cast<std::size_t>(row)];
+    cr.predicted_mode = cr.rows_mode;
+  }
+  targets_fn(simd)(*this, frame_sine.data());
+}
+
+// Fixed bars (single-model scenes): rules::collide_with_bars on the pair arrays
+// (x at even, y at odd offsets; bar ends and the mass as doubled indices).
+void FusedScene::Data::collide_with_bars(int i, double x0, double y0) {
+  const Model& m = *creatures[0].model;
   rules::collide_with_bars(pos.data(), pos.data() + 1, bar_a.data(), bar_b.data(), static_cast<int>(bar_a.size()),
                            2 * i, x0, y0, px(i), py(i), pvx(i), pvy(i), m.surface_friction, m.surface_reflection);
 }
 
-// Masses one by one in file order, exactly as step.cpp move_masses (used when a bar
-// has a free-mass end: a mass's bar test then sees the masses moved before it).
-void FastStepper::Impl::ordered_masses(State& s) {
-  const Model& m = *model;
+// Masses one by one in file order, exactly as step.cpp move_masses (single-model
+// scenes; used when a bar has a free-mass end: a mass's bar test then sees the
+// masses moved before it).
+void FusedScene::Data::ordered_masses(State& s) {
+  const Model& m = *creatures[0].model;
   for (int i = 0; i < nm; ++i) {
     // Impulses in file order of the links.
     double vxi = pvx(i), vyi = pvy(i);
@@ -1081,91 +1231,99 @@ void FastStepper::Impl::ordered_masses(State& s) {
   }
 }
 
-void FastStepper::Impl::record(const KernelChoice& k) {
+void FusedScene::Data::record(const KernelChoice& k) {
   last = k;
   if (std::find(used.begin(), used.end(), k) == used.end()) used.push_back(k);
 }
 
 // Autoreverse (rules::autoreverse_on_wall_hit) for the side-wall hits of this
-// frame, in mass order as the reference meets them.
-void FastStepper::Impl::replay_side_hits(State& s) {
-  for (int i = 0; i < nm; ++i) {
-    const double h = side[2 * static_cast<std::size_t>(i)];
-    if (h != 0.0) {
-      rules::autoreverse_on_wall_hit(h < 0.0 ? SideWall::Left : SideWall::Right, model->autoreverse, s.wave_mode,
-                                     s.last_side_wall);
+// frame, per creature in its mass order as the reference meets them.
+void FusedScene::Data::replay_side_hits(State* const* st) {
+  for (std::size_t c = 0; c < creatures.size(); ++c) {
+    const Creature& cr = creatures[c];
+    for (int i = cr.mass_base; i < cr.mass_base + cr.model->mass_count; ++i) {
+      const double h = side[2 * static_cast<std::size_t>(i)];
+      if (h != 0.0) {
+        rules::autoreverse_on_wall_hit(h < 0.0 ? SideWall::Left : SideWall::Right, cr.model->autoreverse,
+                                       st[c]->wave_mode, st[c]->last_side_wall);
+      }
     }
   }
 }
 
 // Bars whose ends are fixed nodes: each mass independent of the others, so the bar
 // tests can follow the SIMD container step, in mass order.
-void FastStepper::Impl::bars_pass() {
+void FusedScene::Data::bars_pass() {
   for (int i = 0; i < nm; ++i) collide_with_bars(i, old_pos[2 * i], old_pos[2 * i + 1]);
 }
 
-void FastStepper::Impl::ordered_frame(State& s) {
-  if (nwm > 0) update_targets(s.wave_phase, s.wave_mode);
+void FusedScene::Data::ordered_frame(State& s) {
+  State* const st[1] = {&s};
+  if (nwm > 0) update_targets(st);
   if (nl > 0) link_fn(simd)(*this);
   ordered_masses(s);
-  s.wave_phase = advance_phase(s);
+  advance_waves(st);
 }
 
 // ---------------------------------------------------------------------------
-// FastStepper.
+// FusedScene.
 // ---------------------------------------------------------------------------
 
-FastStepper::FastStepper(const Model& model, long long frame_budget, FastStepOptions options)
-    : impl_(std::make_unique<Impl>()) {
-  impl_->build(model, frame_budget, options);
-}
-FastStepper::~FastStepper() = default;
-FastStepper::FastStepper(FastStepper&&) noexcept = default;
-FastStepper& FastStepper::operator=(FastStepper&&) noexcept = default;
+bool FusedScene::can_fuse(const Model& model) { return model.bar_count() == 0; }
 
-const SceneNeeds& FastStepper::needs() const { return impl_->needs; }
-const Model& FastStepper::model() const { return *impl_->model; }
-bool FastStepper::used(const KernelChoice& k) const {
-  return std::find(impl_->used.begin(), impl_->used.end(), k) != impl_->used.end();
-}
-const KernelChoice& FastStepper::last_kernel() const { return impl_->last; }
-long long FastStepper::sines_evaluated() const { return impl_->sines; }
-bool FastStepper::table_sines_usable() { return sin_table().usable; }
-
-void exact_sines(const double* args, double* out, int n, SimdLevel level) {
-  if (level == SimdLevel::Auto || !simd_level_supported(level)) level = best_simd_level();
-  const SinFn fn = sin_fn(level);
-  alignas(64) double a[kMaxWidth * 16], r[kMaxWidth * 16];
-  for (int i = 0; i < n; i += kMaxWidth * 16) {
-    const int k = std::min(n - i, kMaxWidth * 16);
-    std::fill(a, a + kMaxWidth * 16, 1.0);
-    std::copy(args + i, args + i + k, a);
-    fn(a, r, k);
-    std::copy(r, r + k, out + i);
+FusedScene::FusedScene(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options)
+    : d_(std::make_unique<Data>()) {
+  if (models.empty()) throw std::invalid_argument("FusedScene: no models");
+  if (models.size() > 1) {
+    if (options.force_ordered) throw std::invalid_argument("FusedScene: the ordered kernel takes one model");
+    for (const Model* m : models) {
+      if (!can_fuse(*m)) throw std::invalid_argument("FusedScene: a model with fixed bars cannot be fused");
+    }
   }
+  d_->build(models, frame_budget, options);
 }
+FusedScene::~FusedScene() = default;
+FusedScene::FusedScene(FusedScene&&) noexcept = default;
+FusedScene& FusedScene::operator=(FusedScene&&) noexcept = default;
 
-void FastStepper::run(State& state, long long frames) {
+int FusedScene::size() const { return static_cast<int>(d_->creatures.size()); }
+const Model& FusedScene::model(int c) const { return *d_->creatures[c].model; }
+const SceneNeeds& FusedScene::needs(int c) const { return d_->creatures[c].needs; }
+bool FusedScene::used(const KernelChoice& k) const {
+  return std::find(d_->used.begin(), d_->used.end(), k) != d_->used.end();
+}
+const KernelChoice& FusedScene::last_kernel() const { return d_->last; }
+long long FusedScene::sines_evaluated() const { return d_->sines; }
+
+void FusedScene::run(State* const* states, long long frames) {
   if (frames <= 0) return;
-  Impl& s = *impl_;
-  s.load_state(state);
+  Data& s = *d_;
+  s.load_state(states);
   KernelChoice k;
   k.simd = s.simd;
-  k.wave = s.needs.wave;
-  k.gravity = s.needs.gravity;
-  k.bars = s.needs.bars;
-  k.ordered = s.options.force_ordered || s.needs.bars == BarKind::MovingEnds;
-  // Walls: without bars, the walls no mass can reach within a chunk of frames are
-  // not tested in that chunk. A chunk ends when a skipped wall might come into
-  // reach; while every wall is tested the reach is re-checked every kRecheck frames.
+  k.wave = s.any_wave;
+  k.gravity = s.any_gravity;
+  k.bars = s.bars;
+  k.ordered = s.options.force_ordered || s.bars == BarKind::MovingEnds;
+  // Walls: without bars, the walls no mass of any creature can reach within a
+  // chunk of frames are not tested in that chunk. A chunk ends when a skipped wall
+  // might come into reach; while every wall is tested the reach is re-checked
+  // every kRecheck frames.
   constexpr long long kMinSkip = 32;  // a wall test costs less than re-checking the reach often
   constexpr long long kRecheck = 256;
-  const bool adaptive = s.options.adaptive_walls && s.needs.bars == BarKind::None && !k.ordered;
+  const bool adaptive = s.options.adaptive_walls && s.bars == BarKind::None && !k.ordered;
   long long done = 0;
   while (done < frames) {
     long long chunk = frames - done;
     if (adaptive) {
-      const WallSafeFrames safe = wall_safe_frames(*s.model, s.pos.data(), s.pos.data() + 1, 2);
+      WallSafeFrames safe{kSafeFramesCap, kSafeFramesCap, kSafeFramesCap};
+      for (const Data::Creature& cr : s.creatures) {
+        const double* p = s.pos.data() + 2 * static_cast<std::size_t>(cr.mass_base);
+        const WallSafeFrames c = wall_safe_frames(*cr.model, p, p + 1, 2);
+        safe.floor = std::min(safe.floor, c.floor);
+        safe.ceiling = std::min(safe.ceiling, c.ceiling);
+        safe.sides = std::min(safe.sides, c.sides);
+      }
       k.walls = WallNeeds{safe.floor < kMinSkip, safe.ceiling < kMinSkip, safe.sides < kMinSkip};
       long long valid = kSafeFramesCap;
       if (!k.walls.floor) valid = std::min(valid, safe.floor);
@@ -1178,14 +1336,49 @@ void FastStepper::run(State& state, long long frames) {
     }
     s.record(k);
     if (k.ordered) {
-      for (long long f = 0; f < chunk; ++f) s.ordered_frame(state);
+      for (long long f = 0; f < chunk; ++f) s.ordered_frame(*states[0]);
     } else {
-      chunk_fn(s.simd, k.gravity, k.walls)(s, state, chunk);
+      chunk_fn(s.simd, k.gravity, k.walls)(s, states, chunk);
     }
     done += chunk;
   }
-  s.store_state(state);
-  state.frame += frames;
+  s.store_state(states);
+  for (std::size_t c = 0; c < s.creatures.size(); ++c) states[c]->frame += frames;
+}
+
+// ---------------------------------------------------------------------------
+// FastStepper: a scene of one model.
+// ---------------------------------------------------------------------------
+
+FastStepper::FastStepper(const Model& model, long long frame_budget, FastStepOptions options)
+    : scene_(std::make_unique<FusedScene>(std::vector<const Model*>{&model}, frame_budget, options)) {}
+FastStepper::~FastStepper() = default;
+FastStepper::FastStepper(FastStepper&&) noexcept = default;
+FastStepper& FastStepper::operator=(FastStepper&&) noexcept = default;
+
+const SceneNeeds& FastStepper::needs() const { return scene_->needs(0); }
+const Model& FastStepper::model() const { return scene_->model(0); }
+bool FastStepper::used(const KernelChoice& k) const { return scene_->used(k); }
+const KernelChoice& FastStepper::last_kernel() const { return scene_->last_kernel(); }
+long long FastStepper::sines_evaluated() const { return scene_->sines_evaluated(); }
+bool FastStepper::table_sines_usable() { return sin_table().usable; }
+
+void FastStepper::run(State& state, long long frames) {
+  State* const st[1] = {&state};
+  scene_->run(st, frames);
+}
+
+void exact_sines(const double* args, double* out, int n, SimdLevel level) {
+  if (level == SimdLevel::Auto || !simd_level_supported(level)) level = best_simd_level();
+  const SinFn fn = sin_fn(level);
+  alignas(64) double a[kMaxWidth * 16], r[kMaxWidth * 16];
+  for (int i = 0; i < n; i += kMaxWidth * 16) {
+    const int k = std::min(n - i, kMaxWidth * 16);
+    std::fill(a, a + kMaxWidth * 16, 1.0);
+    std::copy(args + i, args + i + k, a);
+    fn(a, r, k);
+    std::copy(r, r + k, out + i);
+  }
 }
 
 } // namespace soda

@@ -26,6 +26,9 @@
 //    order after the container (exactly as the reference does per mass); with a
 //    bar that has a free-mass end, masses go one by one in file order.
 //
+// The engine is FusedScene (fused_scene.hpp) holding this one model; BatchStepper
+// (batch_step.hpp) uses the same engine for several models at once.
+//
 // The Model must outlive the stepper. The stepper keeps scratch arrays, so one
 // stepper is used by one thread at a time; make one per thread (cheap).
 #pragma once
@@ -38,6 +41,8 @@
 #include "scene_analysis.hpp"
 
 namespace soda {
+
+class FusedScene;
 
 /// Instruction set of the SIMD kernels. All give identical results.
 enum class SimdLevel { Auto, Sse2, Avx2, Avx512 };
@@ -103,10 +108,9 @@ class FastStepper {
   /// phase did not move).
   [[nodiscard]] long long sines_evaluated() const;
 
-  struct Impl;
 
  private:
-  std::unique_ptr<Impl> impl_;
+  std::unique_ptr<FusedScene> scene_; ///< a scene of this one model (fused_scene.hpp)
 };
 
 } // namespace soda

@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "evolve/batch_evaluation.hpp"
 #include "evolve/parallel_for.hpp"
 
 namespace sodaevo {
@@ -13,11 +14,13 @@ long long ThreadEvaluator::evaluate(Generation& g, const RunConfig& config) {
   for (std::size_t i = 0; i < g.individuals.size(); ++i) {
     if (!g.individuals[i].evaluated) todo.push_back(i);
   }
-  parallel_for_index(todo.size(), threads_, [&](std::size_t k) {
-    Individual& ind = g.individuals[todo[k]];
-    ind.evaluation = evaluate_creature(ind.creature, config);
-    ind.evaluated = true;
-  });
+  std::vector<const soda::ModelDef*> creatures;
+  for (std::size_t i : todo) creatures.push_back(&g.individuals[i].creature);
+  std::vector<Evaluation> results = evaluate_creatures(creatures, config, threads_); // batches, by index
+  for (std::size_t k = 0; k < todo.size(); ++k) {
+    g.individuals[todo[k]].evaluation = std::move(results[k]);
+    g.individuals[todo[k]].evaluated = true;
+  }
   return static_cast<long long>(todo.size());
 }
 

@@ -8,7 +8,7 @@
 #include "core/input_error.hpp"
 #include "core/model.hpp"
 #include "core/number_text.hpp"
-#include "core/fast_step.hpp"
+#include "core/batch_step.hpp"
 #include "evolve/creature_graph.hpp"
 
 namespace sodaevo {
@@ -126,22 +126,13 @@ soda::ModelDef export_form(const soda::ModelDef& creature, const std::string& id
   return prepared;
 }
 
-Evaluation evaluate_prepared(const soda::ModelDef& prepared, const FitnessConfig& fitness) {
+namespace {
+
+/// The score of a run of `model` whose centroid was `start` after settling and
+/// whose state is now `state`.
+Evaluation score_run(const soda::Model& model, const soda::State& state, soda::Point2 start,
+                     const FitnessConfig& fitness) {
   Evaluation e;
-  soda::Model model;
-  try {
-    model = soda::build_model(prepared);
-  } catch (const std::exception& ex) {
-    e.reason = ex.what();
-    return e;
-  }
-  // The fast stepper equals the reference step bit for bit (tests/test_fast_step.cpp),
-  // so fitness does not depend on which one runs.
-  soda::State state = soda::make_state(model);
-  soda::FastStepper stepper(model, static_cast<long long>(fitness.settle_frames) + fitness.frames);
-  stepper.run(state, fitness.settle_frames);
-  const soda::Point2 start = soda::mass_centroid(model, state);
-  stepper.run(state, fitness.frames);
   const soda::Point2 end = soda::mass_centroid(model, state);
   for (int i = 0; i < model.mass_count; ++i) {
     if (!std::isfinite(state.x[i]) || !std::isfinite(state.y[i]) || !std::isfinite(state.vx[i]) ||
@@ -162,19 +153,80 @@ Evaluation evaluate_prepared(const soda::ModelDef& prepared, const FitnessConfig
   return e;
 }
 
-Evaluation evaluate_creature(const soda::ModelDef& creature, const RunConfig& config) {
-  if (std::optional<std::string> why = check_creature(creature, config.limits)) {
-    Evaluation e;
-    e.reason = "creature " + *why;
-    return e;
+} // namespace
+
+std::vector<Evaluation> evaluate_prepared_batch(const std::vector<const soda::ModelDef*>& prepared,
+                                                const FitnessConfig& fitness) {
+  std::vector<Evaluation> results(prepared.size());
+  std::vector<soda::Model> models;
+  models.reserve(prepared.size());
+  std::vector<std::size_t> index; // result index of models[k]
+  for (std::size_t i = 0; i < prepared.size(); ++i) {
+    try {
+      models.push_back(soda::build_model(*prepared[i]));
+      index.push_back(i);
+    } catch (const std::exception& ex) {
+      results[i].reason = ex.what();
+    }
   }
+  if (models.empty()) return results;
+  // The batch stepper equals the reference step bit for bit for each model
+  // (tests/test_batch_step.cpp), so fitness depends neither on which stepper runs
+  // nor on which creatures share a batch.
+  std::vector<const soda::Model*> model_ptrs;
+  std::vector<soda::State> states;
+  for (const soda::Model& m : models) {
+    model_ptrs.push_back(&m);
+    states.push_back(soda::make_state(m));
+  }
+  std::vector<soda::State*> state_ptrs;
+  for (soda::State& s : states) state_ptrs.push_back(&s);
+  soda::BatchStepper stepper(model_ptrs, static_cast<long long>(fitness.settle_frames) + fitness.frames);
+  stepper.run(state_ptrs, fitness.settle_frames);
+  std::vector<soda::Point2> start;
+  for (std::size_t k = 0; k < models.size(); ++k) start.push_back(soda::mass_centroid(models[k], states[k]));
+  stepper.run(state_ptrs, fitness.frames);
+  for (std::size_t k = 0; k < models.size(); ++k) results[index[k]] = score_run(models[k], states[k], start[k], fitness);
+  return results;
+}
+
+Evaluation evaluate_prepared(const soda::ModelDef& prepared, const FitnessConfig& fitness) {
+  return evaluate_prepared_batch({&prepared}, fitness).front();
+}
+
+std::vector<Evaluation> evaluate_creature_batch(const std::vector<const soda::ModelDef*>& creatures,
+                                                const RunConfig& config) {
+  std::vector<Evaluation> results(creatures.size());
+  std::vector<soda::ModelDef> prepared;
+  prepared.reserve(creatures.size());
+  std::vector<std::size_t> index; // result index of prepared[k]
+  for (std::size_t i = 0; i < creatures.size(); ++i) {
+    if (std::optional<std::string> why = check_creature(*creatures[i], config.limits)) {
+      results[i].reason = "creature " + *why;
+      continue;
+    }
+    try {
+      prepared.push_back(prepare_for_evaluation(*creatures[i], config.fitness, config.world));
+      index.push_back(i);
+    } catch (const std::exception& ex) {
+      results[i].reason = ex.what();
+    }
+  }
+  std::vector<const soda::ModelDef*> ptrs;
+  for (const soda::ModelDef& p : prepared) ptrs.push_back(&p);
+  std::vector<Evaluation> scored;
   try {
-    return evaluate_prepared(prepare_for_evaluation(creature, config.fitness, config.world), config.fitness);
+    scored = evaluate_prepared_batch(ptrs, config.fitness);
   } catch (const std::exception& ex) {
-    Evaluation e;
-    e.reason = ex.what();
-    return e;
+    for (std::size_t k = 0; k < prepared.size(); ++k) results[index[k]].reason = ex.what();
+    return results;
   }
+  for (std::size_t k = 0; k < prepared.size(); ++k) results[index[k]] = std::move(scored[k]);
+  return results;
+}
+
+Evaluation evaluate_creature(const soda::ModelDef& creature, const RunConfig& config) {
+  return evaluate_creature_batch({&creature}, config).front();
 }
 
 } // namespace sodaevo

@@ -13,6 +13,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/model_def.hpp"
 #include "evolve/run_config.hpp"
@@ -55,8 +56,19 @@ soda::ModelDef export_form(const soda::ModelDef& creature, const std::string& id
 /// Runs a prepared model: settle, then score. Never throws for physics reasons.
 Evaluation evaluate_prepared(const soda::ModelDef& prepared, const FitnessConfig& fitness);
 
+/// evaluate_prepared for several models at once on this thread: they are stepped
+/// together (soda::BatchStepper, their links in shared SIMD batches), which gives
+/// every model exactly the bits it gets alone. Result i is evaluate_prepared(*prepared[i]).
+std::vector<Evaluation> evaluate_prepared_batch(const std::vector<const soda::ModelDef*>& prepared,
+                                                const FitnessConfig& fitness);
+
 /// check_creature + prepare_for_evaluation + evaluate_prepared; problems become
 /// an Invalid evaluation with the reason, never an exception.
 Evaluation evaluate_creature(const soda::ModelDef& creature, const RunConfig& config);
+
+/// evaluate_creature for several creatures at once on this thread (one batch, as
+/// evaluate_prepared_batch). Result i is exactly evaluate_creature(*creatures[i]).
+std::vector<Evaluation> evaluate_creature_batch(const std::vector<const soda::ModelDef*>& creatures,
+                                                const RunConfig& config);
 
 } // namespace sodaevo

@@ -3,12 +3,14 @@
 
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 
 #include "core/atomic_file.hpp"
 #include "core/model.hpp"
 #include "core/model_file.hpp"
 #include "core/step.hpp"
+#include "evolve/batch_evaluation.hpp"
 #include "evolve/creature_graph.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
@@ -213,4 +215,44 @@ TEST_CASE("an existing run folder is refused without --force", "[evolve]") {
   CHECK_THROWS_WITH(RunStore::create(dir, config, false, "test"), Catch::Contains("exists already"));
   CHECK_NOTHROW(RunStore::create(dir, config, true, "test"));
   fs::remove_all(dir.parent_path());
+}
+
+TEST_CASE("batch and single evaluation give identical Evaluations", "[evolve]") {
+  RunConfig config = small_config();
+  config.world.evolve = {"friction", "surface_reflection"};
+  std::vector<soda::ModelDef> creatures;
+  creatures.push_back(soda::read_model_file(test::models_dir() / "dainty_walker.xml").def);
+  for (std::uint64_t i = 0; i < 20; ++i) {
+    Rng rng = Rng::stream(99, i);
+    soda::ModelDef c = random_creature(config, rng);
+    c.environment.friction = 0.005 * static_cast<double>(i % 6);
+    creatures.push_back(c);
+  }
+  soda::ModelDef invalid = creatures[1];
+  invalid.links.clear();
+  creatures.insert(creatures.begin() + 3, invalid);
+  creatures.push_back(creatures[2]); // a duplicate
+  std::vector<const soda::ModelDef*> ptrs;
+  for (const soda::ModelDef& c : creatures) ptrs.push_back(&c);
+  auto same = [](const Evaluation& a, const Evaluation& b) {
+    return a.status == b.status && a.reason == b.reason && std::memcmp(&a.fitness, &b.fitness, sizeof(double)) == 0 &&
+           std::memcmp(&a.distance, &b.distance, sizeof(double)) == 0 &&
+           std::memcmp(&a.px_per_frame, &b.px_per_frame, sizeof(double)) == 0;
+  };
+  const std::vector<Evaluation> batch = evaluate_creature_batch(ptrs, config);
+  REQUIRE(batch.size() == creatures.size());
+  int ok = 0;
+  for (std::size_t i = 0; i < creatures.size(); ++i) {
+    INFO("creature " << i);
+    CHECK(same(batch[i], evaluate_creature(creatures[i], config)));
+    ok += batch[i].ok() ? 1 : 0;
+  }
+  CHECK(!batch[3].ok());
+  CHECK(ok >= 10);
+  for (int threads : {1, 2, 3}) {
+    for (std::size_t size : {std::size_t{0}, std::size_t{1}, std::size_t{4}, std::size_t{7}}) {
+      const std::vector<Evaluation> again = evaluate_creatures(ptrs, config, threads, size);
+      for (std::size_t i = 0; i < creatures.size(); ++i) CHECK(same(again[i], batch[i]));
+    }
+  }
 }

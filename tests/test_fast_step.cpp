@@ -27,21 +27,6 @@ namespace {
 
 bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-/// Empty string if equal in every bit, else where they first differ.
-std::string compare_states(const soda::Model& m, const soda::State& a, const soda::State& b) {
-  if (a.frame != b.frame) return "frame counter";
-  if (!same_bits(a.wave_phase, b.wave_phase)) return "wave phase";
-  if (a.wave_mode != b.wave_mode) return "wave mode";
-  if (a.last_side_wall != b.last_side_wall) return "last side wall";
-  for (int p = 0; p < m.point_count; ++p) {
-    if (!same_bits(a.x[p], b.x[p]) || !same_bits(a.y[p], b.y[p]) || !same_bits(a.vx[p], b.vx[p]) ||
-        !same_bits(a.vy[p], b.vy[p])) {
-      return "point " + std::to_string(p);
-    }
-  }
-  return {};
-}
-
 std::vector<soda::SimdLevel> supported_levels() {
   std::vector<soda::SimdLevel> levels;
   for (auto l : {soda::SimdLevel::Sse2, soda::SimdLevel::Avx2, soda::SimdLevel::Avx512}) {

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -14,6 +15,22 @@
 namespace sodaevo::test {
 
 namespace fs = std::filesystem;
+
+static bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
+std::string compare_states(const soda::Model& m, const soda::State& a, const soda::State& b) {
+  if (a.frame != b.frame) return "frame counter";
+  if (!same_bits(a.wave_phase, b.wave_phase)) return "wave phase";
+  if (a.wave_mode != b.wave_mode) return "wave mode";
+  if (a.last_side_wall != b.last_side_wall) return "last side wall";
+  for (int p = 0; p < m.point_count; ++p) {
+    if (!same_bits(a.x[p], b.x[p]) || !same_bits(a.y[p], b.y[p]) || !same_bits(a.vx[p], b.vx[p]) ||
+        !same_bits(a.vy[p], b.vy[p])) {
+      return "point " + std::to_string(p);
+    }
+  }
+  return {};
+}
 
 fs::path data_dir() { return SODAEVO_TEST_DATA_DIR; }
 fs::path golden_dir() { return data_dir() / "soda" / "golden"; }

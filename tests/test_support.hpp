@@ -35,6 +35,10 @@ std::vector<GoldenCentroid> read_golden_centroids(const std::filesystem::path& p
 /// The state's values in golden-row order (x, y, vx, vy per free mass).
 std::vector<double> state_values(const soda::Model& model, const soda::State& state);
 
+/// Empty string if the two states of `model` are equal in every bit, else where
+/// they first differ.
+std::string compare_states(const soda::Model& model, const soda::State& a, const soda::State& b);
+
 /// Loads a model file and builds it (fails the test on any error).
 struct Scene {
   soda::ModelDef def;

@@ -1,0 +1,61 @@
+// BatchStepper: K independent models stepped together on one thread.
+//
+// Why: the genetic algorithm scores many small creatures, so what counts is
+// creature-frames per second per core. One small creature alone cannot keep the
+// core busy: each frame is a short dependency chain (positions -> link square
+// roots and divisions -> impulse sums -> masses -> next frame), a few SIMD batches
+// of links cannot fill the square-root/divide pipeline, and the per-frame overhead
+// is paid for a handful of links. Fusing K creatures into one scene (FusedScene,
+// fused_scene.hpp, the same engine FastStepper runs) puts their links in shared
+// SIMD batches and interleaves their chains, for K times the work per frame at
+// the same overhead.
+//
+// Exact: after run(), every state equals bit for bit what soda::run gives for its
+// model alone (fused_scene.hpp explains why; tests/test_batch_step.cpp checks it).
+// Models with fixed bars cannot share a scene (a bar test needs the masses in
+// file order against each other's new positions); each of those runs alone on its
+// own FastStepper, in the same call.
+//
+// The Models must outlive the stepper; one stepper is used by one thread at a time.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "fast_step.hpp"
+#include "model.hpp"
+
+namespace soda {
+
+class FusedScene;
+
+class BatchStepper {
+ public:
+  /// `models[i]` may repeat (each entry has its own state). `frame_budget` as for
+  /// FastStepper.
+  BatchStepper(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options = {});
+  ~BatchStepper();
+  BatchStepper(BatchStepper&&) noexcept;
+  BatchStepper& operator=(BatchStepper&&) noexcept;
+  BatchStepper(const BatchStepper&) = delete;
+  BatchStepper& operator=(const BatchStepper&) = delete;
+
+  /// Steps states[i] (a state of models[i]) by `frames` frames, for every i;
+  /// afterwards each equals, bit for bit, soda::run(*models[i], *states[i], frames).
+  void run(const std::vector<State*>& states, long long frames);
+
+  [[nodiscard]] int size() const { return count_; }
+  /// Whether model i shares the fused scene (else it runs on its own FastStepper).
+  [[nodiscard]] bool fused(int i) const;
+  [[nodiscard]] int fused_count() const { return static_cast<int>(fused_index_.size()); }
+
+ private:
+  int count_ = 0;
+  std::unique_ptr<FusedScene> scene_; ///< the fusable models (null if none)
+  std::vector<int> fused_index_;      ///< index in the batch of scene model c
+  std::vector<FastStepper> alone_;    ///< models with fixed bars
+  std::vector<int> alone_index_;
+  std::vector<State*> scratch_;
+};
+
+} // namespace soda

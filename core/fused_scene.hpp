@@ -1,0 +1,68 @@
+// FusedScene: one or more independent models stepped as one scene.
+//
+// This is the engine behind FastStepper (one model) and BatchStepper (K models
+// fused on one core, batch_step.hpp); its kernels live in fast_step.cpp.
+//
+// Why fusing is exact: models never interact (the engine has no mass-mass
+// collision), and bit-exactness only needs, per value, the reference's operations
+// in the reference's order. So the masses of K models can sit side by side in one
+// array, their links in one list computed in shared SIMD batches, as long as
+//  - each mass adds its impulses in file order of its own model's links (the
+//    per-mass slot lists keep that, whatever the fused order of the links);
+//  - every parameter stays the creature's own: springyness per link; gravity
+//    g*d, 1 - friction, container width and height, surface friction and
+//    reflection per mass (vectors, not broadcasts); wave phase, direction, speed
+//    and muscle sines per creature; autoreverse replayed per creature, in its mass
+//    order, into its own State;
+//  - the optional work is only ever skipped when it is an identity for every lane:
+//    a wall is tested when some creature may reach it (testing an unreachable
+//    wall changes nothing), gravity is applied when some creature has it (g*d = +0
+//    is an identity for the others), targets are recomputed when some creature's
+//    wave moved (recomputing an unchanged target gives the same bits).
+// Fixed bars need masses in file order against the other masses' new positions,
+// so a scene with bars holds exactly one model (BatchStepper runs such models on
+// their own FastStepper).
+//
+// The Models must outlive the scene; one scene is used by one thread at a time.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "fast_step.hpp"
+#include "model.hpp"
+#include "scene_analysis.hpp"
+
+namespace soda {
+
+class FusedScene {
+ public:
+  /// `frame_budget` as for FastStepper. Throws std::invalid_argument if there are
+  /// no models, or several and one of them cannot be fused (can_fuse).
+  FusedScene(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options = {});
+  ~FusedScene();
+  FusedScene(FusedScene&&) noexcept;
+  FusedScene& operator=(FusedScene&&) noexcept;
+  FusedScene(const FusedScene&) = delete;
+  FusedScene& operator=(const FusedScene&) = delete;
+
+  /// Whether `model` can share a scene with others (no fixed bars).
+  static bool can_fuse(const Model& model);
+
+  /// Steps states[c] (a state of model c) by `frames` frames, for every model c.
+  void run(State* const* states, long long frames);
+
+  [[nodiscard]] int size() const;
+  [[nodiscard]] const Model& model(int c) const;
+  [[nodiscard]] const SceneNeeds& needs(int c) const;
+  [[nodiscard]] bool used(const KernelChoice& k) const;
+  [[nodiscard]] const KernelChoice& last_kernel() const;
+  [[nodiscard]] long long sines_evaluated() const;
+
+  struct Data;
+
+ private:
+  std::unique_ptr<Data> d_;
+};
+
+} // namespace soda

@@ -1,0 +1,229 @@
+// The batch stepper against the reference step: K models fused on one thread must
+// give, for each model, exactly what soda::run gives for that model alone.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/batch_step.hpp"
+#include "core/fast_step.hpp"
+#include "core/fused_scene.hpp"
+#include "core/input_error.hpp"
+#include "core/model_file.hpp"
+#include "core/step.hpp"
+#include "evolve/fitness.hpp"
+#include "evolve/rng.hpp"
+#include "evolve/run_config.hpp"
+#include "evolve/variation.hpp"
+#include "test_support.hpp"
+
+using namespace sodaevo::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::vector<fs::path> model_files(const fs::path& dir) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (e.is_regular_file() && e.path().extension() == ".xml") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+/// The models of every file under `dir` that the engine takes (race files are skipped).
+void add_directory(const fs::path& dir, std::vector<std::pair<std::string, soda::Model>>& out) {
+  if (dir.empty() || !fs::is_directory(dir)) return;
+  for (const fs::path& file : model_files(dir)) {
+    try {
+      out.emplace_back(file.string(), load_scene(file).model);
+    } catch (const soda::InputError& e) {
+      if (std::string(e.what()).find("race") == std::string::npos) throw;
+    }
+  }
+}
+
+/// Random creatures as the GA makes and scores them (Sodarace scaling gives each
+/// its own gravity), some with their own friction, springyness and surfaces, some
+/// put in a small box with autoreverse on so that they hit walls.
+void add_random_creatures(int count, std::uint64_t seed, std::vector<std::pair<std::string, soda::Model>>& out) {
+  sodaevo::RunConfig config;
+  config.world.evolve = {"friction", "springyness", "surface_friction", "surface_reflection"};
+  config.fitness.frames = 3000;
+  config.fitness.settle_frames = 100;
+  for (int i = 0, made = 0; made < count && i < 50 * count; ++i) {
+    sodaevo::Rng rng = sodaevo::Rng::stream(seed, static_cast<std::uint64_t>(i));
+    soda::ModelDef c = sodaevo::random_creature(config, rng);
+    c.environment.friction = 0.01 * (i % 7);
+    c.environment.springyness = 0.1 + 0.05 * (i % 5);
+    c.collisions.surface_friction = 0.1 * (i % 4);
+    c.collisions.surface_reflection = -0.2 * (i % 5);
+    soda::ModelDef prepared;
+    try {
+      prepared = sodaevo::prepare_for_evaluation(c, config.fitness, config.world);
+    } catch (const soda::InputError&) {
+      continue; // scaled gravity above the original's limit
+    }
+    if (i % 3 == 1) {
+      // A tight box: walls, corners and autoreverse.
+      double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
+      for (const soda::NodeDef& n : prepared.nodes) {
+        min_x = std::min(min_x, n.x), max_x = std::max(max_x, n.x);
+        min_y = std::min(min_y, n.y), max_y = std::max(max_y, n.y);
+      }
+      for (soda::NodeDef& n : prepared.nodes) {
+        n.x += 10.0 - min_x;
+        n.y += 5.0 - min_y;
+      }
+      prepared.width = static_cast<int>(max_x - min_x) + 60;
+      prepared.height = static_cast<int>(max_y - min_y) + 40;
+      prepared.settings.autoreverse = true;
+      if (i % 2 == 0) prepared.settings.gravity_direction = soda::GravityDirection::Up;
+    }
+    out.emplace_back("random creature " + std::to_string(i), soda::build_model(prepared));
+    ++made;
+  }
+}
+
+/// Runs the batch and the reference side by side in uneven pieces; returns the
+/// first mismatch, or an empty string.
+std::string run_batch_and_reference(const std::vector<std::pair<std::string, soda::Model>>& models,
+                                    const std::vector<int>& picks, long long frames, soda::FastStepOptions options,
+                                    int* fused_count = nullptr) {
+  std::vector<const soda::Model*> batch_models;
+  std::vector<soda::State> ref, fast;
+  for (int p : picks) {
+    batch_models.push_back(&models[p].second);
+    ref.push_back(soda::make_state(models[p].second));
+    fast.push_back(soda::make_state(models[p].second));
+  }
+  soda::BatchStepper batch(batch_models, frames, options);
+  if (fused_count) *fused_count = batch.fused_count();
+  std::vector<soda::State*> states;
+  for (soda::State& s : fast) states.push_back(&s);
+  const long long pieces[] = {1, 1, 7, 100, 391};
+  long long done = 0;
+  std::size_t next = 0;
+  while (done < frames) {
+    const long long n = std::min(frames - done, next < std::size(pieces) ? pieces[next++] : frames);
+    batch.run(states, n);
+    done += n;
+    for (std::size_t k = 0; k < picks.size(); ++k) {
+      soda::run(models[picks[k]].second, ref[k], n);
+      const std::string diff = compare_states(models[picks[k]].second, ref[k], fast[k]);
+      if (!diff.empty()) {
+        return models[picks[k]].first + " (batch entry " + std::to_string(k) + ") at frame " + std::to_string(done) +
+               ": " + diff;
+      }
+    }
+  }
+  return {};
+}
+
+std::vector<soda::SimdLevel> supported_levels() {
+  std::vector<soda::SimdLevel> levels;
+  for (auto l : {soda::SimdLevel::Sse2, soda::SimdLevel::Avx2, soda::SimdLevel::Avx512}) {
+    if (soda::simd_level_supported(l)) levels.push_back(l);
+  }
+  return levels;
+}
+
+std::vector<int> all_indices(std::size_t n) {
+  std::vector<int> v(n);
+  for (std::size_t i = 0; i < n; ++i) v[i] = static_cast<int>(i);
+  return v;
+}
+
+} // namespace
+
+TEST_CASE("batch of every model, random creatures and duplicates equals separate reference runs", "[batch_step]") {
+  std::vector<std::pair<std::string, soda::Model>> models;
+  add_directory(data_dir() / "soda", models);
+  add_directory(shared_models_dir(), models);
+  add_directory(models_dir(), models);
+  const std::size_t files = models.size();
+  add_random_creatures(24, 11, models);
+  REQUIRE(files > 10);
+  REQUIRE(models.size() >= files + 20);
+  // Every model once, then duplicates of a few (each entry has its own state).
+  std::vector<int> picks = all_indices(models.size());
+  for (int d : {0, 1, static_cast<int>(files), static_cast<int>(files) + 1, static_cast<int>(models.size()) - 1}) {
+    picks.push_back(d);
+  }
+  for (soda::SimdLevel level : supported_levels()) {
+    soda::FastStepOptions opt;
+    opt.simd = level;
+    int fused = 0;
+    const std::string diff = run_batch_and_reference(models, picks, 3000, opt, &fused);
+    INFO(soda::simd_level_name(level) << ": " << diff);
+    CHECK(diff.empty());
+    CHECK(fused > static_cast<int>(picks.size()) / 2); // most models share the scene
+  }
+}
+
+TEST_CASE("batches of size 1 and of odd sizes equal the reference", "[batch_step]") {
+  std::vector<std::pair<std::string, soda::Model>> models;
+  add_random_creatures(12, 23, models);
+  add_directory(models_dir(), models);
+  REQUIRE(models.size() >= 12);
+  for (std::size_t size : {1u, 3u, 5u, 7u, 9u}) {
+    std::vector<int> picks;
+    for (std::size_t k = 0; k < size; ++k) picks.push_back(static_cast<int>((k * 5 + size) % models.size()));
+    const std::string diff = run_batch_and_reference(models, picks, 5000, {});
+    INFO("size " << size << ": " << diff);
+    CHECK(diff.empty());
+  }
+}
+
+TEST_CASE("batch: table sines off and fixed walls give the same bits", "[batch_step]") {
+  std::vector<std::pair<std::string, soda::Model>> models;
+  add_random_creatures(8, 5, models);
+  soda::FastStepOptions opt;
+  opt.table_sines = false;
+  opt.adaptive_walls = false;
+  CHECK(run_batch_and_reference(models, all_indices(models.size()), 2000, opt).empty());
+}
+
+TEST_CASE("batch: models with fixed bars run alone, in the same call", "[batch_step]") {
+  std::vector<std::pair<std::string, soda::Model>> models;
+  add_directory(data_dir() / "soda", models);
+  add_random_creatures(4, 3, models);
+  std::vector<int> picks;
+  int with_bars = 0;
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    if (models[i].second.bar_count() > 0 && with_bars < 3) {
+      picks.push_back(static_cast<int>(i));
+      ++with_bars;
+    }
+  }
+  if (with_bars == 0) {
+    WARN("no model with fixed bars in tests/data/soda");
+    return;
+  }
+  for (std::size_t i = models.size() - 4; i < models.size(); ++i) picks.push_back(static_cast<int>(i));
+  int fused = 0;
+  CHECK(run_batch_and_reference(models, picks, 2000, {}, &fused).empty());
+  CHECK(fused == static_cast<int>(picks.size()) - with_bars);
+  std::vector<const soda::Model*> both = {&models[picks[0]].second, &models.back().second};
+  CHECK_THROWS_AS(soda::FusedScene(both, 100), std::invalid_argument);
+}
+
+TEST_CASE("batch: the comparison sees a difference of one creature's parameter", "[batch_step]") {
+  // The test must be able to fail: a creature whose springyness differs by one
+  // ulp from its twin's gives different bits, so sharing the twin's parameters
+  // would be caught.
+  std::vector<std::pair<std::string, soda::Model>> models;
+  add_random_creatures(2, 17, models);
+  soda::Model twin = models[0].second;
+  twin.springyness = std::nextafter(twin.springyness, 0.0);
+  soda::State a = soda::make_state(models[0].second), b = soda::make_state(twin);
+  soda::run(models[0].second, a, 500);
+  soda::run(twin, b, 500);
+  CHECK_FALSE(compare_states(twin, a, b).empty());
+  models.emplace_back("twin", twin);
+  CHECK(run_batch_and_reference(models, {0, 2, 1, 2, 0}, 1000, {}).empty());
+}
