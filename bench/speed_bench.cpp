@@ -9,6 +9,7 @@
 
 #include "bench/baselines.hpp"
 #include "bench/synthetic.hpp"
+#include "core/batch_step.hpp"
 #include "core/fast_step.hpp"
 #include "core/model.hpp"
 #include "core/model_file.hpp"
@@ -36,9 +37,10 @@ volatile double g_sink = 0.0;
 struct Engine {
   std::string name;
   std::function<void(long long)> run;
+  int creatures = 1; ///< creatures one run steps (each by `frames`)
 };
 
-std::vector<Engine> make_engines(const soda::Model& model, bool with_reference) {
+std::vector<Engine> make_engines(const soda::Model& model, bool with_reference, bool with_batch) {
   std::vector<Engine> engines;
   auto seed = std::make_shared<SeedBaseline>(model);
   engines.push_back({"seed", [seed](long long frames) {
@@ -68,6 +70,20 @@ std::vector<Engine> make_engines(const soda::Model& model, bool with_reference) 
                          stepper->run(s, frames);
                          g_sink = g_sink + s.x[0];
                        }});
+  }
+  if (with_batch) {
+    // kBenchBatch copies of the creature fused on one core (population throughput).
+    const std::vector<const soda::Model*> copies(kBenchBatch, &model);
+    auto stepper = std::make_shared<soda::BatchStepper>(copies, 1'000'000);
+    engines.push_back({"fast-batch",
+                       [stepper, &model](long long frames) {
+                         std::vector<soda::State> states(kBenchBatch, soda::make_state(model));
+                         std::vector<soda::State*> ptrs;
+                         for (soda::State& s : states) ptrs.push_back(&s);
+                         stepper->run(ptrs, frames);
+                         g_sink = g_sink + states.back().x[0];
+                       },
+                       kBenchBatch});
   }
   return engines;
 }
@@ -109,12 +125,13 @@ std::vector<SpeedRow> time_engines(const std::string& section, const std::string
     row.section = section;
     row.creature = creature;
     row.engine = engines[i].name;
+    row.batch = engines[i].creatures;
     row.masses = model.mass_count;
     row.links = model.link_count();
     row.frames = frames[i];
     row.runs = runs;
     row.median_seconds = median(times[i]);
-    row.frames_per_second = static_cast<double>(frames[i]) / row.median_seconds;
+    row.frames_per_second = static_cast<double>(frames[i]) * engines[i].creatures / row.median_seconds;
     row.link_updates_per_second = row.frames_per_second * model.link_count();
     rows.push_back(row);
   }
@@ -155,7 +172,7 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
   for (const auto& [name, model] : creatures) {
     say("creature " + name + " (" + std::to_string(model.mass_count) + " masses, " +
         std::to_string(model.link_count()) + " links)");
-    for (SpeedRow& r : time_engines("creature", name, model, make_engines(model, true), runs, target)) {
+    for (SpeedRow& r : time_engines("creature", name, model, make_engines(model, true, true), runs, target)) {
       report.rows.push_back(r);
     }
   }
@@ -166,7 +183,7 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
   for (int links : sizes) {
     const soda::Model model = soda::build_model(synthetic_creature(links));
     say("synthetic " + std::to_string(links) + " links");
-    for (SpeedRow& r : time_engines("size", "synthetic", model, make_engines(model, false), runs, target)) {
+    for (SpeedRow& r : time_engines("size", "synthetic", model, make_engines(model, false, false), runs, target)) {
       if (r.engine == "fast" && r.link_updates_per_second > report.best_link_updates_per_second) {
         report.best_link_updates_per_second = r.link_updates_per_second;
         report.best_links = r.links;
@@ -187,7 +204,7 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     const std::size_t count = creatures.size() * static_cast<std::size_t>(copies);
     long long links_per_round = 0;
     for (std::size_t i = 0; i < count; ++i) links_per_round += creatures[i % creatures.size()].second.link_count();
-    std::vector<double> results(count);
+    std::vector<double> results(count), batch_results(count);
     auto evaluate = [&](int threads) {
       const auto t0 = Clock::now();
       parallel_for_index(count, threads, [&](std::size_t i) {
@@ -199,9 +216,31 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
       });
       return seconds_since(t0);
     };
+    // The batch path: each work item is a batch of kBenchBatch creatures (the mix
+    // of the population) fused on one core, results by index.
+    const std::size_t batches = (count + kBenchBatch - 1) / kBenchBatch;
+    auto evaluate_batches = [&](int threads) {
+      const auto t0 = Clock::now();
+      parallel_for_index(batches, threads, [&](std::size_t b) {
+        const std::size_t first = b * kBenchBatch, last = std::min(count, first + kBenchBatch);
+        std::vector<const soda::Model*> models;
+        std::vector<soda::State> states;
+        for (std::size_t i = first; i < last; ++i) {
+          models.push_back(&creatures[i % creatures.size()].second);
+          states.push_back(soda::make_state(*models.back()));
+        }
+        std::vector<soda::State*> ptrs;
+        for (soda::State& s : states) ptrs.push_back(&s);
+        soda::BatchStepper stepper(models, frames);
+        stepper.run(ptrs, frames);
+        for (std::size_t i = first; i < last; ++i) batch_results[i] = soda::mass_centroid(*models[i - first], states[i - first]).x;
+      });
+      return seconds_since(t0);
+    };
     say("population of " + std::to_string(count) + " creatures x " + std::to_string(frames) + " frames, 1 and " +
-        std::to_string(all) + " threads");
+        std::to_string(all) + " threads, one by one and in batches of " + std::to_string(kBenchBatch));
     evaluate(all); // warm-up
+    evaluate_batches(all);
     const std::vector<double> one_thread_results = [&] {
       evaluate(1);
       return results;
@@ -209,31 +248,41 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     // 1-thread and all-thread runs alternate; the speed-up is the median of the
     // ratios of neighbouring runs, so that a slow phase of the machine (another
     // process on the second core) hits both sides of a ratio.
-    std::vector<double> t1, tn, ratio;
+    std::vector<double> t1, tn, ratio, b1, bn, batch_ratio;
     const int population_runs = options.quick ? runs : 9;
     for (int r = 0; r < population_runs; ++r) {
       t1.push_back(evaluate(1));
       tn.push_back(evaluate(all));
       ratio.push_back(t1.back() / tn.back());
+      b1.push_back(evaluate_batches(1));
+      bn.push_back(evaluate_batches(all));
+      batch_ratio.push_back(b1.back() / bn.back());
     }
     if (results != one_thread_results) throw std::runtime_error("population results depend on the thread count");
-    for (int threads : {1, all}) {
-      SpeedRow row;
-      row.section = "population";
-      row.creature = std::to_string(count) + " creatures";
-      row.engine = "fast";
-      row.threads = threads;
-      row.links = static_cast<int>(links_per_round / static_cast<long long>(count));
-      row.frames = frames;
-      row.runs = population_runs;
-      row.median_seconds = median(threads == 1 ? t1 : tn);
-      row.frames_per_second = static_cast<double>(count) * frames / row.median_seconds;
-      row.link_updates_per_second = static_cast<double>(links_per_round) * frames / row.median_seconds;
-      report.rows.push_back(row);
-      if (all == 1) break;
+    if (batch_results != one_thread_results) throw std::runtime_error("batch results differ from one by one");
+    for (const char* engine : {"fast", "fast-batch"}) {
+      const bool batch = std::string(engine) == "fast-batch";
+      for (int threads : {1, all}) {
+        SpeedRow row;
+        row.section = "population";
+        row.creature = std::to_string(count) + " creatures";
+        row.engine = engine;
+        row.batch = batch ? kBenchBatch : 1;
+        row.threads = threads;
+        row.links = static_cast<int>(links_per_round / static_cast<long long>(count));
+        row.frames = frames;
+        row.runs = population_runs;
+        row.median_seconds = median(threads == 1 ? (batch ? b1 : t1) : (batch ? bn : tn));
+        row.frames_per_second = static_cast<double>(count) * frames / row.median_seconds;
+        row.link_updates_per_second = static_cast<double>(links_per_round) * frames / row.median_seconds;
+        report.rows.push_back(row);
+        if (all == 1) break;
+      }
     }
     report.population_speedup = all == 1 ? 1.0 : median(ratio);
-    say("population speed-up on " + std::to_string(all) + " threads: " + fmt("%.2f", report.population_speedup));
+    report.population_batch_speedup = all == 1 ? 1.0 : median(batch_ratio);
+    say("population speed-up on " + std::to_string(all) + " threads: " + fmt("%.2f", report.population_speedup) +
+        " one by one, " + fmt("%.2f", report.population_batch_speedup) + " in batches");
   }
   return report;
 }

@@ -5,7 +5,10 @@
 // Engines: "seed" (the seed paper's Algorithm 1-2, baselines.hpp), "plain" (the
 // exact rules as a plain scalar loop, baselines.hpp), "reference" (soda::run, the
 // plain SoA reference step), "fast-sse2" (FastStepper on the portable x86-64
-// level) and "fast" (FastStepper on the best level of this CPU).
+// level) and "fast" (FastStepper on the best level of this CPU): each steps ONE
+// creature alone. "fast-batch" (BatchStepper) steps kBenchBatch copies of the
+// creature fused on one core and counts creature-frames: it measures population
+// throughput per core (what the GA gets), not the speed of one creature.
 //
 // Method: every figure is the median of `runs` timed runs; a run steps the engine
 // from the model's initial state for a frame count calibrated so that one run takes
@@ -32,6 +35,7 @@ struct SpeedRow {
   std::string creature; ///< creature name (or "synthetic")
   std::string engine;
   int threads = 1;
+  int batch = 1;        ///< creatures stepped together on one core (fast-batch); frames count creature-frames
   int masses = 0;
   int links = 0;        ///< springs and muscles (link updates per frame)
   long long frames = 0; ///< frames per timed run (population: per creature)
@@ -48,11 +52,15 @@ struct SpeedReport {
   std::string simd;          ///< level of "fast"
   int population_threads = 1;
   double population_speedup = 0.0; ///< all threads / 1 thread: median of the ratios of alternating runs
+  double population_batch_speedup = 0.0; ///< the same for the batch path
   double best_link_updates_per_second = 0.0; ///< fast, one thread, any size
   int best_links = 0;
 };
 
 SpeedReport run_speed_bench(const SpeedOptions& options);
+
+/// Creatures fused on one core in the "fast-batch" rows.
+inline constexpr int kBenchBatch = 16;
 
 /// The physical limit the issue quotes: 0.5-1 billion link updates per second per
 /// core; fractions are reported against the upper end.

@@ -431,19 +431,8 @@ struct FusedScene::Data {
     int mass_base = 0;              ///< working index of its first mass
     std::vector<int> work_of_point; ///< [point_count] model point -> working index
     int group_base = 0, groups = 0; ///< its distinct muscle phases in group_phase
-    // Sines for the next rows frames, computed for the phases the wave will have if
-    // its direction does not change (a row is used only if its phase is the
-    // current one, bit for bit). Row r's sines at row_sin[rows*group_base + r*groups].
-    int row_count = 0, row_next = 0;
-    WaveDirection rows_mode = WaveDirection::Forward;
-    // The wave advance of this frame, already computed for the rows (same rule,
-    // same inputs) when the phase and direction are still the predicted ones.
-    bool has_prediction = false;
-    std::uint64_t predicted_from = 0;
-    double predicted_next = 0.0;
-    WaveDirection predicted_mode = WaveDirection::Forward;
-    bool targets_valid = false;
-    std::uint64_t targets_phase_bits = 0;
+    WaveDirection rows_mode = WaveDirection::Forward; ///< the direction its rows assume
+    std::uint64_t targets_phase_bits = 0;             ///< the phase its targets are for
   };
   std::vector<Creature> creatures;
   bool any_wave = false, any_gravity = false;
@@ -489,14 +478,20 @@ struct FusedScene::Data {
   // power 0: rest * (1 + +-0) = rest exactly).
   int nwm = 0, nwm_pad = 0;
   std::vector<double> tm_rest, tm_power; ///< [nwm_pad] rest length, Aw*Am
-  std::vector<std::int32_t> tm_group;    ///< [nwm_pad] index into frame_sine
+  std::vector<std::int32_t> tm_group;    ///< [nwm_pad] index into a row of sines
   std::vector<double> group_phase;       ///< distinct muscle phases, per creature
   int groups = 0;                        ///< all creatures'
-  int rows = 1;
-  std::vector<std::uint64_t> row_phase_bits; ///< [creatures * rows]
+  // Sines for this frame and the next rows - 1, computed for the phases each
+  // creature's wave will have if its direction does not change: row r holds the
+  // sines of every group at row_sin[r * groups]. A row is used only while every
+  // creature's phase is the row's, bit for bit; else all rows are refilled.
+  int rows = 1, row_count = 0, row_next = 0;
+  int current_row = -1;                       ///< the row the targets were computed from
+  bool targets_valid = false;
+  std::vector<int> wave_creatures;            ///< creatures with a wave muscle
+  std::vector<std::uint64_t> row_phase_bits; ///< [creatures * rows] at c * rows + r
   std::vector<double> row_phase_after;        ///< [creatures * rows] rules::advance_wave_phase of the row's phase
   AVec<double> row_arg, row_sin;             ///< [rows * groups, padded]
-  AVec<double> frame_sine;                   ///< [groups] this frame's sines
   long long sines = 0;
 
   std::vector<int> bar_a, bar_b; ///< 2 * working index (offset of x in pos), file order
@@ -514,14 +509,18 @@ struct FusedScene::Data {
   void store_state(State* const* st);
   void update_targets(State* const* st);
   void fill_rows(State* const* st);
-  [[nodiscard]] double advance_phase(const Creature& c, const State& st) const {
-    if (c.has_prediction && bits_of(st.wave_phase) == c.predicted_from && st.wave_mode == c.predicted_mode) {
-      return c.predicted_next;
+  // The wave advance of this frame: already computed for the current row (same
+  // rule, same inputs) when the phase and direction are still the row's.
+  [[nodiscard]] double advance_phase(std::size_t c, const State& st) const {
+    const Creature& cr = creatures[c];
+    if (current_row >= 0 && cr.groups > 0) {
+      const std::size_t at = c * static_cast<std::size_t>(rows) + static_cast<std::size_t>(current_row);
+      if (bits_of(st.wave_phase) == row_phase_bits[at] && st.wave_mode == cr.rows_mode) return row_phase_after[at];
     }
-    return rules::advance_wave_phase(st.wave_phase, c.model->wave_speed, st.wave_mode);
+    return rules::advance_wave_phase(st.wave_phase, cr.model->wave_speed, st.wave_mode);
   }
   void advance_waves(State* const* st) {
-    for (std::size_t c = 0; c < creatures.size(); ++c) st[c]->wave_phase = advance_phase(creatures[c], *st[c]);
+    for (std::size_t c = 0; c < creatures.size(); ++c) st[c]->wave_phase = advance_phase(c, *st[c]);
   }
   void ordered_frame(State& s);
   void replay_side_hits(State* const* st);
@@ -1070,14 +1069,17 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
     tm_group[q] = it->second;
   }
   // Rows of sines per batch: enough frames that the batch overhead is shared.
-  constexpr int kSinesPerBatch = 256;
+  constexpr int kSinesPerBatch = 1024;
   rows = std::clamp(kSinesPerBatch / std::max(groups, 1), 1, 16);
   const std::size_t row_values = static_cast<std::size_t>((rows * groups + kMaxWidth - 1) / kMaxWidth * kMaxWidth);
+  wave_creatures.clear();
+  for (std::size_t c = 0; c < creatures.size(); ++c) {
+    if (creatures[c].groups > 0) wave_creatures.push_back(static_cast<int>(c));
+  }
   row_phase_bits.assign(creatures.size() * static_cast<std::size_t>(rows), 0);
   row_phase_after.assign(creatures.size() * static_cast<std::size_t>(rows), 0.0);
   row_arg.assign(row_values, 1.0); // padding lanes: an argument the tables take
   row_sin.assign(row_values, 0.0);
-  frame_sine.assign(static_cast<std::size_t>(groups + kMaxWidth), 0.0);
 
   if (creatures.size() == 1) {
     const Model& m = *creatures[0].model;
@@ -1118,38 +1120,38 @@ void FusedScene::Data::store_state(State* const* st) {
 }
 
 // Sines for this frame and the next rows - 1 (while each wave's direction holds),
-// for every creature, in one batch.
+// for every creature, in one batch. Row 0 is the current phase.
 void FusedScene::Data::fill_rows(State* const* st) {
-  for (std::size_t c = 0; c < creatures.size(); ++c) {
+  bool all_standing = true;
+  for (int c : wave_creatures) {
     Creature& cr = creatures[c];
-    if (cr.groups == 0) continue; // no wave muscle
-    const std::size_t base = static_cast<std::size_t>(rows) * cr.group_base;
-    std::uint64_t* phase_bits = row_phase_bits.data() + c * static_cast<std::size_t>(rows);
-    double* phase_after = row_phase_after.data() + c * static_cast<std::size_t>(rows);
+    std::uint64_t* phase_bits = row_phase_bits.data() + static_cast<std::size_t>(c) * rows;
+    double* phase_after = row_phase_after.data() + static_cast<std::size_t>(c) * rows;
     double phase = st[c]->wave_phase;
-    cr.row_count = 0;
-    cr.row_next = 0;
     cr.rows_mode = st[c]->wave_mode;
     for (int r = 0; r < rows; ++r) {
       phase_bits[r] = bits_of(phase);
-      for (int g = 0; g < cr.groups; ++g) {
-        row_arg[base + static_cast<std::size_t>(r * cr.groups + g)] = kTwoPi * (group_phase[cr.group_base + g] - phase);
-      }
-      ++cr.row_count;
+      double* arg = row_arg.data() + static_cast<std::size_t>(r) * groups + cr.group_base;
+      for (int g = 0; g < cr.groups; ++g) arg[g] = kTwoPi * (group_phase[cr.group_base + g] - phase);
       const double next = rules::advance_wave_phase(phase, cr.model->wave_speed, cr.rows_mode);
       phase_after[r] = next;
-      if (bits_of(next) == bits_of(phase)) break; // the wave stands still: one row is enough
+      all_standing = all_standing && bits_of(next) == bits_of(phase);
       phase = next;
     }
   }
-  const int n = rows * groups;
+  // Every wave stands still (manual mode, speed 0): one row of sines serves all.
+  const int filled = all_standing ? 1 : rows;
+  const int n = filled * groups;
   // Two lanes (SSE2) do not pay for the table work: std::sin is as fast there.
   if (options.table_sines && W >= 4) {
     sin_fn(simd)(row_arg.data(), row_sin.data(), n);
   } else {
     for (int g = 0; g < n; ++g) row_sin[g] = std::sin(row_arg[g]);
   }
-  for (const Creature& cr : creatures) sines += static_cast<long long>(cr.row_count) * cr.groups;
+  for (int r = filled; r < rows; ++r) std::copy(row_sin.data(), row_sin.data() + groups, row_sin.data() + r * groups);
+  sines += n;
+  row_count = rows;
+  row_next = 0;
 }
 
 // Muscle targets: rules::muscle_target_length split in two so that the sine is
@@ -1157,35 +1159,22 @@ void FusedScene::Data::fill_rows(State* const* st) {
 // then per muscle rest * (1 + (Aw*Am) * sine) with the same operations in the same
 // order. Nothing is recomputed while no creature's wave phase changes.
 void FusedScene::Data::update_targets(State* const* st) {
-  bool any_change = false, refill = false;
-  for (std::size_t c = 0; c < creatures.size(); ++c) {
-    const Creature& cr = creatures[c];
-    if (cr.groups == 0) continue; // no wave muscle
-    const std::uint64_t phase_bits = bits_of(st[c]->wave_phase);
-    if (cr.targets_valid && phase_bits == cr.targets_phase_bits) continue;
-    any_change = true;
-    const std::uint64_t* row_bits = row_phase_bits.data() + c * static_cast<std::size_t>(rows);
-    if (!(cr.row_next < cr.row_count && row_bits[cr.row_next] == phase_bits)) refill = true;
+  bool changed = !targets_valid;
+  for (std::size_t k = 0; k < wave_creatures.size() && !changed; ++k) {
+    const int c = wave_creatures[k];
+    changed = bits_of(st[c]->wave_phase) != creatures[c].targets_phase_bits;
   }
-  if (!any_change) return;
-  if (refill) fill_rows(st); // every creature restarts at row 0 = its current phase
-  for (std::size_t c = 0; c < creatures.size(); ++c) {
-    Creature& cr = creatures[c];
-    if (cr.groups == 0) continue;
-    const std::uint64_t phase_bits = bits_of(st[c]->wave_phase);
-    if (cr.targets_valid && phase_bits == cr.targets_phase_bits) continue;
-    const int row = cr.row_next++;
-    const double* row_sines = row_sin.data() + static_cast<std::size_t>(rows) * cr.group_base +
-                              static_cast<std::size_t>(row) * cr.groups;
-    std::copy(row_sines, row_sines + cr.groups, frame_sine.data() + cr.group_base);
-    cr.targets_valid = true;
-    cr.targets_phase_bits = phase_bits;
-    cr.has_prediction = true;
-    cr.predicted_from = phase_bits;
-    cr.predicted_next = row_phase_after[c * static_cast<std::size_t>(rows) + static_cast<std::size_t>(row)];
-    cr.predicted_mode = cr.rows_mode;
+  if (!changed) return;
+  bool row_usable = row_next < row_count;
+  for (std::size_t k = 0; k < wave_creatures.size() && row_usable; ++k) {
+    const int c = wave_creatures[k];
+    row_usable = bits_of(st[c]->wave_phase) == row_phase_bits[static_cast<std::size_t>(c) * rows + row_next];
   }
-  targets_fn(simd)(*this, frame_sine.data());
+  if (!row_usable) fill_rows(st);
+  current_row = row_next++;
+  for (int c : wave_creatures) creatures[c].targets_phase_bits = bits_of(st[c]->wave_phase);
+  targets_valid = true;
+  targets_fn(simd)(*this, row_sin.data() + static_cast<std::size_t>(current_row) * groups);
 }
 
 // Fixed bars (single-model scenes): rules::collide_with_bars on the pair arrays
