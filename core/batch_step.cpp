@@ -9,17 +9,29 @@ namespace soda {
 
 BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options)
     : count_(static_cast<int>(models.size())) {
-  std::vector<const Model*> fusable;
+  std::vector<const Model*> pack;
+  std::vector<int> pack_index;
+  int pack_links = 0;
+  auto close_pack = [&] {
+    if (pack.empty()) return;
+    scenes_.push_back({std::make_unique<FusedScene>(pack, frame_budget, options), pack_index});
+    pack.clear();
+    pack_index.clear();
+    pack_links = 0;
+  };
   for (int i = 0; i < count_; ++i) {
-    if (!options.force_ordered && FusedScene::can_fuse(*models[i])) {
-      fusable.push_back(models[i]);
-      fused_index_.push_back(i);
-    } else {
+    if (options.force_ordered || !FusedScene::can_fuse(*models[i])) {
       alone_.emplace_back(*models[i], frame_budget, options);
       alone_index_.push_back(i);
+      continue;
     }
+    const int links = models[i]->link_count();
+    if (!pack.empty() && pack_links + links > kMaxFusedLinks) close_pack();
+    pack.push_back(models[i]);
+    pack_index.push_back(i);
+    pack_links += links;
   }
-  if (!fusable.empty()) scene_ = std::make_unique<FusedScene>(fusable, frame_budget, options);
+  close_pack();
 }
 
 BatchStepper::~BatchStepper() = default;
@@ -27,15 +39,17 @@ BatchStepper::BatchStepper(BatchStepper&&) noexcept = default;
 BatchStepper& BatchStepper::operator=(BatchStepper&&) noexcept = default;
 
 bool BatchStepper::fused(int i) const {
-  return std::find(fused_index_.begin(), fused_index_.end(), i) != fused_index_.end();
+  return std::find(alone_index_.begin(), alone_index_.end(), i) == alone_index_.end() && i >= 0 && i < count_;
 }
+
+int BatchStepper::fused_count() const { return count_ - static_cast<int>(alone_index_.size()); }
 
 void BatchStepper::run(const std::vector<State*>& states, long long frames) {
   if (static_cast<int>(states.size()) != count_) throw std::invalid_argument("BatchStepper::run: one state per model");
-  if (scene_) {
+  for (Scene& s : scenes_) {
     scratch_.clear();
-    for (int i : fused_index_) scratch_.push_back(states[i]);
-    scene_->run(scratch_.data(), frames);
+    for (int i : s.index) scratch_.push_back(states[i]);
+    s.scene->run(scratch_.data(), frames);
   }
   for (std::size_t k = 0; k < alone_.size(); ++k) alone_[k].run(*states[alone_index_[k]], frames);
 }

@@ -10,6 +10,12 @@
 // SIMD batches and interleaves their chains, for K times the work per frame at
 // the same overhead.
 //
+// Fusing pays only while the scene stays small: a fused scene's impulse arrays
+// must stay in the L1 cache, and a creature of a few hundred links already fills
+// the SIMD batches on its own (fusing 16 monster trucks, 2,864 links, measured
+// slower than one alone). So the models are packed, in order, into scenes of at
+// most kMaxFusedLinks links; a bigger model gets a scene of its own.
+//
 // Exact: after run(), every state equals bit for bit what soda::run gives for its
 // model alone (fused_scene.hpp explains why; tests/test_batch_step.cpp checks it).
 // Models with fixed bars cannot share a scene (a bar test needs the masses in
@@ -29,6 +35,9 @@ namespace soda {
 
 class FusedScene;
 
+/// Most links (springs and muscles) fused in one scene (see above).
+inline constexpr int kMaxFusedLinks = 512;
+
 class BatchStepper {
  public:
   /// `models[i]` may repeat (each entry has its own state). `frame_budget` as for
@@ -45,14 +54,19 @@ class BatchStepper {
   void run(const std::vector<State*>& states, long long frames);
 
   [[nodiscard]] int size() const { return count_; }
-  /// Whether model i shares the fused scene (else it runs on its own FastStepper).
+  /// Whether model i runs in a fused scene (else on its own FastStepper).
   [[nodiscard]] bool fused(int i) const;
-  [[nodiscard]] int fused_count() const { return static_cast<int>(fused_index_.size()); }
+  [[nodiscard]] int fused_count() const;
+  /// Number of fused scenes.
+  [[nodiscard]] int scene_count() const { return static_cast<int>(scenes_.size()); }
 
  private:
+  struct Scene {
+    std::unique_ptr<FusedScene> scene;
+    std::vector<int> index; ///< index in the batch of scene model c
+  };
   int count_ = 0;
-  std::unique_ptr<FusedScene> scene_; ///< the fusable models (null if none)
-  std::vector<int> fused_index_;      ///< index in the batch of scene model c
+  std::vector<Scene> scenes_;         ///< the fusable models, packed by kMaxFusedLinks
   std::vector<FastStepper> alone_;    ///< models with fixed bars
   std::vector<int> alone_index_;
   std::vector<State*> scratch_;

@@ -93,7 +93,7 @@ void add_random_creatures(int count, std::uint64_t seed, std::vector<std::pair<s
 /// first mismatch, or an empty string.
 std::string run_batch_and_reference(const std::vector<std::pair<std::string, soda::Model>>& models,
                                     const std::vector<int>& picks, long long frames, soda::FastStepOptions options,
-                                    int* fused_count = nullptr) {
+                                    int* fused_count = nullptr, int* scene_count = nullptr) {
   std::vector<const soda::Model*> batch_models;
   std::vector<soda::State> ref, fast;
   for (int p : picks) {
@@ -103,6 +103,7 @@ std::string run_batch_and_reference(const std::vector<std::pair<std::string, sod
   }
   soda::BatchStepper batch(batch_models, frames, options);
   if (fused_count) *fused_count = batch.fused_count();
+  if (scene_count) *scene_count = batch.scene_count();
   std::vector<soda::State*> states;
   for (soda::State& s : fast) states.push_back(&s);
   const long long pieces[] = {1, 1, 7, 100, 391};
@@ -157,11 +158,13 @@ TEST_CASE("batch of every model, random creatures and duplicates equals separate
   for (soda::SimdLevel level : supported_levels()) {
     soda::FastStepOptions opt;
     opt.simd = level;
-    int fused = 0;
-    const std::string diff = run_batch_and_reference(models, picks, 3000, opt, &fused);
+    int fused = 0, scenes = 0;
+    const std::string diff = run_batch_and_reference(models, picks, 3000, opt, &fused, &scenes);
     INFO(soda::simd_level_name(level) << ": " << diff);
     CHECK(diff.empty());
-    CHECK(fused > static_cast<int>(picks.size()) / 2); // most models share the scene
+    CHECK(fused > static_cast<int>(picks.size()) / 2); // most models are fused
+    CHECK(scenes > 1);                                 // packed into several scenes of <= kMaxFusedLinks
+    CHECK(scenes < fused / 2);                         // most scenes hold several models
   }
 }
 
