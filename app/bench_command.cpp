@@ -12,6 +12,7 @@
 #include "app/commands.hpp"
 #include "app/svg_chart.hpp"
 #include "bench/speed_bench.hpp"
+#include "core/batch_step.hpp"
 #include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
 
@@ -60,7 +61,8 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
   o << "Measured with `" << command << "` (fast = " << r.simd
     << "; medians of the runs; ratios within this one invocation).\n\n";
   o << "\"fast\" steps one creature alone. \"fast-batch\" steps " << bench::kBenchBatch
-    << " copies of the creature fused on one core (soda::BatchStepper: their links share SIMD batches) "
+    << " copies of the creature on one core (soda::BatchStepper: packed into fused scenes of at most "
+    << soda::kMaxFusedLinks << " links, whose links share SIMD batches) "
        "and counts creature-frames: it is population throughput per core, what the genetic algorithm "
        "gets, not the speed of a single creature. Both are bit-exact against the reference step.\n\n";
   o << "| creature | links | engine | frames/s | link updates/s | vs seed | vs plain |\n";
