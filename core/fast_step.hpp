@@ -108,7 +108,6 @@ class FastStepper {
   /// phase did not move).
   [[nodiscard]] long long sines_evaluated() const;
 
-
  private:
   std::unique_ptr<FusedScene> scene_; ///< a scene of this one model (fused_scene.hpp)
 };
