@@ -45,6 +45,24 @@ inline double friction_factor(double vx, double vy, double friction) {
   return factor;
 }
 
+/// Sub-frame variant of friction_factor for the `continuous` mode: `keep` is the
+/// share of velocity air friction leaves after the step, (1 - f)^dt (so with dt = 1
+/// it is exactly 1 - f and the result equals friction_factor bit for bit). The
+/// syrup limit stays 20 px/frame whatever dt: it is a speed, not a rate.
+inline double friction_factor_kept(double vx, double vy, double keep) {
+  const double speed = std::sqrt(vx * vx + vy * vy);
+  double factor = keep;
+  if (speed > kSyrupThreshold) factor = factor * (kSyrupThreshold / speed);
+  return factor;
+}
+
+/// Syrup limit alone (continuous mode, Verlet and RK4, where air friction is part
+/// of the smooth force): the factor that brings a speed above 20 px/frame back to 20.
+inline double syrup_factor(double vx, double vy) {
+  const double speed = std::sqrt(vx * vx + vy * vy);
+  return speed > kSyrupThreshold ? kSyrupThreshold / speed : 1.0;
+}
+
 /// Rest test (spec 5.3 step 3): such a mass is neither moved nor collided.
 inline bool is_at_rest(double vx, double vy) {
   return std::fabs(vx) < kZeroVelocity && std::fabs(vy) < kZeroVelocity;
@@ -123,6 +141,22 @@ inline BarResponse respond_to_bar(double cross_x, double cross_y, double t, doub
           surface_friction * vt * uy + surface_reflection * vn * ny};
 }
 
+/// Sub-frame variant of respond_to_bar for the `continuous` mode: the move lasted
+/// `dt` frames, so the slide for the rest of the move is (1 - t)*dt*Fs*vt (vt is a
+/// velocity in px/frame). Fs is the per-step surface friction Fs^dt. With dt = 1 it
+/// equals respond_to_bar bit for bit (the extra factor 1 is exact).
+inline BarResponse respond_to_bar_dt(double cross_x, double cross_y, double t, double dt, double vx, double vy,
+                                     double ux, double uy, double surface_friction, double surface_reflection) {
+  const double nx = -uy;
+  const double ny = ux;
+  const double vt = vx * ux + vy * uy;
+  const double vn = vx * nx + vy * ny;
+  const double slide = ((1.0 - t) * dt) * surface_friction * vt;
+  return {cross_x + slide * ux, cross_y + slide * uy,
+          surface_friction * vt * ux + surface_reflection * vn * nx,
+          surface_friction * vt * uy + surface_reflection * vn * ny};
+}
+
 inline double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
 
 /// Fixed bars (spec 5.4): the first bar (smallest t) crossed by the move from
@@ -169,6 +203,60 @@ inline bool collide_with_bars(const double* px, const double* py, const int* bar
   const double ux = sx / bar_length, uy = sy / bar_length;
   const BarResponse r = respond_to_bar(x0 + best_t * mx, y0 + best_t * my, best_t, vx, vy, ux, uy, surface_friction,
                                        surface_reflection);
+  double nx = r.x, ny = r.y;
+  for (int tries = 0; tries < 64; ++tries) {
+    const double side = cross(sx, sy, nx - ax, ny - ay);
+    if ((side > 0.0) == (best_side0 > 0.0) && side != 0.0) break;
+    const double push = (best_side0 > 0.0 ? 1.0 : -1.0) * std::ldexp(1.0, tries - 52) * (1.0 + std::fabs(nx) + std::fabs(ny));
+    nx += -uy * push;
+    ny += ux * push;
+  }
+  x = nx;
+  y = ny;
+  vx = r.vx;
+  vy = r.vy;
+  return true;
+}
+
+/// Sub-frame variant of collide_with_bars for the `continuous` mode: the move from
+/// (x0, y0) lasted `dt` frames (respond_to_bar_dt), `surface_friction` is the
+/// per-step Fs^dt. Same crossing test and same nudge as collide_with_bars; with
+/// dt = 1 it equals it bit for bit.
+inline bool collide_with_bars_dt(const double* px, const double* py, const int* bar_a, const int* bar_b, int bar_count,
+                                 int self, double dt, double x0, double y0, double& x, double& y, double& vx, double& vy,
+                              double surface_friction, double surface_reflection) {
+  const double mx = x - x0;
+  const double my = y - y0;
+  int best = -1;
+  double best_t = std::numeric_limits<double>::infinity();
+  double best_side0 = 0.0;
+  for (int bar = 0; bar < bar_count; ++bar) {
+    const int pa = bar_a[bar];
+    const int pb = bar_b[bar];
+    if (pa == self || pb == self) continue;
+    const double ax = px[pa], ay = py[pa];
+    const double sx = px[pb] - ax, sy = py[pb] - ay;
+    const double side0 = cross(sx, sy, x0 - ax, y0 - ay);
+    const double side1 = cross(sx, sy, x - ax, y - ay);
+    if (!((side0 > 0.0 && side1 < 0.0) || (side0 < 0.0 && side1 > 0.0))) continue;
+    const double denom = cross(mx, my, sx, sy);
+    if (denom == 0.0) continue;
+    const double t = cross(ax - x0, ay - y0, sx, sy) / denom;
+    const double along = cross(ax - x0, ay - y0, mx, my) / denom;
+    if (along < 0.0 || along > 1.0 || !(t > 0.0 && t <= 1.0)) continue;
+    if (t < best_t) {
+      best = bar;
+      best_t = t;
+      best_side0 = side0;
+    }
+  }
+  if (best < 0) return false;
+  const double ax = px[bar_a[best]], ay = py[bar_a[best]];
+  const double sx = px[bar_b[best]] - ax, sy = py[bar_b[best]] - ay;
+  const double bar_length = std::sqrt(sx * sx + sy * sy);
+  const double ux = sx / bar_length, uy = sy / bar_length;
+  const BarResponse r = respond_to_bar_dt(x0 + best_t * mx, y0 + best_t * my, best_t, dt, vx, vy, ux, uy,
+                                          surface_friction, surface_reflection);
   double nx = r.x, ny = r.y;
   for (int tries = 0; tries < 64; ++tries) {
     const double side = cross(sx, sy, nx - ax, ny - ay);

@@ -1,0 +1,43 @@
+// Smooth scenes for measuring integration error: nothing in them touches a wall,
+// reaches the 20 px/frame speed limit or rests, so an integrator shows its true
+// order. Two have closed-form solutions of the continuous model's ODE
+// (core/continuous_step.hpp); the pendulum chain has none and is compared with a
+// converged reference (RK4 with many sub-steps).
+#pragma once
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/model_def.hpp"
+
+namespace sodaevo::bench {
+
+struct AnalyticScene {
+  std::string name;
+  soda::ModelDef def;
+  /// Exact positions (x0, y0, x1, y1, ... of the free masses) at time t frames,
+  /// or empty when the scene has no closed form.
+  std::function<std::vector<double>(double t)> exact;
+};
+
+/// One mass falling from rest with gravity 0.3 and air friction 0.05:
+/// v' = -g - lambda v, lambda = -ln(1 - f), so
+/// v(t) = v_inf (1 - e^(-lambda t)), y(t) = y0 + v_inf (t - (1 - e^(-lambda t))/lambda),
+/// v_inf = -g/lambda (5.8 px/frame, below the speed limit).
+AnalyticScene free_fall_with_friction();
+
+/// Two free masses joined by one spring (k 0.2, rest 100), stretched by 10 px,
+/// no gravity, no friction, both drifting up at 1 px/frame (so the spring stays
+/// horizontal and neither ever passes the rest test's 1e-5 px/frame): the stretch
+/// obeys e'' = -2k e, e(t) = 10 cos(sqrt(2k) t), the midpoint moves uniformly.
+AnalyticScene single_spring();
+
+/// Four masses hanging from a fixed node by springs (k 0.05), started sideways,
+/// gravity 0.3, friction 0.01, the middle link a muscle driven by the wave: a
+/// smooth, chaotic-free 40-frame swing with no contact. No closed form.
+AnalyticScene pendulum_chain();
+
+std::vector<AnalyticScene> analytic_scenes();
+
+} // namespace sodaevo::bench

@@ -1,0 +1,63 @@
+#include "stepping.hpp"
+
+#include "continuous_step.hpp"
+#include "input_error.hpp"
+#include "step.hpp"
+
+namespace soda {
+
+std::string mode_name(PhysicsMode mode) { return mode == PhysicsMode::Soda ? "soda" : "continuous"; }
+
+std::string integrator_name(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::Euler: return "euler";
+    case Integrator::Verlet: return "verlet";
+    case Integrator::Rk4: return "rk4";
+  }
+  return "euler";
+}
+
+std::optional<PhysicsMode> parse_mode(const std::string& name) {
+  if (name == "soda") return PhysicsMode::Soda;
+  if (name == "continuous") return PhysicsMode::Continuous;
+  return std::nullopt;
+}
+
+std::optional<Integrator> parse_integrator(const std::string& name) {
+  if (name == "euler") return Integrator::Euler;
+  if (name == "verlet") return Integrator::Verlet;
+  if (name == "rk4") return Integrator::Rk4;
+  return std::nullopt;
+}
+
+int integrator_order(Integrator integrator) {
+  switch (integrator) {
+    case Integrator::Euler: return 1;
+    case Integrator::Verlet: return 2;
+    case Integrator::Rk4: return 4;
+  }
+  return 1;
+}
+
+std::string stepping_label(const Stepping& s) {
+  if (s.mode == PhysicsMode::Soda) return "soda";
+  return integrator_name(s.integrator) + "/" + std::to_string(s.substeps);
+}
+
+void validate_stepping(const Stepping& s) {
+  if (s.substeps < 1 || s.substeps > kMaxSubsteps) {
+    throw InputError("substeps: expected an integer in [1, " + std::to_string(kMaxSubsteps) + "], got " +
+                     std::to_string(s.substeps));
+  }
+}
+
+void run_frames(const Model& model, State& state, long long frames, const Stepping& stepping) {
+  if (stepping.mode == PhysicsMode::Soda) {
+    run(model, state, frames);
+    return;
+  }
+  ContinuousStepper stepper(model, {stepping.integrator, stepping.substeps});
+  stepper.run(state, frames);
+}
+
+} // namespace soda
