@@ -51,13 +51,32 @@ void validate_stepping(const Stepping& s) {
   }
 }
 
+FrameStepper::FrameStepper(const Model& model, const Stepping& stepping) : model_(model) {
+  validate_stepping(stepping);
+  if (stepping.mode == PhysicsMode::Continuous) {
+    continuous_ = std::make_unique<ContinuousStepper>(model, ContinuousSettings{stepping.integrator, stepping.substeps});
+  }
+}
+
+FrameStepper::~FrameStepper() = default;
+FrameStepper::FrameStepper(FrameStepper&&) noexcept = default;
+
+void FrameStepper::step(State& state) {
+  if (continuous_) continuous_->step(state);
+  else soda::step(model_, state);
+}
+
+void FrameStepper::run(State& state, long long frames) {
+  if (continuous_) continuous_->run(state, frames);
+  else soda::run(model_, state, frames);
+}
+
 void run_frames(const Model& model, State& state, long long frames, const Stepping& stepping) {
   if (stepping.mode == PhysicsMode::Soda) {
     run(model, state, frames);
     return;
   }
-  ContinuousStepper stepper(model, {stepping.integrator, stepping.substeps});
-  stepper.run(state, frames);
+  FrameStepper(model, stepping).run(state, frames);
 }
 
 } // namespace soda

@@ -7,6 +7,7 @@
 // name a setting the same way, so the names live here once.
 #pragma once
 
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -45,6 +46,28 @@ std::string stepping_label(const Stepping& stepping);
 
 /// Throws InputError unless substeps is in [1, kMaxSubsteps].
 void validate_stepping(const Stepping& stepping);
+
+class ContinuousStepper;
+
+/// Steps a model frame by frame in the chosen mode (holds the continuous
+/// stepper's scratch space, so make one per run, not one per frame).
+class FrameStepper {
+public:
+  /// Throws InputError for a bad setting. `model` must outlive the stepper.
+  FrameStepper(const Model& model, const Stepping& stepping);
+  ~FrameStepper();
+  FrameStepper(FrameStepper&&) noexcept;
+  FrameStepper& operator=(FrameStepper&&) = delete;
+  FrameStepper(const FrameStepper&) = delete;
+  FrameStepper& operator=(const FrameStepper&) = delete;
+
+  void step(State& state);
+  void run(State& state, long long frames);
+
+private:
+  const Model& model_;
+  std::unique_ptr<ContinuousStepper> continuous_; ///< null in soda mode
+};
 
 /// Advances `state` by `frames` frames with the chosen mode. `soda` is step.hpp's
 /// run(); `continuous` builds a ContinuousStepper for the call.

@@ -9,7 +9,10 @@
 #include "core/model.hpp"
 #include "core/number_text.hpp"
 #include "core/batch_step.hpp"
+#include "core/divergence.hpp"
+#include "core/stepping.hpp"
 #include "evolve/creature_graph.hpp"
+#include "evolve/honesty.hpp"
 
 namespace sodaevo {
 
@@ -153,11 +156,28 @@ Evaluation score_run(const soda::Model& model, const soda::State& state, soda::P
   return e;
 }
 
+/// Frames between two non-finite checks when only those are asked for: the check
+/// costs a pass over the masses, the step a pass over the links.
+constexpr long long kFiniteCheckInterval = 64;
+
+/// Whether the fitness asks for more than the batched soda run gives: another
+/// stepping, the energy check, or the honesty re-run.
+bool needs_watched_run(const FitnessConfig& fitness) {
+  return fitness.mode != soda::PhysicsMode::Soda || fitness.divergence != DivergenceCheck::Finite ||
+         fitness.honesty_max_change > 0.0;
+}
+
+Evaluation evaluate_watched(const soda::ModelDef& prepared, const FitnessConfig& fitness);
+
 } // namespace
 
 std::vector<Evaluation> evaluate_prepared_batch(const std::vector<const soda::ModelDef*>& prepared,
                                                 const FitnessConfig& fitness) {
   std::vector<Evaluation> results(prepared.size());
+  if (needs_watched_run(fitness)) {
+    for (std::size_t i = 0; i < prepared.size(); ++i) results[i] = evaluate_watched(*prepared[i], fitness);
+    return results;
+  }
   std::vector<soda::Model> models;
   models.reserve(prepared.size());
   std::vector<std::size_t> index; // result index of models[k]
@@ -193,6 +213,80 @@ std::vector<Evaluation> evaluate_prepared_batch(const std::vector<const soda::Mo
 Evaluation evaluate_prepared(const soda::ModelDef& prepared, const FitnessConfig& fitness) {
   return evaluate_prepared_batch({&prepared}, fitness).front();
 }
+
+
+Evaluation evaluate_prepared_with(const soda::ModelDef& prepared, const FitnessConfig& fitness,
+                                  const soda::Stepping& stepping) {
+  Evaluation e;
+  soda::Model model;
+  try {
+    model = soda::build_model(prepared);
+    soda::validate_stepping(stepping);
+  } catch (const std::exception& ex) {
+    e.reason = ex.what();
+    return e;
+  }
+  // The fast stepper equals the reference step bit for bit (tests/test_fast_step.cpp),
+  // so fitness does not depend on which one runs.
+  soda::State state = soda::make_state(model);
+  soda::FrameStepper stepper(model, stepping);
+  const bool energy = fitness.divergence == DivergenceCheck::Energy;
+  soda::DivergenceMonitor monitor(model, state, {}, energy);
+  const long long total = fitness.settle_frames + fitness.frames;
+  soda::Point2 start = soda::mass_centroid(model, state);
+  for (long long done = 0; done < total;) {
+    if (done == fitness.settle_frames) start = soda::mass_centroid(model, state);
+    long long n = energy ? 1 : kFiniteCheckInterval;
+    if (done < fitness.settle_frames) n = std::min(n, fitness.settle_frames - done);
+    n = std::min(n, total - done);
+    stepper.run(state, n);
+    done += n;
+    if (!monitor.check(state)) {
+      e.status = EvaluationStatus::Diverged;
+      e.reason = monitor.result().reason + " (by frame " + std::to_string(monitor.result().frame) + ")";
+      return e;
+    }
+  }
+  const soda::Point2 end = soda::mass_centroid(model, state);
+  e.distance = end.x - start.x;
+  e.px_per_frame = e.distance / static_cast<double>(fitness.frames);
+  switch (fitness.direction) {
+    case WalkDirection::Right: e.fitness = e.distance; break;
+    case WalkDirection::Left: e.fitness = -e.distance; break;
+    case WalkDirection::Either: e.fitness = std::fabs(e.distance); break;
+  }
+  e.status = EvaluationStatus::Ok;
+  return e;
+}
+
+namespace {
+
+Evaluation evaluate_watched(const soda::ModelDef& prepared, const FitnessConfig& fitness) {
+  Evaluation e = evaluate_prepared_with(prepared, fitness, fitness.stepping());
+  if (!e.ok() || !(fitness.honesty_max_change > 0.0)) return e;
+  const soda::Stepping refined = refined_stepping(fitness.stepping(), fitness.honesty_substeps_factor);
+  const Evaluation r = evaluate_prepared_with(prepared, fitness, refined);
+  if (!r.ok()) {
+    Evaluation flagged;
+    flagged.status = EvaluationStatus::Diverged;
+    flagged.reason = "dishonest: with " + soda::stepping_label(refined) + " it " + r.reason;
+    return flagged;
+  }
+  e.honesty_change = relative_change(e.distance, r.distance);
+  if (std::fabs(e.honesty_change) > fitness.honesty_max_change) {
+    Evaluation flagged;
+    flagged.status = EvaluationStatus::Diverged;
+    flagged.honesty_change = e.honesty_change;
+    flagged.reason = "dishonest: distance " + soda::format_double_plain(e.distance) + " px becomes " +
+                     soda::format_double_plain(r.distance) + " px with " + soda::stepping_label(refined) +
+                     " (change " + soda::format_double_plain(e.honesty_change) + ", above /fitness/honesty/max_change)";
+    return flagged;
+  }
+  return e;
+}
+
+} // namespace
+
 
 std::vector<Evaluation> evaluate_creature_batch(const std::vector<const soda::ModelDef*>& creatures,
                                                 const RunConfig& config) {

@@ -31,6 +31,9 @@ struct Evaluation {
   double fitness = kWorstFitness;
   double distance = 0.0;        ///< centroid x displacement over the scored frames, px
   double px_per_frame = 0.0;    ///< distance / frames
+  /// Honesty check (/fitness/honesty): relative change of the distance under the
+  /// refined step (evolve/honesty.hpp); 0 when the check is off.
+  double honesty_change = 0.0;
 
   [[nodiscard]] bool ok() const { return status == EvaluationStatus::Ok; }
 };
@@ -53,14 +56,25 @@ soda::ModelDef prepare_for_evaluation(const soda::ModelDef& creature, const Fitn
 soda::ModelDef export_form(const soda::ModelDef& creature, const std::string& id, const Evaluation& evaluation,
                            const RunConfig& config);
 
-/// Runs a prepared model: settle, then score. Never throws for physics reasons.
+/// Runs a prepared model: settle, then score, stepped as fitness.stepping() says,
+/// watched for divergence (fitness.divergence; core/divergence.hpp) and, with
+/// /fitness/honesty/max_change > 0, re-run with the refined step: a creature whose
+/// distance changes by more than that share is flagged Diverged ("dishonest").
+/// Never throws for physics reasons.
 Evaluation evaluate_prepared(const soda::ModelDef& prepared, const FitnessConfig& fitness);
 
-/// evaluate_prepared for several models at once on this thread: they are stepped
-/// together (soda::BatchStepper, their links in shared SIMD batches), which gives
-/// every model exactly the bits it gets alone. Result i is evaluate_prepared(*prepared[i]).
+/// evaluate_prepared for several models at once on this thread: in the soda mode
+/// with only the non-finite check and no honesty re-run they are stepped together
+/// (soda::BatchStepper, their links in shared SIMD batches), which gives every model
+/// exactly the bits it gets alone; otherwise one after the other. Result i is
+/// evaluate_prepared(*prepared[i]).
 std::vector<Evaluation> evaluate_prepared_batch(const std::vector<const soda::ModelDef*>& prepared,
                                                 const FitnessConfig& fitness);
+
+/// evaluate_prepared with an explicit stepping and no honesty re-run (the
+/// building block of the honesty check and of the accuracy benchmark).
+Evaluation evaluate_prepared_with(const soda::ModelDef& prepared, const FitnessConfig& fitness,
+                                  const soda::Stepping& stepping);
 
 /// check_creature + prepare_for_evaluation + evaluate_prepared; problems become
 /// an Invalid evaluation with the reason, never an exception.

@@ -41,6 +41,9 @@ enum class Kind {
   SeedModels,       ///< /population/seed_models
   Direction,        ///< /fitness/direction
   Scaling,          ///< /fitness/scaling
+  Mode,             ///< /fitness/mode
+  Integrator,       ///< /fitness/integrator
+  Divergence,       ///< /fitness/divergence
   GravityDirection, ///< /world/gravity_direction
   WorldEvolve,      ///< /world/evolve
 };
@@ -125,6 +128,12 @@ const std::vector<Field>& fields() {
       special("/fitness/direction", Kind::Direction),
       special("/fitness/scaling", Kind::Scaling),
       number("/fitness/drop_height", SODAEVO_FIELD(fitness.drop_height), 0, 1000),
+      special("/fitness/mode", Kind::Mode),
+      special("/fitness/integrator", Kind::Integrator),
+      integer("/fitness/substeps", SODAEVO_FIELD(fitness.substeps), 1, soda::kMaxSubsteps),
+      special("/fitness/divergence", Kind::Divergence),
+      number("/fitness/honesty/max_change", SODAEVO_FIELD(fitness.honesty_max_change), 0, 1e6),
+      integer("/fitness/honesty/substeps_factor", SODAEVO_FIELD(fitness.honesty_substeps_factor), 2, 64),
 
       number("/world/gravity", SODAEVO_FIELD(world.gravity), soda::kGravityRange),
       number("/world/friction", SODAEVO_FIELD(world.friction), soda::kFrictionRange),
@@ -255,6 +264,12 @@ constexpr EnumName<WalkDirection> kDirections[] = {
     {WalkDirection::Right, "right"}, {WalkDirection::Left, "left"}, {WalkDirection::Either, "either"}};
 constexpr EnumName<FitnessScaling> kScalings[] = {
     {FitnessScaling::Sodarace, "sodarace"}, {FitnessScaling::None, "none"}};
+constexpr EnumName<soda::PhysicsMode> kModes[] = {
+    {soda::PhysicsMode::Soda, "soda"}, {soda::PhysicsMode::Continuous, "continuous"}};
+constexpr EnumName<soda::Integrator> kIntegrators[] = {
+    {soda::Integrator::Euler, "euler"}, {soda::Integrator::Verlet, "verlet"}, {soda::Integrator::Rk4, "rk4"}};
+constexpr EnumName<DivergenceCheck> kDivergenceChecks[] = {
+    {DivergenceCheck::Finite, "finite"}, {DivergenceCheck::Energy, "energy"}};
 constexpr EnumName<soda::GravityDirection> kGravityDirections[] = {
     {soda::GravityDirection::Down, "down"},
     {soda::GravityDirection::Up, "up"},
@@ -547,6 +562,12 @@ class ConfigReader {
         return read_enum(p, v, kDirections, config_.fitness.direction);
       case Kind::Scaling:
         return read_enum(p, v, kScalings, config_.fitness.scaling);
+      case Kind::Mode:
+        return read_enum(p, v, kModes, config_.fitness.mode);
+      case Kind::Integrator:
+        return read_enum(p, v, kIntegrators, config_.fitness.integrator);
+      case Kind::Divergence:
+        return read_enum(p, v, kDivergenceChecks, config_.fitness.divergence);
       case Kind::GravityDirection:
         return read_enum(p, v, kGravityDirections, config_.world.gravity_direction);
       case Kind::WorldEvolve:
@@ -717,6 +738,7 @@ const std::vector<std::string>& world_parameter_names() {
 
 std::string direction_name(WalkDirection d) { return enum_name(kDirections, d); }
 std::string scaling_name(FitnessScaling s) { return enum_name(kScalings, s); }
+std::string divergence_check_name(DivergenceCheck d) { return enum_name(kDivergenceChecks, d); }
 std::string gravity_direction_name(soda::GravityDirection d) { return enum_name(kGravityDirections, d); }
 
 RunConfig parse_run_config(const std::string& json_text, const std::string& source,
@@ -762,6 +784,9 @@ nlohmann::json to_json(const RunConfig& config) {
       case Kind::SeedModels: j[p] = c.population.seed_models; break;
       case Kind::Direction: j[p] = direction_name(c.fitness.direction); break;
       case Kind::Scaling: j[p] = scaling_name(c.fitness.scaling); break;
+      case Kind::Mode: j[p] = enum_name(kModes, c.fitness.mode); break;
+      case Kind::Integrator: j[p] = enum_name(kIntegrators, c.fitness.integrator); break;
+      case Kind::Divergence: j[p] = divergence_check_name(c.fitness.divergence); break;
       case Kind::GravityDirection: j[p] = gravity_direction_name(c.world.gravity_direction); break;
       case Kind::WorldEvolve: j[p] = c.world.evolve; break;
       case Kind::Preset:  // resolved into /world/evolve

@@ -15,11 +15,15 @@
 #include <nlohmann/json.hpp>
 
 #include "core/model_def.hpp"
+#include "core/stepping.hpp"
 
 namespace sodaevo {
 
 enum class WalkDirection { Right, Left, Either };
 enum class FitnessScaling { None, Sodarace };
+/// What counts as diverged (core/divergence.hpp): only non-finite numbers, or also
+/// runaway energy beyond what the muscles can supply.
+enum class DivergenceCheck { Finite, Energy };
 
 /// How a creature is scored (DESIGN: fitness = distance walked by the centroid).
 struct FitnessConfig {
@@ -31,6 +35,20 @@ struct FitnessConfig {
   /// gravity times s) so that growing is no way to win; "none" leaves it.
   FitnessScaling scaling = FitnessScaling::Sodarace;
   double drop_height = 5.0;       ///< /fitness/drop_height: lowest mass placed this high, px, [0, 1000]
+  /// /fitness/mode, /fitness/integrator, /fitness/substeps: how the physics is
+  /// stepped (core/stepping.hpp); default the original's one update per frame.
+  soda::PhysicsMode mode = soda::PhysicsMode::Soda;
+  soda::Integrator integrator = soda::Integrator::Euler;
+  int substeps = 1;               ///< [1, 4096], continuous mode only
+  DivergenceCheck divergence = DivergenceCheck::Finite; ///< /fitness/divergence: "finite" | "energy"
+  /// /fitness/honesty/max_change: flag (as diverged) a creature whose distance
+  /// changes by more than this share when re-evaluated with
+  /// /fitness/honesty/substeps_factor times the sub-steps (evolve/honesty.hpp);
+  /// 0 = no check. [0, 1e6]
+  double honesty_max_change = 0.0;
+  int honesty_substeps_factor = 4; ///< /fitness/honesty/substeps_factor [2, 64]
+
+  [[nodiscard]] soda::Stepping stepping() const { return {mode, integrator, substeps}; }
 
   bool operator==(const FitnessConfig&) const = default;
 };
@@ -149,6 +167,7 @@ const std::vector<std::string>& world_parameter_names();
 /// The JSON spellings of the enums ("right", "sodarace", "down", ...).
 std::string direction_name(WalkDirection d);
 std::string scaling_name(FitnessScaling s);
+std::string divergence_check_name(DivergenceCheck d);
 std::string gravity_direction_name(soda::GravityDirection d);
 
 /// Parses and validates a config. `source` names the file in messages; relative

@@ -142,7 +142,9 @@ const std::vector<std::string> kAllKeys = {
     "/mutation/add_mass/rate", "/mutation/remove_mass/rate", "/mutation/world/rate",
     "/mutation/world/sigma", "/limits/min_masses", "/limits/max_masses", "/limits/max_links",
     "/budget/evaluations", "/budget/wall_seconds", "/fitness/frames", "/fitness/settle_frames",
-    "/fitness/direction", "/fitness/scaling", "/fitness/drop_height", "/world/gravity",
+    "/fitness/direction", "/fitness/scaling", "/fitness/drop_height", "/fitness/mode", "/fitness/integrator",
+    "/fitness/substeps", "/fitness/divergence", "/fitness/honesty/max_change",
+    "/fitness/honesty/substeps_factor", "/world/gravity",
     "/world/friction", "/world/springyness", "/world/surface_friction", "/world/surface_reflection",
     "/world/gravity_direction", "/world/evolve", "/save/generation_every", "/save/checkpoint_every"};
 
@@ -200,6 +202,12 @@ TEST_CASE("config: defaults of an (almost) empty config", "[config]") {
   CHECK(c.fitness.direction == sodaevo::WalkDirection::Right);
   CHECK(c.fitness.scaling == sodaevo::FitnessScaling::Sodarace);
   CHECK(c.fitness.drop_height == 5.0);
+  CHECK(c.fitness.mode == soda::PhysicsMode::Soda);
+  CHECK(c.fitness.integrator == soda::Integrator::Euler);
+  CHECK(c.fitness.substeps == 1);
+  CHECK(c.fitness.divergence == sodaevo::DivergenceCheck::Finite);
+  CHECK(c.fitness.honesty_max_change == 0.0);
+  CHECK(c.fitness.honesty_substeps_factor == 4);
   CHECK(c.world.gravity == 0.38046992);
   CHECK(c.world.friction == 0.028299415);
   CHECK(c.world.springyness == 0.5);
