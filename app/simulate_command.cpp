@@ -13,8 +13,12 @@
 #include "core/model.hpp"
 #include "core/model_file.hpp"
 #include "core/fast_step.hpp"
+#include "core/divergence.hpp"
+#include "core/number_text.hpp"
 #include "core/step.hpp"
+#include "core/stepping.hpp"
 #include "core/trace_csv.hpp"
+#include "evolve/honesty.hpp"
 
 namespace sodaevo::app {
 
@@ -27,6 +31,12 @@ struct SimulateOptions {
   std::string trace;
   std::string out;
   bool reference = false;
+  std::string mode = "soda";
+  std::string integrator = "euler";
+  int substeps = 1;
+  bool energy_check = false;
+  bool honesty = false;
+  int honesty_factor = 4;
 };
 
 struct SimulateSummary {
@@ -36,6 +46,13 @@ struct SimulateSummary {
   double centroid_dx = 0.0;
   double centroid_dy = 0.0;
   double wall_seconds = 0.0;
+  std::string stepping = "soda";
+  soda::Divergence divergence;
+  bool honesty = false;
+  std::string honesty_stepping;
+  double honesty_centroid_dx = 0.0;
+  double honesty_change = 0.0;
+  soda::Divergence honesty_divergence;
 };
 
 void print_summary(const SimulateOptions& opt, const SimulateSummary& s) {
@@ -50,12 +67,32 @@ void print_summary(const SimulateOptions& opt, const SimulateSummary& s) {
                         {"centroid_dy", s.centroid_dy},
                         {"px_per_frame", px_per_frame},
                         {"wall_seconds", s.wall_seconds},
-                        {"frames_per_second", fps}};
+                        {"frames_per_second", fps},
+                        {"stepping", s.stepping},
+                        {"diverged", s.divergence.diverged}};
+    if (s.divergence.diverged) {
+      j["diverged_frame"] = s.divergence.frame;
+      j["diverged_reason"] = s.divergence.reason;
+    }
+    if (s.honesty) {
+      j["honesty_stepping"] = s.honesty_stepping;
+      j["honesty_diverged"] = s.honesty_divergence.diverged;
+      if (!s.honesty_divergence.diverged) {
+        j["honesty_centroid_dx"] = s.honesty_centroid_dx;
+        j["honesty_relative_change"] = s.honesty_change;
+      }
+    }
     std::cout << j.dump() << '\n';
     return;
   }
   std::printf("model               %s\n", opt.model.c_str());
+  std::printf("stepping            %s\n", s.stepping.c_str());
   std::printf("frames              %lld\n", s.frames);
+  if (s.divergence.diverged) {
+    std::printf("DIVERGED            at frame %lld: %s (the run stopped there; the figures below are up to the\n"
+                "                    last finite state)\n",
+                s.divergence.frame, s.divergence.reason.c_str());
+  }
   std::printf("masses              %d\n", s.masses);
   std::printf("links               %d (springs and muscles)\n", s.links);
   std::printf("centroid dx, dy     %+.6f px, %+.6f px\n", s.centroid_dx, s.centroid_dy);
@@ -63,6 +100,50 @@ void print_summary(const SimulateOptions& opt, const SimulateSummary& s) {
               px_per_frame > 0 ? "walks right" : px_per_frame < 0 ? "walks left" : "stands");
   std::printf("wall time           %.6f s%s\n", s.wall_seconds, opt.trace.empty() ? "" : " (includes writing the trace)");
   std::printf("frames per second   %.0f\n", fps);
+  if (s.honesty) {
+    if (s.honesty_divergence.diverged) {
+      std::printf("honesty             with %s the run diverged at frame %lld: %s\n", s.honesty_stepping.c_str(),
+                  s.honesty_divergence.frame, s.honesty_divergence.reason.c_str());
+    } else {
+      std::printf("honesty             with %s: centroid dx %+.6f px, relative change %+.4f%s\n",
+                  s.honesty_stepping.c_str(), s.honesty_centroid_dx, s.honesty_change,
+                  std::fabs(s.honesty_change) > 0.1 ? " (more than 10 %: the walk depends on the step)" : "");
+    }
+  }
+}
+
+soda::Stepping stepping_of(const SimulateOptions& opt) {
+  soda::Stepping st;
+  const auto mode = soda::parse_mode(opt.mode);
+  if (!mode) throw soda::InputError("--mode: expected soda or continuous, got '" + opt.mode + "'");
+  const auto integrator = soda::parse_integrator(opt.integrator);
+  if (!integrator) throw soda::InputError("--integrator: expected euler, verlet or rk4, got '" + opt.integrator + "'");
+  st.mode = *mode;
+  st.integrator = *integrator;
+  st.substeps = opt.substeps;
+  if (st.mode == soda::PhysicsMode::Soda && (st.substeps != 1 || st.integrator != soda::Integrator::Euler)) {
+    throw soda::InputError("--substeps and --integrator need --mode continuous (soda is one Euler update per frame)");
+  }
+  soda::validate_stepping(st);
+  return st;
+}
+
+/// Runs `frames` frames watching for divergence; stops at the first diverged
+/// frame, keeping the last healthy state in `state` (so nothing non-finite is
+/// reported or written). `per_frame` is called with every healthy state.
+template <class PerFrame>
+soda::Divergence run_watched(const soda::Model& model, soda::State& state, long long frames,
+                             const soda::Stepping& stepping, bool energy, PerFrame&& per_frame) {
+  soda::FrameStepper stepper(model, stepping);
+  soda::DivergenceMonitor monitor(model, state, {}, energy);
+  soda::State next = state;
+  for (long long f = 0; f < frames; ++f) {
+    stepper.step(next);
+    if (!monitor.check(next)) return monitor.result();
+    state = next;
+    per_frame(state);
+  }
+  return {};
 }
 
 void run_simulate(const SimulateOptions& opt) {
@@ -70,6 +151,7 @@ void run_simulate(const SimulateOptions& opt) {
   for (const std::string& w : loaded.warnings) std::cerr << "sodaevo: warning: " << w << '\n';
   const soda::Model model = soda::build_model(loaded.def);
   soda::State state = soda::make_state(model);
+  const soda::Stepping stepping = stepping_of(opt);
 
   std::ofstream trace_file;
   std::optional<soda::TraceCsv> trace;
@@ -80,23 +162,28 @@ void run_simulate(const SimulateOptions& opt) {
     trace->write_row(state);
   }
 
+  const soda::State initial = state;
   const soda::Point2 start = soda::mass_centroid(model, state);
   const auto t0 = std::chrono::steady_clock::now();
-  if (opt.reference) {
-    for (long long f = 0; f < opt.frames; ++f) {
-      soda::step(model, state);
-      if (trace) trace->write_row(state);
-    }
+  soda::Divergence divergence;
+  if (trace || opt.energy_check) {
+    divergence = run_watched(model, state, opt.frames, stepping, opt.energy_check, [&](const soda::State& now) {
+      if (trace) trace->write_row(now);
+    });
   } else {
-    // Same bits as the reference step, faster (core/fast_step.hpp).
-    soda::FastStepper stepper(model, opt.frames);
-    if (trace) {
-      for (long long f = 0; f < opt.frames; ++f) {
-        stepper.step(state);
-        trace->write_row(state);
+    // Fast path: step in blocks, checking for non-finite values between blocks;
+    // on a hit, replay the block frame by frame to stop at the last healthy state.
+    soda::FrameStepper stepper(model, stepping);
+    constexpr long long kBlock = 1024;
+    for (long long done = 0; done < opt.frames && !divergence.diverged;) {
+      const long long n = std::min(kBlock, opt.frames - done);
+      soda::State block_start = state;
+      stepper.run(state, n);
+      if (soda::first_non_finite(model, state)) {
+        state = block_start;
+        divergence = run_watched(model, state, n, stepping, false, [](const soda::State&) {});
       }
-    } else {
-      stepper.run(state, opt.frames);
+      done += n;
     }
   }
   const auto t1 = std::chrono::steady_clock::now();
@@ -109,7 +196,19 @@ void run_simulate(const SimulateOptions& opt) {
   if (!opt.out.empty()) soda::write_model_file(opt.out, soda::def_with_state(loaded.def, model, state));
 
   SimulateSummary s;
-  s.frames = opt.frames;
+  s.stepping = soda::stepping_label(stepping);
+  s.divergence = divergence;
+  if (opt.honesty) {
+    const soda::Stepping refined = sodaevo::refined_stepping(stepping, opt.honesty_factor);
+    soda::State again = initial;
+    s.honesty = true;
+    s.honesty_stepping = soda::stepping_label(refined);
+    s.honesty_divergence = run_watched(model, again, divergence.diverged ? divergence.frame - 1 : opt.frames, refined,
+                                       opt.energy_check, [](const soda::State&) {});
+    s.honesty_centroid_dx = soda::mass_centroid(model, again).x - start.x;
+    s.honesty_change = sodaevo::relative_change(end.x - start.x, s.honesty_centroid_dx);
+  }
+  s.frames = divergence.diverged ? divergence.frame - 1 : opt.frames;
   s.masses = model.mass_count;
   s.links = model.link_count();
   s.centroid_dx = end.x - start.x;
@@ -125,7 +224,8 @@ void add_simulate_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "simulate",
       "Run a SodaConstructor model for N frames in the exact engine (one update per frame,\n"
-      "as the original) and report how far its centroid moved and how fast it ran.");
+      "as the original) or in the continuous mode, and report how far its centroid moved and\n"
+      "how fast it ran.");
   cmd->add_option("model", opt->model, "Model to run (.xml, SodaConstructor v1 or v2)")
       ->required()
       ->check(CLI::ExistingFile);
@@ -142,6 +242,28 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_flag("--reference", opt->reference,
                 "Use the plain reference step instead of the fast stepper (both give the same\n"
                 "bits; the reference is the readable one, for checking)");
+  cmd->add_option("--mode", opt->mode,
+                  "Physics mode: soda = one update per frame exactly as the original (default);\n"
+                  "continuous = the same model as an ODE stepped with dt = 1/substeps frame")
+      ->default_val("soda")
+      ->check(CLI::IsMember({"soda", "continuous"}));
+  cmd->add_option("--integrator", opt->integrator,
+                  "Continuous mode: euler (semi-implicit, order 1; with --substeps 1 equal to soda bit\n"
+                  "for bit), verlet (velocity Verlet, order 2) or rk4 (Runge-Kutta 4, order 4)")
+      ->default_val("euler")
+      ->check(CLI::IsMember({"euler", "verlet", "rk4"}));
+  cmd->add_option("--substeps", opt->substeps, "Continuous mode: steps per frame (dt = 1/substeps frame)")
+      ->default_val(1)
+      ->check(CLI::Range(1, soda::kMaxSubsteps));
+  cmd->add_flag("--energy-check", opt->energy_check,
+                "Also flag runaway energy (more than the muscles can supply) as divergence, not only\n"
+                "non-finite numbers. A diverged run stops at the last healthy frame and says why");
+  cmd->add_flag("--honesty", opt->honesty,
+                "Re-run with --honesty-factor times the sub-steps (soda: continuous Euler with that\n"
+                "many) and report the relative change of the centroid's x displacement");
+  cmd->add_option("--honesty-factor", opt->honesty_factor, "Sub-step multiplier of --honesty")
+      ->default_val(4)
+      ->check(CLI::Range(2, 64));
   cmd->callback([opt] { run_simulate(*opt); });
 }
 
