@@ -201,6 +201,7 @@ void add_bench_command(CLI::App& app) {
   speed->add_option("--threads", opt->threads, "Threads for the population run (0 = all cores)")
       ->default_val(0)
       ->check(CLI::Range(0, 1024));
+  add_bench_accuracy_commands(*bench);
   speed->callback([opt] {
     std::string command = "sodaevo bench speed";
     if (opt->quick) command += " --quick";

@@ -1,0 +1,269 @@
+#include "accuracy_bench.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "bench/analytic_scenes.hpp"
+#include "core/divergence.hpp"
+#include "core/model.hpp"
+#include "core/model_file.hpp"
+#include "evolve/fitness.hpp"
+#include "evolve/rng.hpp"
+#include "evolve/run_config.hpp"
+#include "evolve/variation.hpp"
+
+namespace sodaevo::bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+struct RunResult {
+  std::vector<std::vector<double>> positions; ///< per checkpoint: x0 y0 x1 y1 ... of the free masses
+  double seconds = 0.0;
+  bool diverged = false;
+};
+
+/// Runs from the initial state to each checkpoint frame (ascending) and records
+/// the free masses' positions there.
+RunResult run_with_checkpoints(const soda::Model& model, const soda::Stepping& stepping,
+                               const std::vector<long long>& checkpoints) {
+  RunResult r;
+  soda::State s = soda::make_state(model);
+  soda::FrameStepper stepper(model, stepping);
+  long long done = 0;
+  const auto t0 = Clock::now();
+  for (long long frame : checkpoints) {
+    stepper.run(s, frame - done);
+    done = frame;
+    std::vector<double> p;
+    p.reserve(2 * static_cast<std::size_t>(model.mass_count));
+    for (int i = 0; i < model.mass_count; ++i) {
+      p.push_back(s.x[i]);
+      p.push_back(s.y[i]);
+    }
+    r.positions.push_back(std::move(p));
+  }
+  r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  r.diverged = soda::first_non_finite(model, s).has_value();
+  return r;
+}
+
+double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double worst = 0.0;
+  for (std::size_t i = 0; i < a.size() && i < b.size(); ++i) {
+    const double d = std::fabs(a[i] - b[i]);
+    worst = std::isnan(d) ? std::numeric_limits<double>::infinity() : std::max(worst, d);
+  }
+  return worst;
+}
+
+double centroid_x(const std::vector<double>& p) {
+  double sx = 0.0;
+  for (std::size_t i = 0; i < p.size(); i += 2) sx += p[i];
+  return p.empty() ? 0.0 : sx / static_cast<double>(p.size() / 2);
+}
+
+double relative_error(double value, double reference) {
+  return std::fabs(value - reference) / std::max(std::fabs(reference), 1.0);
+}
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const std::size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+void say(const AccuracyOptions& o, const std::string& line) {
+  if (o.progress) o.progress(line);
+}
+
+RunConfig classic_config(const AccuracyOptions& o) {
+  RunConfig c;
+  c.world.evolve = world_parameter_names(); // keep each classic's own world
+  c.fitness.scaling = FitnessScaling::None;
+  c.fitness.frames = o.classic_frames;
+  c.fitness.settle_frames = o.settle_frames;
+  c.limits.max_masses = 10000;
+  c.limits.max_links = 100000;
+  return c;
+}
+
+void analytic_section(const AccuracyOptions& o, const std::vector<soda::Stepping>& settings, AccuracyReport& out) {
+  const std::vector<long long> times = {10, 20, 40};
+  for (const AnalyticScene& scene : analytic_scenes()) {
+    say(o, "analytic: " + scene.name);
+    const soda::Model model = soda::build_model(scene.def);
+    std::vector<std::vector<double>> truth;
+    if (scene.exact) {
+      for (long long t : times) truth.push_back(scene.exact(static_cast<double>(t)));
+    } else {
+      truth = run_with_checkpoints(model, {soda::PhysicsMode::Continuous, soda::Integrator::Rk4, 1024}, times).positions;
+    }
+    for (const soda::Stepping& st : settings) {
+      // Tiny scenes: repeat until the timing is measurable.
+      RunResult r;
+      double seconds = 0.0;
+      long long frames = 0;
+      do {
+        r = run_with_checkpoints(model, st, times);
+        seconds += r.seconds;
+        frames += times.back();
+      } while (seconds < (o.quick ? 0.002 : 0.02));
+      AccuracyRow row;
+      row.section = "analytic";
+      row.scene = scene.name;
+      row.stepping = st;
+      row.seconds_per_frame = seconds / static_cast<double>(frames);
+      for (std::size_t k = 0; k < times.size(); ++k) {
+        row.position_error = std::max(row.position_error, max_abs_difference(r.positions[k], truth[k]));
+      }
+      row.diverged = r.diverged ? 1 : 0;
+      out.rows.push_back(row);
+    }
+  }
+}
+
+void classic_section(const AccuracyOptions& o, const std::vector<soda::Stepping>& settings, AccuracyReport& out) {
+  const RunConfig config = classic_config(o);
+  const long long settle = o.settle_frames, end = o.settle_frames + o.classic_frames;
+  const long long early = std::min<long long>(100, end);
+  std::vector<long long> checkpoints = {early, settle, end};
+  std::sort(checkpoints.begin(), checkpoints.end());
+  checkpoints.erase(std::unique(checkpoints.begin(), checkpoints.end()), checkpoints.end());
+  auto index_of = [&](long long f) {
+    return static_cast<std::size_t>(std::find(checkpoints.begin(), checkpoints.end(), f) - checkpoints.begin());
+  };
+  for (const auto& [name, path] : o.classics) {
+    say(o, "classic: " + name);
+    const soda::ModelDef creature = creature_from_seed(soda::read_model_file(path).def, config);
+    const soda::Model model = soda::build_model(prepare_for_evaluation(creature, config.fitness, config.world));
+    auto distance_of = [&](const RunResult& r) {
+      return centroid_x(r.positions[index_of(end)]) - centroid_x(r.positions[index_of(settle)]);
+    };
+    const soda::Stepping reference{soda::PhysicsMode::Continuous, soda::Integrator::Rk4, o.reference_substeps};
+    const RunResult ref = run_with_checkpoints(model, reference, checkpoints);
+    const RunResult half_ref = run_with_checkpoints(
+        model, {soda::PhysicsMode::Continuous, soda::Integrator::Rk4, o.reference_substeps / 2}, checkpoints);
+    const double ref_distance = distance_of(ref);
+    if (std::fabs(ref_distance) > 50.0) out.walkers_among_classics.push_back(name);
+    out.reference_uncertainty.emplace_back(name, relative_error(distance_of(half_ref), ref_distance));
+    for (const soda::Stepping& st : settings) {
+      const RunResult r = run_with_checkpoints(model, st, checkpoints);
+      AccuracyRow row;
+      row.section = "classic";
+      row.scene = name;
+      row.stepping = st;
+      row.seconds_per_frame = r.seconds / static_cast<double>(end);
+      row.position_error = max_abs_difference(r.positions[index_of(early)], ref.positions[index_of(early)]);
+      row.distance = distance_of(r);
+      row.reference_distance = ref_distance;
+      row.distance_error = relative_error(row.distance, ref_distance);
+      row.diverged = r.diverged ? 1 : 0;
+      out.rows.push_back(row);
+    }
+  }
+}
+
+void walkers_section(const AccuracyOptions& o, const std::vector<soda::Stepping>& settings, AccuracyReport& out) {
+  RunConfig config;
+  config.fitness.frames = o.walker_frames;
+  config.fitness.settle_frames = o.settle_frames;
+  std::vector<soda::ModelDef> prepared;
+  for (std::uint64_t i = 0; static_cast<int>(prepared.size()) < o.walkers && i < 100ull * o.walkers; ++i) {
+    Rng rng = Rng::stream(o.seed, i, 0, 0xacc);
+    try {
+      prepared.push_back(prepare_for_evaluation(random_creature(config, rng), config.fitness, config.world));
+    } catch (const std::exception&) {
+      // e.g. too small to scale within gravity's range: draw another
+    }
+  }
+  say(o, "walkers: " + std::to_string(prepared.size()) + " random creatures, reference");
+  auto distances = [&](const soda::Stepping& st, double& seconds, int& diverged) {
+    std::vector<double> d;
+    seconds = 0.0;
+    diverged = 0;
+    for (const soda::ModelDef& p : prepared) {
+      const auto t0 = Clock::now();
+      const Evaluation e = evaluate_prepared_with(p, config.fitness, st);
+      seconds += std::chrono::duration<double>(Clock::now() - t0).count();
+      if (!e.ok()) ++diverged;
+      d.push_back(e.ok() ? e.distance : -std::numeric_limits<double>::max());
+    }
+    return d;
+  };
+  double ref_seconds = 0.0;
+  int ref_diverged = 0;
+  const std::vector<double> ref =
+      distances({soda::PhysicsMode::Continuous, soda::Integrator::Rk4, o.reference_substeps}, ref_seconds, ref_diverged);
+  const double frames = static_cast<double>(prepared.size()) * static_cast<double>(o.walker_frames + o.settle_frames);
+  for (const soda::Stepping& st : settings) {
+    say(o, "walkers: " + soda::stepping_label(st));
+    AccuracyRow row;
+    row.section = "walkers";
+    row.scene = std::to_string(prepared.size()) + " random walkers";
+    row.stepping = st;
+    double seconds = 0.0;
+    const std::vector<double> d = distances(st, seconds, row.diverged);
+    row.seconds_per_frame = seconds / frames;
+    row.kendall_tau = kendall_tau(d, ref);
+    std::vector<double> errors;
+    for (std::size_t i = 0; i < d.size(); ++i) errors.push_back(relative_error(d[i], ref[i]));
+    row.distance_error = median(errors);
+    out.rows.push_back(row);
+  }
+}
+
+} // namespace
+
+std::vector<soda::Stepping> swept_settings(int max_substeps) {
+  std::vector<soda::Stepping> s = {soda::Stepping{}};
+  for (soda::Integrator in : {soda::Integrator::Euler, soda::Integrator::Verlet, soda::Integrator::Rk4}) {
+    for (int k = 1; k <= max_substeps; k *= 2) s.push_back({soda::PhysicsMode::Continuous, in, k});
+  }
+  return s;
+}
+
+double kendall_tau(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) throw std::invalid_argument("kendall_tau: samples of different lengths");
+  long long concordant = 0, discordant = 0, ties_a = 0, ties_b = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    for (std::size_t j = i + 1; j < a.size(); ++j) {
+      const double da = a[i] - a[j];
+      const double db = b[i] - b[j];
+      if (da == 0.0 && db == 0.0) continue;
+      if (da == 0.0) ++ties_a;
+      else if (db == 0.0) ++ties_b;
+      else if ((da > 0.0) == (db > 0.0)) ++concordant;
+      else ++discordant;
+    }
+  }
+  const double n1 = static_cast<double>(concordant + discordant + ties_a);
+  const double n2 = static_cast<double>(concordant + discordant + ties_b);
+  if (n1 == 0.0 || n2 == 0.0) return 0.0;
+  return static_cast<double>(concordant - discordant) / std::sqrt(n1 * n2);
+}
+
+AccuracyReport run_accuracy_bench(const AccuracyOptions& options) {
+  AccuracyOptions o = options;
+  if (o.quick) {
+    o.walkers = std::min(o.walkers, 20);
+    o.walker_frames = std::min<long long>(o.walker_frames, 200);
+    o.classic_frames = std::min<long long>(o.classic_frames, 300);
+    o.settle_frames = std::min<long long>(o.settle_frames, 50);
+    o.max_substeps = std::min(o.max_substeps, 8);
+    o.reference_substeps = std::min(o.reference_substeps, 32);
+  }
+  const std::vector<soda::Stepping> settings = swept_settings(o.max_substeps);
+  AccuracyReport report;
+  analytic_section(o, settings, report);
+  classic_section(o, settings, report);
+  walkers_section(o, settings, report);
+  return report;
+}
+
+} // namespace sodaevo::bench

@@ -1,0 +1,198 @@
+// The GA's view of accuracy: the config selects mode, integrator and sub-steps;
+// the fitness is the same bit for bit with continuous Euler at one step per frame;
+// the honesty check flags creatures whose walk depends on the step; the command
+// line exposes the same and never prints or writes a non-finite number.
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/input_error.hpp"
+#include "core/model_file.hpp"
+#include "evolve/fitness.hpp"
+#include "evolve/honesty.hpp"
+#include "evolve/run_config.hpp"
+#include "evolve/variation.hpp"
+#include "test_support.hpp"
+
+using namespace sodaevo;
+namespace fs = std::filesystem;
+
+namespace {
+
+RunConfig config_with(const std::string& fitness_json) {
+  return parse_run_config(R"({"population": {"random_fraction": 1}, "fitness": )" + fitness_json + "}", "t.json",
+                          "/nowhere");
+}
+
+soda::ModelDef prepared_dainty_walker(const RunConfig& config) {
+  const soda::ModelDef seed = soda::read_model_file(std::string(SODAEVO_MODELS_DIR) + "/dainty_walker.xml").def;
+  return prepare_for_evaluation(creature_from_seed(seed, config), config.fitness, config.world);
+}
+
+struct CommandResult {
+  int exit_code = -1;
+  std::string output;
+};
+
+CommandResult run_sodaevo(const std::string& args) {
+  const std::string command = std::string(SODAEVO_BINARY) + " " + args + " 2>&1";
+  CommandResult r;
+  FILE* pipe = popen(command.c_str(), "r");
+  REQUIRE(pipe != nullptr);
+  std::array<char, 4096> buf{};
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+} // namespace
+
+TEST_CASE("config: mode, integrator, sub-steps, divergence and honesty keys", "[honesty][config]") {
+  const RunConfig c = config_with(
+      R"({"mode": "continuous", "integrator": "rk4", "substeps": 8, "divergence": "energy",
+          "honesty": {"max_change": 0.05, "substeps_factor": 2}})");
+  CHECK(c.fitness.mode == soda::PhysicsMode::Continuous);
+  CHECK(c.fitness.integrator == soda::Integrator::Rk4);
+  CHECK(c.fitness.substeps == 8);
+  CHECK(c.fitness.divergence == DivergenceCheck::Energy);
+  CHECK(c.fitness.honesty_max_change == 0.05);
+  CHECK(c.fitness.honesty_substeps_factor == 2);
+  const nlohmann::json j = to_json(c);
+  CHECK(j["fitness"]["integrator"] == "rk4");
+  CHECK(parse_run_config(j.dump(), "resolved", "/nowhere") == c);
+
+  try {
+    config_with(R"({"integrator": "leapfrog", "substeps": 0})");
+    FAIL("accepted a bad integrator");
+  } catch (const soda::InputError& e) {
+    const std::string what = e.what();
+    CHECK(what.find("/fitness/integrator") != std::string::npos);
+    CHECK(what.find("leapfrog") != std::string::npos);
+    CHECK(what.find("/fitness/substeps") != std::string::npos);
+  }
+}
+
+TEST_CASE("fitness: continuous Euler at one step per frame scores exactly as soda", "[honesty]") {
+  const RunConfig soda_config = config_with(R"({"frames": 1500, "settle_frames": 100})");
+  const RunConfig cont_config =
+      config_with(R"({"frames": 1500, "settle_frames": 100, "mode": "continuous", "integrator": "euler"})");
+  const soda::ModelDef walker = prepared_dainty_walker(soda_config);
+  const Evaluation a = evaluate_prepared(walker, soda_config.fitness);
+  const Evaluation b = evaluate_prepared(walker, cont_config.fitness);
+  REQUIRE(a.ok());
+  REQUIRE(b.ok());
+  CHECK(std::memcmp(&a.fitness, &b.fitness, sizeof(double)) == 0);
+  // ... and a different setting scores differently (the setting is really used).
+  const RunConfig rk4 = config_with(R"({"frames": 1500, "settle_frames": 100, "mode": "continuous",
+                                        "integrator": "rk4", "substeps": 4})");
+  const Evaluation c = evaluate_prepared(walker, rk4.fitness);
+  REQUIRE(c.ok());
+  CHECK(c.fitness != a.fitness);
+}
+
+TEST_CASE("honesty: refined stepping and relative change", "[honesty]") {
+  CHECK(refined_stepping({}, 4) == soda::Stepping{soda::PhysicsMode::Continuous, soda::Integrator::Euler, 4});
+  CHECK(refined_stepping({soda::PhysicsMode::Continuous, soda::Integrator::Rk4, 8}, 4) ==
+        soda::Stepping{soda::PhysicsMode::Continuous, soda::Integrator::Rk4, 32});
+  CHECK(refined_stepping({soda::PhysicsMode::Continuous, soda::Integrator::Verlet, 4000}, 4).substeps ==
+        soda::kMaxSubsteps);
+  CHECK(relative_change(100.0, 50.0) == -1.0);  // walks half as far when refined: -100 % of the refined
+  CHECK(relative_change(100.0, 125.0) == 0.2);
+  CHECK(relative_change(0.5, 0.0) == -0.5);     // below 1 px the denominator is 1 px
+}
+
+TEST_CASE("honesty: the GA flags a creature whose distance changes more than allowed", "[honesty]") {
+  const RunConfig strict = config_with(R"({"frames": 1000, "settle_frames": 100, "honesty": {"max_change": 1e-9}})");
+  const RunConfig lax = config_with(R"({"frames": 1000, "settle_frames": 100, "honesty": {"max_change": 1e6}})");
+  const soda::ModelDef walker = prepared_dainty_walker(strict);
+  const Evaluation flagged = evaluate_prepared(walker, strict.fitness);
+  CHECK(flagged.status == EvaluationStatus::Diverged);
+  CHECK(flagged.reason.find("dishonest") == 0);
+  CHECK(flagged.reason.find("euler/4") != std::string::npos);
+  const Evaluation ok = evaluate_prepared(walker, lax.fitness);
+  REQUIRE(ok.ok());
+  CHECK(ok.honesty_change != 0.0);
+  CHECK(std::isfinite(ok.honesty_change));
+}
+
+TEST_CASE("cli: simulate in the continuous mode, with the honesty check", "[honesty][cli]") {
+  const std::string model = std::string(SODAEVO_MODELS_DIR) + "/dainty_walker.xml";
+  const CommandResult r =
+      run_sodaevo("simulate " + model + " --frames 500 --mode continuous --integrator verlet --substeps 4 --honesty --json");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.output);
+  CHECK(j["stepping"] == "verlet/4");
+  CHECK(j["honesty_stepping"] == "verlet/16");
+  CHECK(j["diverged"] == false);
+  CHECK(j["honesty_relative_change"].is_number());
+
+  const CommandResult bad = run_sodaevo("simulate " + model + " --substeps 4");
+  CHECK(bad.exit_code != 0);
+  CHECK(bad.output.find("--mode continuous") != std::string::npos);
+  const CommandResult bad_integrator = run_sodaevo("simulate " + model + " --mode continuous --integrator leapfrog");
+  CHECK(bad_integrator.exit_code != 0);
+  CHECK(bad_integrator.output.find("leapfrog") != std::string::npos);
+}
+
+TEST_CASE("cli: a diverging model stops at the last healthy frame; no NaN in output, trace or saved model",
+          "[honesty][cli]") {
+  // Rest length 1.7e308 on a link 1e-9 px long: NaN velocity after frame 1.
+  const fs::path dir = fs::temp_directory_path() / ("sodaevo_honesty_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const fs::path model = dir / "overflow.xml";
+  {
+    std::ofstream out(model);
+    out << R"(<?xml version="1.0" encoding="ISO-8859-1" standalone="no"?>
+<!DOCTYPE sodaconstructor>
+<model>
+	<container width="1000" height="1000"/>
+	<environment gravity="0.0" friction="0.0" springyness="0.5"/>
+	<collisions surface_friction="0.1" surface_reflection="-0.75"/>
+	<wave amplitude="0.5" phase="0.0" speed="0.01"/>
+	<settings gravitydirection="down" wavedirection="forward" autoreverse="off"/>
+	<nodes>
+		<mass id="m0" x="500.0" y="500.0" vx="0.0" vy="0.0"/>
+		<mass id="m1" x="500.0" y="500.000000001" vx="0.0" vy="0.0"/>
+	</nodes>
+	<links>
+		<spring a="m0" b="m1" restlength="1.7E308"/>
+	</links>
+</model>
+)";
+  }
+  for (const std::string& extra : {std::string(), " --trace " + (dir / "t.csv").string() + " --out " + (dir / "final.xml").string()}) {
+    const CommandResult r = run_sodaevo("simulate " + model.string() + " --frames 50 --json" + extra);
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    const auto j = nlohmann::json::parse(r.output);
+    CHECK(j["diverged"] == true);
+    CHECK(j["diverged_frame"] == 1);
+    CHECK(j["frames"] == 0);
+    CHECK(r.output.find("nan") == std::string::npos);
+    CHECK(r.output.find("inf") == std::string::npos);
+  }
+  std::ifstream trace(dir / "t.csv");
+  std::stringstream text;
+  text << trace.rdbuf();
+  CHECK(text.str().find("nan") == std::string::npos);
+  CHECK(text.str().find("inf") == std::string::npos);
+  std::ifstream saved(dir / "final.xml");
+  std::stringstream xml;
+  xml << saved.rdbuf();
+  CHECK(xml.str().find("NaN") == std::string::npos);
+  CHECK(xml.str().find("inf") == std::string::npos);
+  CHECK(xml.str().find("Inf") == std::string::npos);
+  fs::remove_all(dir);
+}
