@@ -142,8 +142,12 @@ void ContinuousStepper::finish_mass(State& s, int i, double x0, double y0, doubl
     s.vy[i] = vy;
     return;
   }
+  const bool crossed_floor_or_ceiling = y < 0.0 || y > m.height;
+  const bool crossed_side_wall = x < 0.0 || x > m.width;
   const SideWall hit =
       rules::collide_with_container(x, y, vx, vy, m.width, m.height, surface_keep_, m.surface_reflection);
+  rules::friction_while_touching(y0 <= 0.0 || y0 >= m.height, x0 <= 0.0 || x0 >= m.width, crossed_floor_or_ceiling,
+                                 crossed_side_wall, vx, vy, surface_keep_);
   rules::autoreverse_on_wall_hit(hit, m.autoreverse, s.wave_mode, s.last_side_wall);
   s.x[i] = x;
   s.y[i] = y;

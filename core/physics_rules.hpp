@@ -102,6 +102,22 @@ inline SideWall collide_with_container(double& x, double& y, double& vx, double&
   return side;
 }
 
+/// Continuous mode, Verlet and RK4 only (not in the original): surface friction is
+/// a rate, Fs per frame of contact, so it must act in every step a mass spends on a
+/// surface. Under one-kick Euler a resting mass crosses the floor every step (the
+/// full gravity kick beats the reflected velocity), but a split-kick integrator
+/// lets it leave the floor by a hair every other step (the reflected 0.75*g*dt
+/// outweighs half a kick), and the crossing test alone would then apply the
+/// friction only half the time (a sliding mass would slide twice as far). So a mass
+/// that starts the step on the floor or ceiling (side wall) and does not cross it
+/// also keeps only `keep` = Fs^dt of its tangential velocity.
+inline void friction_while_touching(bool started_on_floor_or_ceiling, bool started_on_side_wall,
+                                    bool crossed_floor_or_ceiling, bool crossed_side_wall, double& vx, double& vy,
+                                    double keep) {
+  if (started_on_floor_or_ceiling && !crossed_floor_or_ceiling) vx = vx * keep;
+  if (started_on_side_wall && !crossed_side_wall && !crossed_floor_or_ceiling) vy = vy * keep;
+}
+
 /// Autoreverse (spec 5.3 step 5): hitting a side wall other than the last one hit
 /// records it and toggles the wave direction; repeated hits of the same wall do
 /// nothing. Only when autoreverse is on and the wave is not manual.
