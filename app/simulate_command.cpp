@@ -134,7 +134,9 @@ soda::Stepping stepping_of(const SimulateOptions& opt) {
 template <class PerFrame>
 soda::Divergence run_watched(const soda::Model& model, soda::State& state, long long frames,
                              const soda::Stepping& stepping, bool energy, PerFrame&& per_frame) {
-  soda::FrameStepper stepper(model, stepping);
+  // The budget counts from the model's initial state (the FastStepper's scene
+  // analysis asks how far masses can get), and `state` may be mid-run.
+  soda::FrameStepper stepper(model, stepping, state.frame + frames);
   soda::DivergenceMonitor monitor(model, state, {}, energy);
   soda::State next = state;
   for (long long f = 0; f < frames; ++f) {
@@ -173,7 +175,7 @@ void run_simulate(const SimulateOptions& opt) {
   } else {
     // Fast path: step in blocks, checking for non-finite values between blocks;
     // on a hit, replay the block frame by frame to stop at the last healthy state.
-    soda::FrameStepper stepper(model, stepping);
+    soda::FrameStepper stepper(model, stepping, opt.frames);
     constexpr long long kBlock = 1024;
     for (long long done = 0; done < opt.frames && !divergence.diverged;) {
       const long long n = std::min(kBlock, opt.frames - done);

@@ -18,7 +18,11 @@
 //   tau-b against the reference, and the median relative distance error. Most
 //   random creatures tumble chaotically, so the reference at half its sub-steps is
 //   ranked too: its tau is the best any setting can be expected to reach.
-// Run time is wall time of the runs on one thread, per simulated frame.
+// Run time is wall time per simulated frame on one thread (analytic scenes and
+// classics: the fastest of 3 identical runs, as the machine may be shared); soda runs
+// the plain reference step (a scalar loop like the continuous stepper), so the
+// timings compare methods; the SIMD FastStepper makes soda several times faster
+// still (results/bench/speed.md).
 #pragma once
 
 #include <functional>
@@ -39,6 +43,7 @@ struct AccuracyOptions {
   int max_substeps = 64;        ///< substeps 1, 2, 4, ... up to this
   int reference_substeps = 256; ///< RK4 reference for classics and walkers
   std::uint64_t seed = 1;
+  int timing_runs = 3; ///< analytic scenes and classics: run time = fastest of this many runs
   std::function<void(const std::string&)> progress;
 };
 
@@ -53,6 +58,7 @@ struct AccuracyRow {
   double distance_error = 0.0;   ///< classic: |distance - reference| / max(|reference|, 1 px); walkers: median of that
   double kendall_tau = 0.0;      ///< walkers only: ranking by distance after all scored frames
   double kendall_tau_short = 0.0; ///< walkers only: ranking by distance after 100 scored frames
+  double kendall_tau_movers = 0.0; ///< walkers only: all frames, only walkers whose reference moves >= 0.1 px/frame
   int diverged = 0;              ///< runs flagged diverged
 };
 
@@ -66,6 +72,8 @@ struct AccuracyReport {
   /// the best agreement any setting can show (chaos makes it well below 1).
   double walkers_noise_floor_tau = 0.0;
   double walkers_noise_floor_tau_short = 0.0;
+  double walkers_noise_floor_tau_movers = 0.0;
+  int walkers_movers = 0; ///< walkers whose reference moves at least 0.1 px/frame
 };
 
 AccuracyReport run_accuracy_bench(const AccuracyOptions& options);

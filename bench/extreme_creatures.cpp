@@ -127,7 +127,7 @@ CreatureResult stress_one(const soda::ModelDef& def, const soda::Stepping& stepp
     return {CreatureResult::Kind::Escape, std::string("build_model rejected a legal creature: ") + e.what(), 0};
   }
   soda::State state = soda::make_state(model);
-  soda::FrameStepper stepper(model, stepping);
+  soda::FrameStepper stepper(model, stepping, frames);
   soda::DivergenceMonitor monitor(model, state, {}, energy);
   for (long long f = 0; f < frames; ++f) {
     stepper.step(state);

@@ -1,6 +1,7 @@
 #include "stepping.hpp"
 
 #include "continuous_step.hpp"
+#include "fast_step.hpp"
 #include "input_error.hpp"
 #include "step.hpp"
 
@@ -51,10 +52,13 @@ void validate_stepping(const Stepping& s) {
   }
 }
 
-FrameStepper::FrameStepper(const Model& model, const Stepping& stepping) : model_(model) {
+FrameStepper::FrameStepper(const Model& model, const Stepping& stepping, long long frame_budget, bool reference_step)
+    : model_(model) {
   validate_stepping(stepping);
   if (stepping.mode == PhysicsMode::Continuous) {
     continuous_ = std::make_unique<ContinuousStepper>(model, ContinuousSettings{stepping.integrator, stepping.substeps});
+  } else if (!reference_step) {
+    fast_ = std::make_unique<FastStepper>(model, frame_budget);
   }
 }
 
@@ -63,20 +67,18 @@ FrameStepper::FrameStepper(FrameStepper&&) noexcept = default;
 
 void FrameStepper::step(State& state) {
   if (continuous_) continuous_->step(state);
+  else if (fast_) fast_->step(state);
   else soda::step(model_, state);
 }
 
 void FrameStepper::run(State& state, long long frames) {
   if (continuous_) continuous_->run(state, frames);
+  else if (fast_) fast_->run(state, frames);
   else soda::run(model_, state, frames);
 }
 
 void run_frames(const Model& model, State& state, long long frames, const Stepping& stepping) {
-  if (stepping.mode == PhysicsMode::Soda) {
-    run(model, state, frames);
-    return;
-  }
-  FrameStepper(model, stepping).run(state, frames);
+  FrameStepper(model, stepping, frames).run(state, frames);
 }
 
 } // namespace soda

@@ -48,13 +48,19 @@ std::string stepping_label(const Stepping& stepping);
 void validate_stepping(const Stepping& stepping);
 
 class ContinuousStepper;
+class FastStepper;
 
 /// Steps a model frame by frame in the chosen mode (holds the continuous
 /// stepper's scratch space, so make one per run, not one per frame).
 class FrameStepper {
 public:
   /// Throws InputError for a bad setting. `model` must outlive the stepper.
-  FrameStepper(const Model& model, const Stepping& stepping);
+  /// `frame_budget`: frames the caller means to run (the soda mode's FastStepper
+  /// analyses the scene for them; running more is still exact). Soda mode runs the
+  /// FastStepper, or the plain reference step (step.hpp) if `reference_step`; both
+  /// give the same bits.
+  FrameStepper(const Model& model, const Stepping& stepping, long long frame_budget = 0,
+               bool reference_step = false);
   ~FrameStepper();
   FrameStepper(FrameStepper&&) noexcept;
   FrameStepper& operator=(FrameStepper&&) = delete;
@@ -66,11 +72,12 @@ public:
 
 private:
   const Model& model_;
-  std::unique_ptr<ContinuousStepper> continuous_; ///< null in soda mode
+  std::unique_ptr<ContinuousStepper> continuous_; ///< continuous mode
+  std::unique_ptr<FastStepper> fast_;             ///< soda mode, unless the reference step is asked for
 };
 
-/// Advances `state` by `frames` frames with the chosen mode. `soda` is step.hpp's
-/// run(); `continuous` builds a ContinuousStepper for the call.
+/// Advances `state` by `frames` frames with the chosen mode. `soda` is the
+/// FastStepper (same bits as run()); `continuous` builds a ContinuousStepper.
 void run_frames(const Model& model, State& state, long long frames, const Stepping& stepping);
 
 } // namespace soda

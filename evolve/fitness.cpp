@@ -229,7 +229,7 @@ Evaluation evaluate_prepared_with(const soda::ModelDef& prepared, const FitnessC
   // The fast stepper equals the reference step bit for bit (tests/test_fast_step.cpp),
   // so fitness does not depend on which one runs.
   soda::State state = soda::make_state(model);
-  soda::FrameStepper stepper(model, stepping);
+  soda::FrameStepper stepper(model, stepping, fitness.settle_frames + fitness.frames);
   const bool energy = fitness.divergence == DivergenceCheck::Energy;
   soda::DivergenceMonitor monitor(model, state, {}, energy);
   const long long total = fitness.settle_frames + fitness.frames;
