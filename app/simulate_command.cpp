@@ -133,10 +133,10 @@ soda::Stepping stepping_of(const SimulateOptions& opt) {
 /// reported or written). `per_frame` is called with every healthy state.
 template <class PerFrame>
 soda::Divergence run_watched(const soda::Model& model, soda::State& state, long long frames,
-                             const soda::Stepping& stepping, bool energy, PerFrame&& per_frame) {
+                             const soda::Stepping& stepping, bool energy, bool reference_step, PerFrame&& per_frame) {
   // The budget counts from the model's initial state (the FastStepper's scene
   // analysis asks how far masses can get), and `state` may be mid-run.
-  soda::FrameStepper stepper(model, stepping, state.frame + frames);
+  soda::FrameStepper stepper(model, stepping, state.frame + frames, reference_step);
   soda::DivergenceMonitor monitor(model, state, {}, energy);
   soda::State next = state;
   for (long long f = 0; f < frames; ++f) {
@@ -169,13 +169,14 @@ void run_simulate(const SimulateOptions& opt) {
   const auto t0 = std::chrono::steady_clock::now();
   soda::Divergence divergence;
   if (trace || opt.energy_check) {
-    divergence = run_watched(model, state, opt.frames, stepping, opt.energy_check, [&](const soda::State& now) {
+    divergence = run_watched(model, state, opt.frames, stepping, opt.energy_check, opt.reference,
+                             [&](const soda::State& now) {
       if (trace) trace->write_row(now);
     });
   } else {
     // Fast path: step in blocks, checking for non-finite values between blocks;
     // on a hit, replay the block frame by frame to stop at the last healthy state.
-    soda::FrameStepper stepper(model, stepping, opt.frames);
+    soda::FrameStepper stepper(model, stepping, opt.frames, opt.reference);
     constexpr long long kBlock = 1024;
     for (long long done = 0; done < opt.frames && !divergence.diverged;) {
       const long long n = std::min(kBlock, opt.frames - done);
@@ -183,7 +184,7 @@ void run_simulate(const SimulateOptions& opt) {
       stepper.run(state, n);
       if (soda::first_non_finite(model, state)) {
         state = block_start;
-        divergence = run_watched(model, state, n, stepping, false, [](const soda::State&) {});
+        divergence = run_watched(model, state, n, stepping, false, opt.reference, [](const soda::State&) {});
       }
       done += n;
     }
@@ -206,7 +207,7 @@ void run_simulate(const SimulateOptions& opt) {
     s.honesty = true;
     s.honesty_stepping = soda::stepping_label(refined);
     s.honesty_divergence = run_watched(model, again, divergence.diverged ? divergence.frame - 1 : opt.frames, refined,
-                                       opt.energy_check, [](const soda::State&) {});
+                                       opt.energy_check, opt.reference, [](const soda::State&) {});
     s.honesty_centroid_dx = soda::mass_centroid(model, again).x - start.x;
     s.honesty_change = sodaevo::relative_change(end.x - start.x, s.honesty_centroid_dx);
   }
@@ -242,8 +243,8 @@ void add_simulate_command(CLI::App& app) {
                   "frame,wave_phase,wave_mode,x0,y0,vx0,vy0,x1,... for the free masses in file order");
   cmd->add_option("--out", opt->out, "Write the final state as canonical SodaConstructor v1 XML");
   cmd->add_flag("--reference", opt->reference,
-                "Use the plain reference step instead of the fast stepper (both give the same\n"
-                "bits; the reference is the readable one, for checking)");
+                "Soda mode: use the plain reference step instead of the fast stepper (both give the\n"
+                "same bits; the reference is the readable one, for checking)");
   cmd->add_option("--mode", opt->mode,
                   "Physics mode: soda = one update per frame exactly as the original (default);\n"
                   "continuous = the same model as an ODE stepped with dt = 1/substeps frame")
