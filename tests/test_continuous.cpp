@@ -192,3 +192,36 @@ TEST_CASE("continuous stepper rejects a bad sub-step count", "[continuous]") {
   CHECK_FALSE(soda::parse_integrator("leapfrog").has_value());
   CHECK(soda::parse_mode("continuous") == soda::PhysicsMode::Continuous);
 }
+
+TEST_CASE("a block sliding on the sticky floor stops where the continuous model's closed form says",
+          "[continuous]") {
+  // One mass on the floor, vx0 = 10 px/frame, gravity keeping it there. In the
+  // continuous model air friction is the drag lambda_a = -ln(1 - f) and surface
+  // friction on a resting mass the drag lambda_s = -ln(Fs) per frame of contact, so
+  // vx decays as e^(-(lambda_a + lambda_s) t) and the block slides
+  // vx0 / (lambda_a + lambda_s) px. Every integrator must approach it at first
+  // order (contact is a first-order event); a split-kick integrator that felt the
+  // floor only every other step would slide about twice as far.
+  const double f = 0.03, fs = 0.1, vx0 = 10.0;
+  soda::ModelDef def;
+  def.width = 100000;
+  def.height = 100000;
+  def.environment = {0.38, f, 0.2};
+  def.collisions = {fs, -0.75};
+  def.settings.autoreverse = false;
+  def.nodes.push_back({"m", false, 500.0, 0.0, vx0, 0.0});
+  const soda::Model model = soda::build_model(def);
+  const double exact = vx0 / (-std::log1p(-f) - std::log(fs));
+  for (soda::Integrator integrator : {soda::Integrator::Euler, soda::Integrator::Verlet, soda::Integrator::Rk4}) {
+    double errors[2] = {};
+    int k = 0;
+    for (int substeps : {64, 256}) {
+      soda::State s = soda::make_state(model);
+      soda::ContinuousStepper(model, {integrator, substeps}).run(s, 200);
+      errors[k++] = std::fabs((s.x[0] - 500.0) - exact);
+    }
+    INFO(soda::integrator_name(integrator) << ": errors " << errors[0] << ", " << errors[1] << " px of " << exact);
+    CHECK(errors[1] < 0.01 * exact);
+    CHECK(errors[0] / errors[1] == Approx(4.0).margin(1.0)); // first order: 4x the steps, a quarter of the error
+  }
+}
