@@ -10,6 +10,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "app/fixed_text.hpp"
 #include "app/svg_chart.hpp"
 #include "bench/speed_bench.hpp"
 #include "core/batch_step.hpp"
@@ -28,12 +29,6 @@ struct BenchSpeedOptions {
   std::string models = "models";
   int threads = 0;
 };
-
-std::string fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
 
 std::string sci(double v) {
   char buf[64];

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "app/fixed_text.hpp"
 #include "app/svg_chart.hpp"
 #include "bench/evolve_bench.hpp"
 #include "core/atomic_file.hpp"
@@ -37,12 +38,6 @@ struct BenchEvolveOptions {
   bool skip_full_run = false;
   std::string out = "results/bench";
 };
-
-std::string fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
 
 struct FullRun {
   bool done = false;
