@@ -9,6 +9,7 @@
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "evolve/fitness.hpp"
+#include "evolve/batch_evaluation.hpp"
 #include "evolve/parallel_for.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_reader.hpp"
@@ -33,9 +34,9 @@ int run_replay(const ReplayOptions& opt) {
     generation = saved.back();
   }
   const Generation g = read_saved_generation(run, generation);
-  std::vector<Evaluation> replayed(g.individuals.size());
-  parallel_for_index(g.individuals.size(), resolve_thread_count(opt.threads),
-                     [&](std::size_t i) { replayed[i] = evaluate_creature(g.individuals[i].creature, config); });
+  std::vector<const soda::ModelDef*> creatures;
+  for (const Individual& individual : g.individuals) creatures.push_back(&individual.creature);
+  const std::vector<Evaluation> replayed = evaluate_creatures(creatures, config, resolve_thread_count(opt.threads));
   int mismatches = 0;
   for (std::size_t i = 0; i < replayed.size(); ++i) {
     const Evaluation& logged = g.individuals[i].evaluation;

@@ -13,7 +13,7 @@
 
 #include "evolve/fitness.hpp"
 #include "evolve/mpi/mpi_protocol.hpp"
-#include "evolve/parallel_for.hpp"
+#include "evolve/batch_evaluation.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/wire_format.hpp"
 
@@ -105,10 +105,10 @@ class Worker {
         creatures.push_back(r.creature());
       }
       r.expect_end();
-      evaluations.resize(creatures.size());
       inject_test_fault();
-      parallel_for_index(creatures.size(), threads_,
-                         [&](std::size_t k) { evaluations[k] = evaluate_creature(creatures[k], *config_); });
+      std::vector<const soda::ModelDef*> pointers;
+      for (const soda::ModelDef& c : creatures) pointers.push_back(&c);
+      evaluations = evaluate_creatures(pointers, *config_, threads_); // fused batches, by index
     } catch (const std::exception& e) {
       return fail(std::string("evaluation failed: ") + e.what());
     }
