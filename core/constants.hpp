@@ -61,6 +61,14 @@ inline constexpr double kWaveMaxUiSpeed = 0.1;
 /// creature (the largest known has 136 masses).
 inline constexpr long kMaxNodes = 1'000'000;
 inline constexpr long kMaxLinks = 10'000'000;
+/// Model files larger than this are refused before they are parsed: the largest
+/// known model is a few hundred kilobytes, and pugixml needs several times the
+/// file size in memory.
+inline constexpr long kMaxModelBytes = 256L << 20;
+/// Elements nested deeper than this are refused (a v1 model is 3 levels deep, a v2
+/// object graph about 8); no reader recurses, but a limit keeps every later walk
+/// over the tree cheap and its messages short.
+inline constexpr int kMaxXmlDepth = 100;
 /// Container sides are ints in the original; we require them positive.
 inline constexpr long kMaxContainerSide = 2'000'000'000;
 

@@ -7,6 +7,7 @@
 #include <cstring>
 #include <memory>
 
+#include "constants.hpp"
 #include "input_error.hpp"
 #include "xml_util.hpp"
 
@@ -14,13 +15,15 @@ namespace soda {
 
 namespace {
 
-/// Larger files are refused before they are read: the largest known model is a few
-/// hundred kilobytes, and pugixml needs several times the file size in memory.
-constexpr std::size_t kMaxFileBytes = std::size_t{256} << 20;
+constexpr std::size_t kMaxFileBytes = static_cast<std::size_t>(kMaxModelBytes);
 
 } // namespace
 
 LoadedModel read_model_text(std::string_view text, const std::string& source_name) {
+  if (text.size() > kMaxFileBytes) {
+    throw InputError(source_name + ": cannot read model: it is larger than " +
+                     std::to_string(kMaxFileBytes >> 20) + " MiB, far more than any model");
+  }
   const xml::SourceText source(text, source_name);
   pugi::xml_document doc;
   source.parse(doc);

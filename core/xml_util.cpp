@@ -220,6 +220,22 @@ void SourceText::parse(pugi::xml_document& doc) const {
   if (!result) {
     throw InputError(where(result.offset) + ": XML syntax error: " + result.description());
   }
+  // pugixml walks the tree without recursion, so this check costs no stack.
+  struct DepthCheck : pugi::xml_tree_walker {
+    pugi::xml_node too_deep;
+    bool for_each(pugi::xml_node& node) override {
+      if (node.type() != pugi::node_element || depth() < kMaxXmlDepth) return true;
+      too_deep = node;
+      return false;
+    }
+  } check;
+  doc.traverse(check);
+  if (check.too_deep) {
+    std::ptrdiff_t off = check.too_deep.offset_debug();
+    if (off > 0 && utf8_[static_cast<std::size_t>(off - 1)] == '<') --off;
+    throw InputError(where(off) + ": <" + check.too_deep.name() + ">: expected elements nested at most " +
+                     std::to_string(kMaxXmlDepth) + " levels deep (a limit of this program; a model has fewer than 10), got deeper");
+  }
 }
 
 // --- ReadContext -----------------------------------------------------------------

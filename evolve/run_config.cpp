@@ -22,6 +22,7 @@
 
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
+#include "evolve/input_limits.hpp"
 
 namespace sodaevo {
 
@@ -365,10 +366,15 @@ class ConfigReader {
 
  private:
   [[noreturn]] void throw_errors() const {
+    // Every problem is listed, up to a screenful (a generated file can have thousands).
+    constexpr std::size_t kMaxShown = 50;
     std::string all;
-    for (const std::string& e : errors_) {
+    for (std::size_t i = 0; i < errors_.size() && i < kMaxShown; ++i) {
       if (!all.empty()) all += '\n';
-      all += e;
+      all += errors_[i];
+    }
+    if (errors_.size() > kMaxShown) {
+      all += "\n" + source_ + ": " + std::to_string(errors_.size() - kMaxShown) + " more errors not shown";
     }
     throw soda::InputError(all);
   }
@@ -402,10 +408,17 @@ class ConfigReader {
         stack.back().token = std::to_string(stack.back().elements++);
       }
     };
-    const json::parser_callback_t callback = [&](int, json::parse_event_t event, json& parsed) {
+    const json::parser_callback_t callback = [&](int depth, json::parse_event_t event, json& parsed) {
       switch (event) {
         case json::parse_event_t::object_start:
         case json::parse_event_t::array_start:
+          if (depth >= kMaxJsonDepth) {
+            // Deeper than any config could be: stop before it costs stack or memory.
+            std::string p = path_of();
+            if (!stack.empty()) p += "/" + stack.back().token;
+            throw soda::InputError(source_ + ": " + show_pointer(p) + ": expected JSON nested at most " +
+                                   std::to_string(kMaxJsonDepth) + " levels deep, got deeper");
+          }
           begin_value();
           stack.push_back(Frame{event == json::parse_event_t::object_start, {}, {}, 0});
           break;
@@ -591,6 +604,10 @@ class ConfigReader {
   void read_seed_models(const json& v) {
     const std::string p = "/population/seed_models";
     if (!v.is_array()) return expected(p, "an array of model file paths", v);
+    if (v.size() > kMaxSeedModels) {
+      return error(p, "expected at most " + std::to_string(kMaxSeedModels) + " model file paths, got " +
+                          std::to_string(v.size()));
+    }
     std::vector<std::string> models;
     bool all_ok = true;
     for (std::size_t i = 0; i < v.size(); ++i) {
@@ -743,6 +760,10 @@ std::string gravity_direction_name(soda::GravityDirection d) { return enum_name(
 
 RunConfig parse_run_config(const std::string& json_text, const std::string& source,
                            const std::filesystem::path& base_dir) {
+  if (json_text.size() > kMaxConfigBytes) {
+    throw soda::InputError(source + ": expected a config of at most " + std::to_string(kMaxConfigBytes >> 10) +
+                           " KiB (a config is a few), got " + std::to_string(json_text.size() >> 10) + " KiB");
+  }
   return ConfigReader(source, base_dir).read(json_text);
 }
 
@@ -751,6 +772,12 @@ RunConfig read_run_config(const std::filesystem::path& path) {
   std::error_code ec;
   if (fs::is_directory(path, ec)) {
     throw soda::InputError(source + ": cannot read the config file: it is a folder");
+  }
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (!ec && size > kMaxConfigBytes) {
+    throw soda::InputError(source + ": cannot read the config file: expected at most " +
+                           std::to_string(kMaxConfigBytes >> 10) + " KiB (a config is a few), got " +
+                           std::to_string(size >> 10) + " KiB");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) {

@@ -1,10 +1,13 @@
 #include "run_store.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <ctime>
 #include <fstream>
+#include <set>
 #include <sstream>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 #include <pugixml.hpp>
@@ -14,6 +17,7 @@
 #include "core/model_file.hpp"
 #include "core/number_text.hpp"
 #include "evolve/fitness.hpp"
+#include "evolve/input_limits.hpp"
 
 namespace sodaevo {
 
@@ -132,16 +136,37 @@ std::string generation_to_xml(const Generation& g) {
 Generation generation_from_xml(const std::string& text, const std::string& source) {
   pugi::xml_document doc;
   const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size());
-  if (!parsed) throw soda::InputError(source + ": not a saved generation: " + parsed.description());
+  if (!parsed) {
+    const soda::TextLocation at = soda::locate_offset(text, parsed.offset);
+    throw soda::InputError(source + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) +
+                           ": not a saved generation: XML syntax error: " + parsed.description());
+  }
   const pugi::xml_node root = doc.child("generation");
   if (!root) throw soda::InputError(source + ": expected a <generation> root element");
+  const auto where_of = [&](pugi::xml_node node) {
+    const soda::TextLocation at = soda::locate_offset(text, node.offset_debug());
+    return source + ":" + std::to_string(at.line) + ":" + std::to_string(at.column);
+  };
   Generation g;
-  g.index = root.attribute("index").as_int(-1);
-  if (g.index < 0) throw soda::InputError(source + ": <generation>: expected an index attribute >= 0");
+  const std::optional<long long> index = soda::parse_integer(root.attribute("index").value());
+  if (!index || *index < 0 || *index >= kMaxGenerations) {
+    throw soda::InputError(where_of(root) + ": <generation> attribute 'index': expected an integer in [0, " +
+                           std::to_string(kMaxGenerations - 1) + "], got '" + root.attribute("index").value() + "'");
+  }
+  g.index = static_cast<int>(*index);
+  std::set<std::string> ids;
   for (pugi::xml_node m : root.children("model")) {
     Individual ind;
     ind.id = m.attribute("id").value();
-    const std::string where = source + ": model '" + ind.id + "'";
+    const std::string where = where_of(m) + ": <model id=\"" + ind.id + "\">";
+    if (static_cast<int>(g.individuals.size()) >= kMaxPopulation) {
+      throw soda::InputError(where + ": expected at most " + std::to_string(kMaxPopulation) +
+                             " creatures in a generation (the largest population), got more");
+    }
+    if (ind.id.empty()) throw soda::InputError(where + ": attribute 'id': expected a creature id, got ''");
+    if (!ids.insert(ind.id).second) {
+      throw soda::InputError(where + ": attribute 'id': expected an id not used before, got '" + ind.id + "'");
+    }
     ind.parents = split(m.attribute("parents").value(), ' ');
     ind.evaluation.status = parse_status(m.attribute("status").value(), where);
     ind.evaluation.fitness = parse_number_or_inf(m.attribute("fitness").value(), where + ": fitness");
@@ -150,6 +175,7 @@ Generation generation_from_xml(const std::string& text, const std::string& sourc
     ind.evaluated = true;
     std::ostringstream element;
     m.print(element, "\t", pugi::format_raw);
+    // Positions in messages from here on are within the model element.
     ind.creature = soda::read_model_text(element.str(), where).def;
     g.individuals.push_back(std::move(ind));
   }
@@ -188,6 +214,16 @@ RunStore RunStore::create(const fs::path& dir, const RunConfig& config, bool for
 
 RunStore RunStore::open(const fs::path& dir) {
   if (!fs::is_directory(dir)) throw soda::InputError(dir.string() + ": no such run folder");
+  // A run killed while writing leaves the temporary file of write_file_atomically
+  // ("NAME.tmp-PID") beside the complete old NAME: remove such leftovers.
+  for (const fs::path& sub : {dir, dir / "best", dir / "generations"}) {
+    std::error_code ec;
+    for (const fs::directory_entry& e : fs::directory_iterator(sub, ec)) {
+      if (e.is_regular_file(ec) && e.path().filename().string().find(".tmp-") != std::string::npos) {
+        fs::remove(e.path(), ec);
+      }
+    }
+  }
   RunStore store(dir, read_run_config(dir / "config.json"));
   store.generation_rows_ = read_rows(dir / "generations.csv");
   store.timing_rows_ = read_rows(dir / "timing.csv");
@@ -246,22 +282,121 @@ void RunStore::write_checkpoint(const Checkpoint& c) {
 
 std::optional<Checkpoint> RunStore::read_checkpoint() const {
   const fs::path path = dir_ / "checkpoint.json";
-  if (!fs::exists(path)) return std::nullopt;
-  const std::string text = soda::read_whole_file(path);
-  try {
-    const nlohmann::json j = nlohmann::json::parse(text);
-    if (j.at("format") != "sodaevo-checkpoint-1") throw soda::InputError("unknown checkpoint format");
-    Checkpoint c;
-    c.generation = generation_from_xml(j.at("population_xml").get<std::string>(), path.string());
-    c.evaluations = j.at("evaluations").get<long long>();
-    c.wall_seconds = j.at("wall_seconds").get<double>();
-    if (c.generation.index != j.at("generation").get<int>()) throw soda::InputError("generation index mismatch");
-    return c;
-  } catch (const nlohmann::json::exception& e) {
-    throw soda::InputError(path.string() + ": corrupt checkpoint: " + e.what());
-  } catch (const soda::InputError& e) {
-    throw soda::InputError(path.string() + ": corrupt checkpoint: " + e.what());
+  std::error_code ec;
+  if (!fs::exists(path, ec)) return std::nullopt;
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (!ec && size > kMaxCheckpointBytes) {
+    throw soda::InputError(path.string() + ": corrupt checkpoint: expected at most " +
+                           std::to_string(kMaxCheckpointBytes >> 20) + " MiB, got " + std::to_string(size >> 20) +
+                           " MiB");
   }
+  return parse_checkpoint(soda::read_whole_file(path), path.string());
+}
+
+Checkpoint parse_checkpoint(const std::string& text, const std::string& source) {
+  const std::string prefix = source + ": corrupt checkpoint";
+  if (text.size() > kMaxCheckpointBytes) {
+    throw soda::InputError(prefix + ": expected at most " + std::to_string(kMaxCheckpointBytes >> 20) +
+                           " MiB, got " + std::to_string(text.size() >> 20) + " MiB");
+  }
+  // Depth and duplicate keys are checked while parsing (nlohmann would keep the
+  // last of duplicate keys silently; a checkpoint never has any).
+  std::set<std::string> keys;
+  std::string problem;
+  const nlohmann::json::parser_callback_t callback = [&](int depth, nlohmann::json::parse_event_t event,
+                                                         nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    if ((event == Event::object_start || event == Event::array_start) && depth >= kMaxJsonDepth) {
+      problem = "expected JSON nested at most " + std::to_string(kMaxJsonDepth) + " levels deep, got deeper";
+      throw std::length_error(problem);
+    }
+    if (event == Event::key && depth == 1 && !keys.insert(parsed.get<std::string>()).second) {
+      problem = "/" + parsed.get<std::string>() + ": duplicate key";
+      throw std::length_error(problem);
+    }
+    return true;
+  };
+  nlohmann::json j;
+  try {
+    j = nlohmann::json::parse(text, callback);
+  } catch (const nlohmann::json::parse_error& e) {
+    const soda::TextLocation at = soda::locate_offset(text, static_cast<std::ptrdiff_t>(e.byte) - 1);
+    throw soda::InputError(source + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) +
+                           ": corrupt checkpoint: invalid JSON (truncated or damaged file?): " + e.what());
+  } catch (const nlohmann::json::exception& e) {
+    throw soda::InputError(prefix + ": invalid JSON: " + e.what());
+  } catch (const std::length_error&) {
+    throw soda::InputError(prefix + ": " + problem);
+  }
+  const auto got = [](const nlohmann::json& v) {
+    std::string s = v.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    if (s.size() > 80) s = s.substr(0, 80) + "...";
+    return s;
+  };
+  if (!j.is_object()) throw soda::InputError(prefix + ": (top level): expected an object, got " + got(j));
+  const auto member = [&](const char* key, const char* expected) -> const nlohmann::json& {
+    const auto it = j.find(key);
+    if (it == j.end()) {
+      throw soda::InputError(prefix + ": /" + key + ": expected " + expected + ", got nothing (missing)");
+    }
+    return *it;
+  };
+  // An integral JSON number within [lo, hi]; doubles and out-of-range values are errors
+  // (never converted: 1e30 into an int is undefined behaviour).
+  const auto integer = [&](const char* key, long long lo, long long hi) {
+    const std::string expected = "an integer in [" + std::to_string(lo) + ", " + std::to_string(hi) + "]";
+    const nlohmann::json& v = member(key, expected.c_str());
+    long long value = 0;
+    bool fits = false;
+    if (v.is_number_unsigned()) {
+      const auto u = v.get<std::uint64_t>();
+      fits = u <= static_cast<std::uint64_t>(hi);
+      value = fits ? static_cast<long long>(u) : 0;
+    } else if (v.is_number_integer()) {
+      value = v.get<long long>();
+      fits = true;
+    }
+    if (!fits || value < lo || value > hi) {
+      throw soda::InputError(prefix + ": /" + key + ": expected " + expected + ", got " + got(v));
+    }
+    return value;
+  };
+  const nlohmann::json& format = member("format", "\"sodaevo-checkpoint-1\"");
+  if (format != "sodaevo-checkpoint-1") {
+    throw soda::InputError(prefix + ": /format: expected \"sodaevo-checkpoint-1\", got " + got(format));
+  }
+  for (const auto& [key, value] : j.items()) {
+    if (key != "format" && key != "generation" && key != "evaluations" && key != "wall_seconds" &&
+        key != "population_xml") {
+      throw soda::InputError(prefix + ": /" + key +
+                             ": unknown key (expected format, generation, evaluations, wall_seconds, population_xml)");
+    }
+  }
+  Checkpoint c;
+  const long long generation = integer("generation", 0, kMaxGenerations - 1);
+  c.evaluations = integer("evaluations", 0, 9007199254740992LL);
+  const nlohmann::json& wall = member("wall_seconds", "a number >= 0");
+  if (!wall.is_number() || !(wall.get<double>() >= 0) || !std::isfinite(wall.get<double>())) {
+    throw soda::InputError(prefix + ": /wall_seconds: expected a number >= 0, got " + got(wall));
+  }
+  c.wall_seconds = wall.get<double>();
+  const nlohmann::json& xml = member("population_xml", "a string holding a <generation>");
+  if (!xml.is_string()) {
+    throw soda::InputError(prefix + ": /population_xml: expected a string holding a <generation>, got " + got(xml));
+  }
+  try {
+    c.generation = generation_from_xml(xml.get_ref<const std::string&>(), source + " /population_xml");
+  } catch (const soda::InputError& e) {
+    throw soda::InputError(prefix + ": " + e.what());
+  }
+  if (c.generation.index != generation) {
+    throw soda::InputError(prefix + ": /generation: expected the index of the saved population (" +
+                           std::to_string(c.generation.index) + "), got " + std::to_string(generation));
+  }
+  if (c.generation.individuals.empty()) {
+    throw soda::InputError(prefix + ": /population_xml: expected at least one creature, got none");
+  }
+  return c;
 }
 
 } // namespace sodaevo

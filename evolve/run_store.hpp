@@ -72,6 +72,12 @@ std::string generation_file_name(int generation);
 
 /// A whole generation as XML text, and back. Creatures round-trip exactly.
 std::string generation_to_xml(const Generation& g);
+/// Throws InputError naming `source`, the line and column, the element, expected and got.
 Generation generation_from_xml(const std::string& text, const std::string& source);
+
+/// Parses the text of checkpoint.json. Strict: every key present with the right
+/// type and range, no unknown or duplicate keys, the population a valid saved
+/// generation. Throws InputError ("<source>: corrupt checkpoint: <pointer>: ...").
+Checkpoint parse_checkpoint(const std::string& text, const std::string& source);
 
 } // namespace sodaevo
