@@ -2,9 +2,14 @@
 # One entry point for users, developers and CI.
 #
 #   ./build.sh run    install what is missing, build (Release), run the main job
-#   ./build.sh test   install what is missing, build, run the whole test suite
+#   ./build.sh test   install what is missing, build, run the whole test suite,
+#                     then build it again with AddressSanitizer + UBSan (into
+#                     build-asan/) and run it again there
 #   ./build.sh deps   only install the Debian packages the project needs
 #   ./build.sh build  only configure and build (into build/)
+#   ./build.sh fuzz [SECONDS [TARGET...]]
+#                     build the libFuzzer targets with clang-14 (into build-fuzz/)
+#                     and run each for SECONDS (default 600); see fuzz/README.md
 #
 # Dependencies come from Debian packages only; they are installed with apt-get
 # when missing (as root, or through sudo).
@@ -12,9 +17,13 @@ set -euo pipefail
 cd "$(dirname "$0")"
 
 BUILD_DIR=${SODAEVO_BUILD_DIR:-build}
+ASAN_DIR=${SODAEVO_ASAN_DIR:-build-asan}
+FUZZ_DIR=${SODAEVO_FUZZ_DIR:-build-fuzz}
 PACKAGES=(g++ cmake make libpugixml-dev libcli11-dev nlohmann-json3-dev catch2 libopenmpi-dev openmpi-bin)
 # Only the test suite needs these: headless Chromium opens the rendered pages.
 TEST_PACKAGES=(chromium)
+# Only for `fuzz`: clang 14 and its runtime libraries (libclang_rt.fuzzer, asan, ubsan).
+FUZZ_PACKAGES=(clang-14 libclang-rt-14-dev)
 
 install_deps() {
   local missing=()
@@ -35,6 +44,28 @@ build() {
   cmake --build "$BUILD_DIR" -j "$(nproc)"
 }
 
+# The whole project and its tests with AddressSanitizer and UndefinedBehaviorSanitizer,
+# -O1 so the suite stays fast; any finding aborts the test that hit it.
+build_asan() {
+  cmake -S . -B "$ASAN_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" \
+    -DSODAEVO_SANITIZE=address,undefined
+  cmake --build "$ASAN_DIR" -j "$(nproc)"
+}
+
+run_asan_tests() {
+  # detect_leaks: a leak is a finding too; halt_on_error: the first finding fails.
+  ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:halt_on_error=1:abort_on_error=1:detect_stack_use_after_return=1} \
+  UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
+    ctest --test-dir "$ASAN_DIR" --output-on-failure -j "$(nproc)"
+}
+
+build_fuzz() {
+  CC=clang-14 CXX=clang++-14 cmake -S . -B "$FUZZ_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DSODAEVO_BUILD_TESTS=OFF -DSODAEVO_FUZZ=ON \
+    -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
+  cmake --build "$FUZZ_DIR" -j "$(nproc)" --target fuzz_model_xml fuzz_run_config fuzz_checkpoint
+}
+
 case "${1:-}" in
   deps) install_deps ;;
   build) install_deps; build ;;
@@ -47,9 +78,16 @@ case "${1:-}" in
   test)
     install_deps "${TEST_PACKAGES[@]}"; build
     ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$(nproc)"
+    build_asan
+    run_asan_tests
+    ;;
+  fuzz)
+    install_deps "${FUZZ_PACKAGES[@]}"; build_fuzz
+    shift
+    SODAEVO_FUZZ_DIR="$FUZZ_DIR" fuzz/run.sh "$@"
     ;;
   *)
-    sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'
     exit 2
     ;;
 esac
