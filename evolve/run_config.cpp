@@ -412,6 +412,7 @@ class ConfigReader {
       switch (event) {
         case json::parse_event_t::object_start:
         case json::parse_event_t::array_start:
+          begin_value();
           if (depth >= kMaxJsonDepth) {
             // Deeper than any config could be: stop before it costs stack or memory.
             std::string p = path_of();
@@ -419,7 +420,6 @@ class ConfigReader {
             throw soda::InputError(source_ + ": " + show_pointer(p) + ": expected JSON nested at most " +
                                    std::to_string(kMaxJsonDepth) + " levels deep, got deeper");
           }
-          begin_value();
           stack.push_back(Frame{event == json::parse_event_t::object_start, {}, {}, 0});
           break;
         case json::parse_event_t::object_end:

@@ -75,7 +75,8 @@ CheckResult check_checkpoint(std::string_view bytes) {
     for (std::size_t i = 0; i < again.individuals.size(); ++i) {
       const Individual& a = c.generation.individuals[i];
       const Individual& b = again.individuals[i];
-      if (a.id != b.id || a.parents != b.parents || !(a.creature == b.creature) ||
+      // Saved creatures are written in canonical form (the genome always is).
+      if (a.id != b.id || a.parents != b.parents || !(soda::canonical_form(a.creature) == b.creature) ||
           a.evaluation.status != b.evaluation.status) {
         throw PropertyViolation("creature " + a.id + " of an accepted checkpoint reads back different");
       }
