@@ -86,7 +86,7 @@ fs::path write_config(const fs::path& dir) {
   const nlohmann::json config = {
       {"name", "crash"},
       {"seed", 7},
-      {"generations", 12},
+      {"generations", 24},
       {"population",
        {{"size", 12},
         {"seed_models", {fs::absolute(sodaevo::test::models_dir() / "dainty_walker.xml").string()}},
@@ -185,7 +185,8 @@ TEST_CASE("a run killed with SIGKILL at random moments resumes to the uninterrup
   const unsigned seed = std::random_device{}();
   INFO("kill times drawn with seed " << seed << "; the uninterrupted run took " << whole_seconds << " s");
   std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> kill_after(0.02 * whole_seconds, 0.6 * whole_seconds);
+  // At most a quarter of the run between kills, so four kills land before it ends.
+  std::uniform_real_distribution<double> kill_after(0.02 * whole_seconds, 0.25 * whole_seconds);
 
   const fs::path killed = dir / "killed";
   int kills = 0;
