@@ -135,6 +135,8 @@ void require_complete_files(const fs::path& run) {
       std::istringstream in(text);
       std::string line;
       while (std::getline(in, line)) CHECK(std::count(line.begin(), line.end(), ',') + 1 == columns);
+    } else if (name == "report.html") {
+      CHECK(text.find("</html>") != std::string::npos);
     } else if (name.rfind("best/", 0) == 0) {
       CHECK_NOTHROW(soda::read_model_file(path));
     } else if (name.rfind("generations/", 0) == 0) {
@@ -146,11 +148,13 @@ void require_complete_files(const fs::path& run) {
 }
 
 /// The results that must not depend on interruptions: everything but timing.csv,
-/// manifest.json (start time, command line) and the checkpoint's wall time.
+/// manifest.json (start time, command line), report.html (shows timing) and the
+/// checkpoint's wall time.
 std::map<std::string, std::string> results_of(const fs::path& run) {
   std::map<std::string, std::string> files = folder_files(run);
   files.erase("timing.csv");
   files.erase("manifest.json");
+  files.erase("report.html");
   const Checkpoint c = parse_checkpoint(files.at("checkpoint.json"), "checkpoint.json");
   files["checkpoint.json"] =
       std::to_string(c.evaluations) + "\n" + generation_to_xml(c.generation); // without wall_seconds
