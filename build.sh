@@ -57,9 +57,13 @@ build_asan() {
 
 run_asan_tests() {
   # detect_leaks: a leak is a finding too; halt_on_error: the first finding fails.
-  ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:halt_on_error=1:abort_on_error=1:detect_stack_use_after_return=1} \
-  UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1} \
-    ctest --test-dir "$ASAN_DIR" --output-on-failure -j "$(nproc)"
+  export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=1:halt_on_error=1:abort_on_error=1:detect_stack_use_after_return=1}
+  export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+  # The browser test runs alone: its check that a player animates within
+  # Chromium's virtual time failed twice when a slow sanitized test shared the
+  # two cores (it passes on its own, and in the faster Release run).
+  ctest --test-dir "$ASAN_DIR" --output-on-failure -j "$(nproc)" -E '^browser:'
+  ctest --test-dir "$ASAN_DIR" --output-on-failure -R '^browser:'
 }
 
 build_fuzz() {
