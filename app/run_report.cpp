@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -39,9 +40,10 @@ struct GenerationRow {
   std::string best_id;
 };
 
+/// A statistic of generations.csv; empty (no creature was scored) reads as NaN,
+/// which the table shows as a dash and the chart leaves out.
 double csv_number(const std::string& text, const std::string& where) {
-  if (text == "-inf") return -INFINITY;
-  if (text == "inf") return INFINITY;
+  if (text.empty()) return std::numeric_limits<double>::quiet_NaN();
   const std::optional<double> v = soda::parse_double(text);
   if (!v) throw soda::InputError(where + ": expected a number, got '" + text + "'");
   return *v;
@@ -92,7 +94,7 @@ std::vector<GenerationRow> read_generations_csv(const fs::path& path) {
 }
 
 std::string fixed(double v, int digits) {
-  if (!std::isfinite(v)) return v < 0 ? "&#8722;&#8734;" : "&#8734;";
+  if (!std::isfinite(v)) return "&#8211;";
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*f", digits, v);
   return buf;

@@ -44,11 +44,32 @@ EvaluationStatus parse_status(const std::string& s, const std::string& where) {
   throw soda::InputError(where + ": status: expected ok, invalid or diverged, got '" + s + "'");
 }
 
-double parse_number_or_inf(const std::string& s, const std::string& where) {
-  if (s == "-inf") return kWorstFitness;
-  if (std::optional<double> v = soda::parse_double(s)) return *v;
-  throw soda::InputError(where + ": expected a number, got '" + s + "'");
+double parse_number(const std::string& s, const std::string& where) {
+  const std::optional<double> v = soda::parse_double(s);
+  if (v && std::isfinite(*v)) return *v;
+  throw soda::InputError(where + ": expected a finite number, got '" + s + "'");
 }
+
+// Only creatures that were scored have a fitness: files never hold an infinity
+// (kWorstFitness stays in memory).
+std::string fitness_attribute(const Evaluation& e) {
+  return e.ok() ? " fitness=\"" + soda::format_double_plain(e.fitness) + "\"" : std::string();
+}
+
+double parse_fitness(const pugi::xml_node& m, const Evaluation& e, const std::string& where) {
+  const pugi::xml_attribute a = m.attribute("fitness");
+  if (!e.ok()) {
+    if (a) throw soda::InputError(where + ": fitness: expected none for a creature that was not scored, got '" +
+                                  std::string(a.value()) + "'");
+    return kWorstFitness;
+  }
+  if (!a) throw soda::InputError(where + ": fitness: expected a number for a scored creature, got none");
+  return parse_number(a.value(), where + ": fitness");
+}
+
+// A generation with no scored creature has no best, mean, median or worst: the
+// cell is left empty rather than holding an infinity.
+std::string statistic_cell(double v) { return std::isfinite(v) ? soda::format_double_plain(v) : std::string(); }
 
 std::string xml_escape(const std::string& s) {
   std::string out;
@@ -124,8 +145,7 @@ std::string generation_to_xml(const Generation& g) {
   for (const Individual& ind : g.individuals) {
     const Evaluation& e = ind.evaluation;
     std::string attrs = "id=\"" + xml_escape(ind.id) + "\" parents=\"" + xml_escape(join(ind.parents, ' ')) +
-                        "\" status=\"" + status_name(e.status) + "\" fitness=\"" +
-                        soda::format_double_plain(e.fitness) + "\" distance=\"" +
+                        "\" status=\"" + status_name(e.status) + "\"" + fitness_attribute(e) + " distance=\"" +
                         soda::format_double_plain(e.distance) + "\" reason=\"" + xml_escape(e.reason) + "\"";
     out += model_element(ind.creature, attrs);
   }
@@ -171,8 +191,8 @@ Generation generation_from_xml(const std::string& text, const std::string& sourc
     }
     ind.parents = split(m.attribute("parents").value(), ' ');
     ind.evaluation.status = parse_status(m.attribute("status").value(), where);
-    ind.evaluation.fitness = parse_number_or_inf(m.attribute("fitness").value(), where + ": fitness");
-    ind.evaluation.distance = parse_number_or_inf(m.attribute("distance").value(), where + ": distance");
+    ind.evaluation.fitness = parse_fitness(m, ind.evaluation, where);
+    ind.evaluation.distance = parse_number(m.attribute("distance").value(), where + ": distance");
     ind.evaluation.reason = m.attribute("reason").value();
     ind.evaluated = true;
     std::ostringstream element;
@@ -253,9 +273,8 @@ void RunStore::record_generation(const Generation& g, const GenerationStats& s, 
   std::erase_if(generation_rows_, [&](const auto& r) { return r.first >= g.index; });
   std::erase_if(timing_rows_, [&](const auto& r) { return r.first >= g.index; });
   generation_rows_.emplace_back(
-      g.index, std::to_string(g.index) + "," + std::to_string(s.evaluations) + "," + format_double_plain(s.best) + "," +
-                   format_double_plain(s.mean) + "," + format_double_plain(s.median) + "," +
-                   format_double_plain(s.worst) + "," + std::to_string(s.invalid) + "," +
+      g.index, std::to_string(g.index) + "," + std::to_string(s.evaluations) + "," + statistic_cell(s.best) + "," +
+                   statistic_cell(s.mean) + "," + statistic_cell(s.median) + "," + statistic_cell(s.worst) + "," + std::to_string(s.invalid) + "," +
                    std::to_string(s.diverged) + "," + best_id + "\n");
   const double rate = generation_seconds > 0 ? static_cast<double>(generation_evaluations) / generation_seconds : 0.0;
   timing_rows_.emplace_back(g.index, std::to_string(g.index) + "," + std::to_string(s.evaluations) + "," +

@@ -256,3 +256,47 @@ TEST_CASE("batch and single evaluation give identical Evaluations", "[evolve]") 
     }
   }
 }
+
+TEST_CASE("creatures that were not scored: no infinity in any file, and they read back unscored", "[evolve]") {
+  const soda::ModelDef walker = soda::read_model_file(test::models_dir() / "dainty_walker.xml").def;
+  Generation g;
+  g.index = 3;
+  const EvaluationStatus statuses[] = {EvaluationStatus::Invalid, EvaluationStatus::Diverged};
+  for (int i = 0; i < 2; ++i) {
+    Individual ind;
+    ind.id = "g3-" + std::to_string(i);
+    ind.creature = walker;
+    ind.evaluation.status = statuses[i];
+    ind.evaluation.reason = "made up for the test";
+    ind.evaluated = true;
+    g.individuals.push_back(ind);
+  }
+  const std::string xml = generation_to_xml(g);
+  CHECK(xml.find("inf") == std::string::npos);
+  const Generation back = generation_from_xml(xml, "mem");
+  REQUIRE(back.individuals.size() == 2);
+  for (int i = 0; i < 2; ++i) {
+    CHECK(back.individuals[i].evaluation.status == statuses[i]);
+    CHECK(back.individuals[i].evaluation.fitness == kWorstFitness); // below every scored creature, in memory
+  }
+  CHECK(generation_to_xml(back) == xml);
+
+  // A scored creature must carry its fitness; an unscored one must not.
+  std::string missing = xml;
+  missing.replace(missing.find("status=\"invalid\""), 16, "status=\"ok\"");
+  CHECK_THROWS_WITH(generation_from_xml(missing, "mem"), Catch::Contains("expected a number for a scored creature"));
+
+  // A generation without a single scored creature: empty statistics, no infinity.
+  const fs::path dir = fresh_dir("unscored");
+  RunStore store = RunStore::create(dir, small_config(), false, "test");
+  const GenerationStats stats = summarize(g, 2);
+  store.record_generation(g, stats, 1.0, 1.0, 2, true);
+  for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir)) {
+    if (!e.is_regular_file()) continue;
+    INFO(e.path());
+    const std::string text = file(e.path());
+    CHECK(text.find("inf") == std::string::npos);
+  }
+  CHECK(file(dir / "generations.csv").find("\n3,2,,,,,1,1,\n") != std::string::npos);
+  fs::remove_all(dir);
+}

@@ -267,7 +267,7 @@ TEST_CASE("malformed checkpoint JSON: a damaged checkpoint is named, never half-
                 "</model><model id=\\\"g1-0\\\" status=\\\"ok\\\" fitness=\\\"1\\\" distance=\\\"1\\\"/>\\n</generation>"),
        p + "checkpoint.json /population_xml:2:"},
       {"NaN fitness", checkpoint_text("1", "", "id=\\\"g1-0\\\" status=\\\"ok\\\" fitness=\\\"nan\\\" distance=\\\"1\\\""),
-       p + "checkpoint.json /population_xml:2:1: <model id=\"g1-0\">: fitness: expected a number, got 'nan'"},
+       p + "checkpoint.json /population_xml:2:1: <model id=\"g1-0\">: fitness: expected a finite number, got 'nan'"},
       {"an unknown status", checkpoint_text("1", "", "id=\\\"g1-0\\\" status=\\\"great\\\" fitness=\\\"1\\\" distance=\\\"1\\\""),
        p + "checkpoint.json /population_xml:2:1: <model id=\"g1-0\">: status: expected ok, invalid or diverged, got 'great'"},
       {"an empty population", replaced(good.substr(good.find("<model "), good.find("</generation>") - good.find("<model ")), ""),
