@@ -3,7 +3,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "core/fast_step.hpp"
 #include "core/model.hpp"
 
 namespace sodaevo::app {
@@ -27,7 +26,7 @@ bool finite_state(const soda::Model& model, const soda::State& s) {
 
 } // namespace
 
-Motion record_motion(const soda::ModelDef& def, long long frames, int every) {
+Motion record_motion(const soda::ModelDef& def, long long frames, int every, const soda::Stepping& stepping) {
   if (frames < 0) throw std::invalid_argument("record_motion: negative frame count");
   if (every < 1) every = 1;
   const soda::Model model = soda::build_model(def);
@@ -52,7 +51,7 @@ Motion record_motion(const soda::ModelDef& def, long long frames, int every) {
   double fixed_centre = 0.0;
   for (std::size_t i = 0; i < m.fixed_xy.size(); i += 2) fixed_centre += m.fixed_xy[i] / static_cast<double>(m.fixed_xy.size() / 2);
   soda::State state = soda::make_state(model);
-  soda::FastStepper stepper(model, frames);
+  soda::FrameStepper stepper(model, stepping, frames);
   auto keep = [&] {
     std::vector<double> xy(2 * static_cast<std::size_t>(model.mass_count));
     double sum = 0.0;

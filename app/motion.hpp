@@ -1,8 +1,9 @@
 // Motion: a creature's movement pre-computed by the engine, for pictures and players.
 //
 // The renderer never moves anything itself: record_motion() builds the Model from
-// the ModelDef and runs the FastStepper (bit for bit the reference step), keeping
-// every k-th frame. Positions are kept rounded to 0.1 px - plenty for a picture,
+// the ModelDef and runs the engine in the chosen physics mode (soda by default: the
+// FastStepper, bit for bit the reference step; a run's report uses its fitness
+// mode, so the players show the motion that was scored), keeping every k-th frame. Positions are kept rounded to 0.1 px - plenty for a picture,
 // and it keeps the animations embedded in HTML pages small.
 #pragma once
 
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "core/model_def.hpp"
+#include "core/stepping.hpp"
 
 namespace sodaevo::app {
 
@@ -44,6 +46,6 @@ int sample_interval(long long frames, int max_samples);
 /// Runs `def` (as loaded: its own world and container) for `frames` frames and
 /// keeps frame 0, every `every`-th frame and the last. Throws soda::InputError if
 /// the model is not valid.
-Motion record_motion(const soda::ModelDef& def, long long frames, int every);
+Motion record_motion(const soda::ModelDef& def, long long frames, int every, const soda::Stepping& stepping = {});
 
 } // namespace sodaevo::app

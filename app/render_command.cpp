@@ -9,6 +9,7 @@
 #include "app/filmstrip_svg.hpp"
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
+#include "app/stepping_options.hpp"
 #include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
 #include "core/model_file.hpp"
@@ -24,6 +25,7 @@ struct RenderOptions {
   long long frames = 2000;
   int every = 0;
   int stills = 8;
+  SteppingOptions stepping;
 };
 
 std::string lower_extension(const std::filesystem::path& p) {
@@ -40,7 +42,8 @@ void run_render(const RenderOptions& opt) {
   }
   const soda::LoadedModel loaded = soda::read_model_file(opt.model);
   const int every = opt.every > 0 ? opt.every : sample_interval(opt.frames, ext == ".svg" ? 400 : 1000);
-  Motion motion = record_motion(loaded.def, opt.frames, every);
+  const soda::Stepping stepping = stepping_of(opt.stepping);
+  Motion motion = record_motion(loaded.def, opt.frames, every, stepping);
   if (motion.name.empty()) motion.name = std::filesystem::path(opt.model).stem().string();
   std::string text;
   if (ext == ".svg") {
@@ -49,7 +52,8 @@ void run_render(const RenderOptions& opt) {
     text = render_filmstrip_svg(motion, film);
   } else {
     const std::string subtitle = std::filesystem::path(opt.model).filename().string() + ": " + std::to_string(opt.frames) +
-                                 " frames in its own world, " +
+                                 " frames in its own world" +
+                                 (stepping == soda::Stepping{} ? std::string() : " (" + soda::stepping_label(stepping) + ")") + ", " +
                                  (every == 1 ? std::string("every frame") : "a picture every " + std::to_string(every) + " frames") +
                                  " shown; centroid moved " + soda::format_double_plain(std::round(motion.distance() * 10) / 10) +
                                  " px" + (motion.diverged.empty() ? "" : " (" + motion.diverged + ")") + ".";
@@ -81,6 +85,7 @@ void add_render_command(CLI::App& app) {
       ->default_val(0)
       ->check(CLI::Range(0, 10000000));
   cmd->add_option("--stills", opt->stills, "Panels in an .svg filmstrip")->default_val(8)->check(CLI::Range(1, 100));
+  add_stepping_options(cmd, opt->stepping);
   cmd->callback([opt] { run_render(*opt); });
 }
 

@@ -357,8 +357,11 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     }
   }
   if (classic) shown.push_back(*classic);
-  o << "<h2>Watch them</h2>\n<p class=\"note\">Each animation is the fitness trial, simulated again by the engine: "
-    << config.fitness.settle_frames << " settle frames, then " << config.fitness.frames
+  const soda::Stepping stepping = config.fitness.stepping();
+  o << "<h2>Watch them</h2>\n<p class=\"note\">Each animation is the fitness trial, simulated again by the engine ("
+    << esc(stepping == soda::Stepping{} ? std::string("soda mode, as the original")
+                                        : "the run's physics mode: " + soda::stepping_label(stepping))
+    << "): " << config.fitness.settle_frames << " settle frames, then " << config.fitness.frames
     << " scored frames (the dashed mark under the floor shows where scoring starts). Masses blue, springs grey, muscles red (dark and "
        "thick when contracted); marks on the floor are px from the start. Add <code>#frame=N</code> to the address to "
        "stop every player at frame N.</p>\n";
@@ -367,7 +370,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   int index = 0;
   for (const Shown& s : shown) {
     try {
-      const Motion motion = record_motion(s.prepared, trial_frames, every);
+      const Motion motion = record_motion(s.prepared, trial_frames, every, stepping);
       PlayerView view;
       view.id = "player" + std::to_string(index++);
       view.caption = s.caption;

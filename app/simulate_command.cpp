@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
+#include "app/stepping_options.hpp"
 #include "core/input_error.hpp"
 #include "core/model.hpp"
 #include "core/model_file.hpp"
@@ -31,9 +32,7 @@ struct SimulateOptions {
   std::string trace;
   std::string out;
   bool reference = false;
-  std::string mode = "soda";
-  std::string integrator = "euler";
-  int substeps = 1;
+  SteppingOptions stepping;
   bool energy_check = false;
   bool honesty = false;
   int honesty_factor = 4;
@@ -112,22 +111,6 @@ void print_summary(const SimulateOptions& opt, const SimulateSummary& s) {
   }
 }
 
-soda::Stepping stepping_of(const SimulateOptions& opt) {
-  soda::Stepping st;
-  const auto mode = soda::parse_mode(opt.mode);
-  if (!mode) throw soda::InputError("--mode: expected soda or continuous, got '" + opt.mode + "'");
-  const auto integrator = soda::parse_integrator(opt.integrator);
-  if (!integrator) throw soda::InputError("--integrator: expected euler, verlet or rk4, got '" + opt.integrator + "'");
-  st.mode = *mode;
-  st.integrator = *integrator;
-  st.substeps = opt.substeps;
-  if (st.mode == soda::PhysicsMode::Soda && (st.substeps != 1 || st.integrator != soda::Integrator::Euler)) {
-    throw soda::InputError("--substeps and --integrator need --mode continuous (soda is one Euler update per frame)");
-  }
-  soda::validate_stepping(st);
-  return st;
-}
-
 /// Runs `frames` frames watching for divergence; stops at the first diverged
 /// frame, keeping the last healthy state in `state` (so nothing non-finite is
 /// reported or written). `per_frame` is called with every healthy state.
@@ -153,7 +136,7 @@ void run_simulate(const SimulateOptions& opt) {
   for (const std::string& w : loaded.warnings) std::cerr << "sodaevo: warning: " << w << '\n';
   const soda::Model model = soda::build_model(loaded.def);
   soda::State state = soda::make_state(model);
-  const soda::Stepping stepping = stepping_of(opt);
+  const soda::Stepping stepping = stepping_of(opt.stepping);
 
   std::ofstream trace_file;
   std::optional<soda::TraceCsv> trace;
@@ -245,19 +228,7 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_flag("--reference", opt->reference,
                 "Soda mode: use the plain reference step instead of the fast stepper (both give the\n"
                 "same bits; the reference is the readable one, for checking)");
-  cmd->add_option("--mode", opt->mode,
-                  "Physics mode: soda = one update per frame exactly as the original (default);\n"
-                  "continuous = the same model as an ODE stepped with dt = 1/substeps frame")
-      ->default_val("soda")
-      ->check(CLI::IsMember({"soda", "continuous"}));
-  cmd->add_option("--integrator", opt->integrator,
-                  "Continuous mode: euler (semi-implicit, order 1; with --substeps 1 equal to soda bit\n"
-                  "for bit), verlet (velocity Verlet, order 2) or rk4 (Runge-Kutta 4, order 4)")
-      ->default_val("euler")
-      ->check(CLI::IsMember({"euler", "verlet", "rk4"}));
-  cmd->add_option("--substeps", opt->substeps, "Continuous mode: steps per frame (dt = 1/substeps frame)")
-      ->default_val(1)
-      ->check(CLI::Range(1, soda::kMaxSubsteps));
+  add_stepping_options(cmd, opt->stepping);
   cmd->add_flag("--energy-check", opt->energy_check,
                 "Also flag runaway energy (more than the muscles can supply) as divergence, not only\n"
                 "non-finite numbers. A diverged run stops at the last healthy frame and says why");

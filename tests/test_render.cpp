@@ -23,6 +23,7 @@
 #include "core/input_error.hpp"
 #include "core/model.hpp"
 #include "core/model_file.hpp"
+#include "core/continuous_step.hpp"
 #include "core/step.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
@@ -138,6 +139,24 @@ TEST_CASE("motion: samples every k frames and the last, positions from the refer
     CHECK(m.centroid_x[s] == soda::mass_centroid(model, at).x);
   }
   CHECK(m.distance() != 0.0);
+}
+
+TEST_CASE("motion: in the continuous mode, the positions of the continuous stepper", "[render]") {
+  const soda::ModelDef def = dainty();
+  const soda::Stepping verlet{soda::PhysicsMode::Continuous, soda::Integrator::Verlet, 4};
+  const Motion m = record_motion(def, 300, 50, verlet);
+  const Motion original = record_motion(def, 300, 50);
+  REQUIRE(m.samples() == original.samples());
+  const soda::Model model = soda::build_model(def);
+  soda::State at = soda::make_state(model);
+  soda::ContinuousStepper stepper(model, {soda::Integrator::Verlet, 4});
+  stepper.run(at, 300);
+  for (int i = 0; i < model.mass_count; ++i) {
+    CHECK(m.mass_xy.back()[2 * i] == Approx(at.x[i]).margin(0.05 + 1e-9));
+    CHECK(m.mass_xy.back()[2 * i + 1] == Approx(at.y[i]).margin(0.05 + 1e-9));
+  }
+  CHECK(m.centroid_x.back() == soda::mass_centroid(model, at).x);
+  CHECK(m.centroid_x.back() != original.centroid_x.back()); // a different integrator moves it differently
 }
 
 TEST_CASE("motion: the sample interval keeps at most the asked number of samples", "[render]") {
@@ -301,6 +320,31 @@ TEST_CASE("run report: config, charts, table and players for a finished run", "[
   CHECK(html.find("https://") == std::string::npos);
 }
 
+TEST_CASE("run report: the players run in the run's physics mode", "[render][report]") {
+  RunConfig c;
+  c.name = "report-mode-test";
+  c.seed = 3;
+  c.population.size = 6;
+  c.population.seed_models = {fs::absolute(test::models_dir() / "dainty_walker.xml").string()};
+  c.budget.generations = 2;
+  c.fitness.frames = 200;
+  c.fitness.settle_frames = 20;
+  c.fitness.mode = soda::PhysicsMode::Continuous;
+  c.fitness.integrator = soda::Integrator::Verlet;
+  c.fitness.substeps = 2;
+  const fs::path dir = test::fresh_temp_dir("report_mode_run");
+  fs::remove_all(dir);
+  {
+    RunStore store = RunStore::create(dir, c, false, "test");
+    ThreadEvaluator evaluator(1);
+    run_evolution(store, evaluator, {});
+  }
+  const std::string html = run_report_html(dir);
+  CHECK(html.find("the run&apos;s physics mode: verlet/2") != std::string::npos);
+  CHECK(html.find("soda mode, as the original") == std::string::npos);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("run report: bad run folders are named in the error", "[render][report]") {
   const fs::path dir = test::fresh_temp_dir("bad_run");
   CHECK_THROWS_WITH(run_report_html(dir / "missing"), Catch::Contains("missing") && Catch::Contains("no such run folder"));
@@ -329,7 +373,16 @@ TEST_CASE("render and report commands: outputs, and clear errors for bad input",
   CHECK(ok.exit_code == 0);
   CHECK(embedded_json(soda::read_whole_file(dir / "slug.html"), "player-motion")["frames"].size() == 31);
 
-  auto bad = test::run_shell(bin + " render " + (dir / "nope.xml").string() + " -o " + (dir / "x.svg").string());
+  ok = test::run_shell(bin + " render " + model + " --frames 300 --mode continuous --integrator rk4 --substeps 4 -o " +
+                       (dir / "slug_rk4.html").string());
+  CHECK(ok.exit_code == 0);
+  CHECK(soda::read_whole_file(dir / "slug_rk4.html").find("rk4/4") != std::string::npos);
+
+  auto bad = test::run_shell(bin + " render " + model + " --substeps 4 -o " + (dir / "x.svg").string());
+  CHECK(bad.exit_code != 0);
+  CHECK(bad.output.find("--mode continuous") != std::string::npos);
+  CHECK(!fs::exists(dir / "x.svg"));
+  bad = test::run_shell(bin + " render " + (dir / "nope.xml").string() + " -o " + (dir / "x.svg").string());
   CHECK(bad.exit_code != 0);
   CHECK(bad.output.find("nope.xml") != std::string::npos);
   CHECK(!fs::exists(dir / "x.svg"));
