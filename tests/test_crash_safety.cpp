@@ -11,6 +11,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -231,6 +232,35 @@ TEST_CASE("a run killed with SIGKILL at random moments resumes to the uninterrup
   CHECK(temporaries == 0);
   require_complete_files(killed);
   require_same_results(dir / "whole", killed);
+  fs::remove_all(dir.parent_path());
+}
+
+TEST_CASE("Ctrl-C finishes the generation, writes everything, exits 0, and the run resumes", "[crash]") {
+  const fs::path dir = work_dir("interrupt");
+  const fs::path config = write_config(dir);
+  const fs::path log = dir / "log.txt";
+  REQUIRE(run(evolve_args({config.string(), "--out", (dir / "whole").string()}), log) == 0);
+
+  const fs::path stopped = dir / "stopped";
+  const pid_t pid = spawn(evolve_args({config.string(), "--out", stopped.string()}), log);
+  auto rows = [&] {
+    std::error_code ec;
+    if (!fs::exists(stopped / "generations.csv", ec)) return 0L;
+    const std::string text = text_of(stopped / "generations.csv");
+    return static_cast<long>(std::count(text.begin(), text.end(), '\n')) - 1;
+  };
+  const auto give_up = Clock::now() + std::chrono::seconds(120);
+  while (rows() < 2 && Clock::now() < give_up) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ::kill(pid, SIGINT);
+  CHECK(wait_for(pid) == 0);
+  require_complete_files(stopped);
+  const long done = rows();
+  CHECK(done < 24); // it stopped early...
+  // ...and saved the generation it finished: the checkpoint is the last logged one.
+  const Checkpoint c = parse_checkpoint(text_of(stopped / "checkpoint.json"), "checkpoint.json");
+  CHECK(c.generation.index == done - 1);
+  REQUIRE(run(evolve_args({"--resume", stopped.string()}), log) == 0);
+  require_same_results(dir / "whole", stopped);
   fs::remove_all(dir.parent_path());
 }
 
