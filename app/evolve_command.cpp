@@ -1,6 +1,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
@@ -11,6 +12,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "app/fixed_text.hpp"
 #include "app/run_report.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
@@ -111,6 +113,13 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     store.emplace(RunStore::open(opt.resume));
   } else {
     const RunConfig config = read_run_config(opt.config);
+    // A seed model that cannot be evolved is an error of the config: say so before
+    // a run folder exists (a folder without a checkpoint could not be resumed).
+    try {
+      load_seed_creatures(config);
+    } catch (const soda::InputError& e) {
+      throw soda::InputError(opt.config + ": " + e.what());
+    }
     const std::string dir = opt.out.empty() ? "results/" + config.name + "-" + timestamp() : opt.out;
     store.emplace(RunStore::create(dir, config, opt.force, command_line));
   }
@@ -152,8 +161,11 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     const double per_generation = p.wall_seconds / (p.generation + 1);
     const double left = per_generation * (p.generations - p.generation - 1);
     char line[256];
-    std::snprintf(line, sizeof line, "gen %d/%d  best %.2f  mean %.2f  invalid %d  %.0f evals/s  elapsed %s  left ~%s",
-                  p.generation, p.generations - 1, p.stats.best, p.stats.mean, p.stats.invalid + p.stats.diverged,
+    // No creature scored in this generation: no best or mean (the log holds no infinity).
+    auto stat = [](double v) { return std::isfinite(v) ? fixed(v, 2) : std::string("-"); };
+    std::snprintf(line, sizeof line, "gen %d/%d  best %s  mean %s  invalid %d  %.0f evals/s  elapsed %s  left ~%s",
+                  p.generation, p.generations - 1, stat(p.stats.best).c_str(), stat(p.stats.mean).c_str(),
+                  p.stats.invalid + p.stats.diverged,
                   p.evaluations_per_second, format_duration(p.wall_seconds).c_str(), format_duration(left).c_str());
     if (tty) std::cerr << "\r\033[K" << line << std::flush;
     else std::cerr << line << '\n';
@@ -194,12 +206,16 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     }
 #endif
   }
-  std::cout << "run folder   " << store->dir().string() << "\n"
-            << "best         " << outcome.best_id << "  fitness " << soda::format_double_plain(outcome.best_fitness)
-            << " px in " << store->config().fitness.frames << " frames ("
-            << soda::format_double_plain(outcome.best_fitness / static_cast<double>(store->config().fitness.frames))
-            << " px/frame)\n"
-            << "report       " << default_report_path(store->dir()).string() << "\n"
+  std::cout << "run folder   " << store->dir().string() << "\n";
+  if (std::isfinite(outcome.best_fitness)) {
+    std::cout << "best         " << outcome.best_id << "  fitness " << soda::format_double_plain(outcome.best_fitness)
+              << " px in " << store->config().fitness.frames << " frames ("
+              << soda::format_double_plain(outcome.best_fitness / static_cast<double>(store->config().fitness.frames))
+              << " px/frame)\n";
+  } else {
+    std::cout << "best         none: no creature could be scored (the reasons are in the saved generations)\n";
+  }
+  std::cout << "report       " << default_report_path(store->dir()).string() << "\n"
             << "export with  sodaevo export " << store->dir().string() << " --best 5 --out DIR\n";
 }
 

@@ -11,11 +11,13 @@ namespace sodaevo {
 
 std::vector<soda::ModelDef> load_seed_creatures(const RunConfig& config) {
   std::vector<soda::ModelDef> seeds;
-  for (const std::string& path : config.population.seed_models) {
+  for (std::size_t i = 0; i < config.population.seed_models.size(); ++i) {
+    const std::string& path = config.population.seed_models[i];
     try {
       seeds.push_back(creature_from_seed(soda::read_model_file(path).def, config));
     } catch (const soda::InputError& e) {
-      throw soda::InputError(std::string(e.what()) + " (seed model " + path + ")");
+      throw soda::InputError(std::string(e.what()) + " (seed model " + path + ", /population/seed_models/" +
+                             std::to_string(i) + ")");
     }
   }
   return seeds;

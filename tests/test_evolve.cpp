@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 
 #include "core/atomic_file.hpp"
 #include "core/model.hpp"
@@ -298,5 +299,25 @@ TEST_CASE("creatures that were not scored: no infinity in any file, and they rea
     CHECK(text.find("inf") == std::string::npos);
   }
   CHECK(file(dir / "generations.csv").find("\n3,2,,,,,1,1,\n") != std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a seed model that cannot be evolved is a config error, before any run folder exists", "[evolve][cli]") {
+  const fs::path dir = fresh_dir("bad_seed");
+  fs::create_directories(dir);
+  const fs::path config = dir / "bad_seed.json";
+  std::ofstream(config) << R"({"name": "bad_seed", "generations": 2,
+    "population": {"size": 4, "seed_models": [")" << (test::models_dir() / "dainty_walker.xml").string() << R"("],
+                   "random_fraction": 0, "random": {"masses_min": 3, "masses_max": 4}},
+    "limits": {"max_masses": 4}, "fitness": {"frames": 50, "settle_frames": 5}})";
+  const fs::path run = dir / "run";
+  const test::ShellResult r =
+      test::run_shell(std::string(SODAEVO_BINARY) + " evolve " + config.string() + " --out " + run.string());
+  INFO(r.output);
+  CHECK(r.exit_code != 0);
+  CHECK(r.output.find(config.string()) != std::string::npos);
+  CHECK(r.output.find("/population/seed_models/0") != std::string::npos);
+  CHECK(r.output.find("10 masses") != std::string::npos);
+  CHECK(!fs::exists(run));
   fs::remove_all(dir);
 }
