@@ -36,24 +36,20 @@ inline double apply_gravity(double vy, double gravity, GravityDirection directio
 }
 
 /// Air friction with the "syrup" speed limit (spec 5.3 step 2): the velocity is
-/// scaled by (1 - f), and additionally by 20/|v| when |v| > 20. The quotient is
-/// formed first, then the product: the other order breaks bit-exactness.
-inline double friction_factor(double vx, double vy, double friction) {
-  const double speed = std::sqrt(vx * vx + vy * vy);
-  double factor = 1.0 - friction;
-  if (speed > kSyrupThreshold) factor = factor * (kSyrupThreshold / speed);
-  return factor;
-}
-
-/// Sub-frame variant of friction_factor for the `continuous` mode: `keep` is the
-/// share of velocity air friction leaves after the step, (1 - f)^dt (so with dt = 1
-/// it is exactly 1 - f and the result equals friction_factor bit for bit). The
-/// syrup limit stays 20 px/frame whatever dt: it is a speed, not a rate.
+/// scaled by `keep`, and additionally by 20/|v| when |v| > 20. The quotient is
+/// formed first, then the product: the other order breaks bit-exactness. In the
+/// original `keep` = 1 - f; the `continuous` mode passes the per-step (1 - f)^dt
+/// (the syrup limit stays 20 px/frame whatever dt: it is a speed, not a rate).
 inline double friction_factor_kept(double vx, double vy, double keep) {
   const double speed = std::sqrt(vx * vx + vy * vy);
   double factor = keep;
   if (speed > kSyrupThreshold) factor = factor * (kSyrupThreshold / speed);
   return factor;
+}
+
+/// The original's air friction: friction_factor_kept with keep = 1 - f.
+inline double friction_factor(double vx, double vy, double friction) {
+  return friction_factor_kept(vx, vy, 1.0 - friction);
 }
 
 /// Syrup limit alone (continuous mode, Verlet and RK4, where air friction is part
@@ -137,30 +133,14 @@ inline double advance_wave_phase(double phase, double speed, WaveDirection mode)
 }
 
 /// Fixed-bar response (spec 5.4, verified for a single bar crossing): the move from
-/// p0 crosses the bar at fraction t of the move; u is the unit vector along the bar
-/// and n its unit normal. The mass is placed at the crossing point plus
-/// (1 - t)*Fs*vt*u (it slides along the bar for the rest of the frame) and its new
-/// velocity is Fs*vt*u + Rs*vn*n, with vt = v.u and vn = v.n.
+/// p0 lasted `dt` frames (1 in the original) and crosses the bar at fraction t of
+/// the move; u is the unit vector along the bar and n its unit normal. The mass is
+/// placed at the crossing point plus (1 - t)*dt*Fs*vt*u (it slides along the bar
+/// for the rest of the move) and its new velocity is Fs*vt*u + Rs*vn*n, with
+/// vt = v.u and vn = v.n. In the `continuous` mode Fs is the per-step Fs^dt.
 struct BarResponse {
   double x, y, vx, vy;
 };
-inline BarResponse respond_to_bar(double cross_x, double cross_y, double t, double vx, double vy,
-                                  double ux, double uy, double surface_friction,
-                                  double surface_reflection) {
-  const double nx = -uy;
-  const double ny = ux;
-  const double vt = vx * ux + vy * uy;
-  const double vn = vx * nx + vy * ny;
-  const double slide = (1.0 - t) * surface_friction * vt;
-  return {cross_x + slide * ux, cross_y + slide * uy,
-          surface_friction * vt * ux + surface_reflection * vn * nx,
-          surface_friction * vt * uy + surface_reflection * vn * ny};
-}
-
-/// Sub-frame variant of respond_to_bar for the `continuous` mode: the move lasted
-/// `dt` frames, so the slide for the rest of the move is (1 - t)*dt*Fs*vt (vt is a
-/// velocity in px/frame). Fs is the per-step surface friction Fs^dt. With dt = 1 it
-/// equals respond_to_bar bit for bit (the extra factor 1 is exact).
 inline BarResponse respond_to_bar_dt(double cross_x, double cross_y, double t, double dt, double vx, double vy,
                                      double ux, double uy, double surface_friction, double surface_reflection) {
   const double nx = -uy;
@@ -173,10 +153,17 @@ inline BarResponse respond_to_bar_dt(double cross_x, double cross_y, double t, d
           surface_friction * vt * uy + surface_reflection * vn * ny};
 }
 
+/// The original's bar response: a move of one frame (the factor dt = 1 is exact).
+inline BarResponse respond_to_bar(double cross_x, double cross_y, double t, double vx, double vy, double ux,
+                                  double uy, double surface_friction, double surface_reflection) {
+  return respond_to_bar_dt(cross_x, cross_y, t, 1.0, vx, vy, ux, uy, surface_friction, surface_reflection);
+}
+
 inline double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
 
 /// Fixed bars (spec 5.4): the first bar (smallest t) crossed by the move from
-/// (x0, y0) to (x, y) responds as respond_to_bar says; (x, y, vx, vy) are updated.
+/// (x0, y0) to (x, y), which lasted `dt` frames, responds as respond_to_bar_dt
+/// says; (x, y, vx, vy) are updated.
 /// Bar ends are points `bar_a[k]`, `bar_b[k]` of the position arrays `px`, `py`;
 /// a bar does not stop its own end `self`. Not mapped from the original (never
 /// studied): chains of bars, corners and bar ends, several crossings in one frame.
@@ -184,63 +171,9 @@ inline double cross(double ax, double ay, double bx, double by) { return ax * by
 /// is a strict change of side, and the mass is kept strictly on the side it came
 /// from (rounding may put it on the bar; the smallest nudge that helps is used).
 /// Returns true if a bar responded.
-inline bool collide_with_bars(const double* px, const double* py, const int* bar_a, const int* bar_b, int bar_count,
-                              int self, double x0, double y0, double& x, double& y, double& vx, double& vy,
-                              double surface_friction, double surface_reflection) {
-  const double mx = x - x0;
-  const double my = y - y0;
-  int best = -1;
-  double best_t = std::numeric_limits<double>::infinity();
-  double best_side0 = 0.0;
-  for (int bar = 0; bar < bar_count; ++bar) {
-    const int pa = bar_a[bar];
-    const int pb = bar_b[bar];
-    if (pa == self || pb == self) continue;
-    const double ax = px[pa], ay = py[pa];
-    const double sx = px[pb] - ax, sy = py[pb] - ay;
-    const double side0 = cross(sx, sy, x0 - ax, y0 - ay);
-    const double side1 = cross(sx, sy, x - ax, y - ay);
-    if (!((side0 > 0.0 && side1 < 0.0) || (side0 < 0.0 && side1 > 0.0))) continue;
-    const double denom = cross(mx, my, sx, sy);
-    if (denom == 0.0) continue;
-    const double t = cross(ax - x0, ay - y0, sx, sy) / denom;
-    const double along = cross(ax - x0, ay - y0, mx, my) / denom;
-    if (along < 0.0 || along > 1.0 || !(t > 0.0 && t <= 1.0)) continue;
-    if (t < best_t) {
-      best = bar;
-      best_t = t;
-      best_side0 = side0;
-    }
-  }
-  if (best < 0) return false;
-  const double ax = px[bar_a[best]], ay = py[bar_a[best]];
-  const double sx = px[bar_b[best]] - ax, sy = py[bar_b[best]] - ay;
-  const double bar_length = std::sqrt(sx * sx + sy * sy);
-  const double ux = sx / bar_length, uy = sy / bar_length;
-  const BarResponse r = respond_to_bar(x0 + best_t * mx, y0 + best_t * my, best_t, vx, vy, ux, uy, surface_friction,
-                                       surface_reflection);
-  double nx = r.x, ny = r.y;
-  for (int tries = 0; tries < 64; ++tries) {
-    const double side = cross(sx, sy, nx - ax, ny - ay);
-    if ((side > 0.0) == (best_side0 > 0.0) && side != 0.0) break;
-    const double push = (best_side0 > 0.0 ? 1.0 : -1.0) * std::ldexp(1.0, tries - 52) * (1.0 + std::fabs(nx) + std::fabs(ny));
-    nx += -uy * push;
-    ny += ux * push;
-  }
-  x = nx;
-  y = ny;
-  vx = r.vx;
-  vy = r.vy;
-  return true;
-}
-
-/// Sub-frame variant of collide_with_bars for the `continuous` mode: the move from
-/// (x0, y0) lasted `dt` frames (respond_to_bar_dt), `surface_friction` is the
-/// per-step Fs^dt. Same crossing test and same nudge as collide_with_bars; with
-/// dt = 1 it equals it bit for bit.
-inline bool collide_with_bars_dt(const double* px, const double* py, const int* bar_a, const int* bar_b, int bar_count,
-                                 int self, double dt, double x0, double y0, double& x, double& y, double& vx, double& vy,
-                              double surface_friction, double surface_reflection) {
+inline bool collide_with_bars_dt(const double* px, const double* py, const int* bar_a, const int* bar_b,
+                                 int bar_count, int self, double dt, double x0, double y0, double& x, double& y,
+                                 double& vx, double& vy, double surface_friction, double surface_reflection) {
   const double mx = x - x0;
   const double my = y - y0;
   int best = -1;
@@ -286,6 +219,14 @@ inline bool collide_with_bars_dt(const double* px, const double* py, const int* 
   vx = r.vx;
   vy = r.vy;
   return true;
+}
+
+/// The original's bar rule: a move of one frame (dt = 1, exact).
+inline bool collide_with_bars(const double* px, const double* py, const int* bar_a, const int* bar_b, int bar_count,
+                              int self, double x0, double y0, double& x, double& y, double& vx, double& vy,
+                              double surface_friction, double surface_reflection) {
+  return collide_with_bars_dt(px, py, bar_a, bar_b, bar_count, self, 1.0, x0, y0, x, y, vx, vy, surface_friction,
+                              surface_reflection);
 }
 
 } // namespace soda::rules
