@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "physics_rules.hpp"
+#include "step.hpp"
 
 namespace soda {
 
@@ -43,59 +44,10 @@ void ContinuousStepper::advance_wave(State& s) const {
   s.wave_phase = rules::advance_wave_phase(s.wave_phase, wave_step_, s.wave_mode);
 }
 
-// Mirrors step.cpp line by line; every product by dt_ is exact when dt_ = 1.
+// The reference step's own code: with dt_ = 1 every product by dt_ is exact, so it
+// equals soda::step bit for bit.
 void ContinuousStepper::euler_step(State& s) {
-  const Model& m = model_;
-  const int links = m.link_count();
-  for (int i = 0; i < links; ++i) {
-    const int a = m.link_a[i];
-    const int b = m.link_b[i];
-    const double dx = s.x[b] - s.x[a];
-    const double dy = s.y[b] - s.y[a];
-    const double length = std::sqrt(dx * dx + dy * dy);
-    if (length == 0.0) continue;
-    const double target =
-        m.link_muscle[i] ? rules::muscle_target_length(m.link_rest[i], m.wave_amplitude, m.link_amplitude[i],
-                                                       m.link_phase[i], s.wave_phase)
-                         : m.link_rest[i];
-    const double c = rules::link_impulse_factor(m.springyness, length, target) * dt_;
-    if (m.is_mass(a)) {
-      s.vx[a] += c * dx;
-      s.vy[a] += c * dy;
-    }
-    if (m.is_mass(b)) {
-      s.vx[b] -= c * dx;
-      s.vy[b] -= c * dy;
-    }
-  }
-  for (int i = 0; i < m.mass_count; ++i) {
-    double vx = s.vx[i];
-    double vy = rules::apply_gravity(s.vy[i], gravity_step_, m.gravity_direction);
-    const double factor = rules::friction_factor_kept(vx, vy, keep_);
-    vx = factor * vx;
-    vy = factor * vy;
-    if (rules::is_at_rest(vx, vy)) {
-      s.vx[i] = vx;
-      s.vy[i] = vy;
-      continue;
-    }
-    const double x0 = s.x[i];
-    const double y0 = s.y[i];
-    double x = x0 + vx * dt_;
-    double y = y0 + vy * dt_;
-    const SideWall hit =
-        rules::collide_with_container(x, y, vx, vy, m.width, m.height, surface_keep_, m.surface_reflection);
-    rules::autoreverse_on_wall_hit(hit, m.autoreverse, s.wave_mode, s.last_side_wall);
-    s.x[i] = x;
-    s.y[i] = y;
-    s.vx[i] = vx;
-    s.vy[i] = vy;
-    if (m.bar_count() > 0) {
-      rules::collide_with_bars_dt(s.x.data(), s.y.data(), m.bar_a.data(), m.bar_b.data(), m.bar_count(), i, dt_, x0,
-                                  y0, s.x[i], s.y[i], s.vx[i], s.vy[i], surface_keep_, m.surface_reflection);
-    }
-  }
-  advance_wave(s);
+  soda::euler_step(model_, s, {dt_, gravity_step_, keep_, surface_keep_, wave_step_});
 }
 
 void ContinuousStepper::smooth_acceleration(const double* x, const double* y, double phase, double* ax,
@@ -148,15 +100,7 @@ void ContinuousStepper::finish_mass(State& s, int i, double x0, double y0, doubl
       rules::collide_with_container(x, y, vx, vy, m.width, m.height, surface_keep_, m.surface_reflection);
   rules::friction_while_touching(y0 <= 0.0 || y0 >= m.height, x0 <= 0.0 || x0 >= m.width, crossed_floor_or_ceiling,
                                  crossed_side_wall, vx, vy, surface_keep_);
-  rules::autoreverse_on_wall_hit(hit, m.autoreverse, s.wave_mode, s.last_side_wall);
-  s.x[i] = x;
-  s.y[i] = y;
-  s.vx[i] = vx;
-  s.vy[i] = vy;
-  if (m.bar_count() > 0) {
-    rules::collide_with_bars_dt(s.x.data(), s.y.data(), m.bar_a.data(), m.bar_b.data(), m.bar_count(), i, dt_, x0, y0,
-                                s.x[i], s.y[i], s.vx[i], s.vy[i], surface_keep_, m.surface_reflection);
-  }
+  rules::complete_move(m, s, i, hit, dt_, surface_keep_, x0, y0, x, y, vx, vy);
 }
 
 // Kick-drift-kick with Strang-split air friction:

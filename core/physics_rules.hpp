@@ -229,4 +229,20 @@ inline bool collide_with_bars(const double* px, const double* py, const int* bar
                               surface_reflection);
 }
 
+/// The end of a mass's move (spec 5.3 step 5), after the container: autoreverse on
+/// the side wall `hit`, the new position and velocity stored, then the fixed bars
+/// respond to the move from (x0, y0), which lasted `dt` frames.
+inline void complete_move(const Model& m, State& s, int i, SideWall hit, double dt, double surface_friction,
+                          double x0, double y0, double x, double y, double vx, double vy) {
+  autoreverse_on_wall_hit(hit, m.autoreverse, s.wave_mode, s.last_side_wall);
+  s.x[i] = x;
+  s.y[i] = y;
+  s.vx[i] = vx;
+  s.vy[i] = vy;
+  if (m.bar_count() > 0) {
+    collide_with_bars_dt(s.x.data(), s.y.data(), m.bar_a.data(), m.bar_b.data(), m.bar_count(), i, dt, x0, y0, s.x[i],
+                         s.y[i], s.vx[i], s.vy[i], surface_friction, m.surface_reflection);
+  }
+}
+
 } // namespace soda::rules

@@ -12,7 +12,7 @@ namespace {
 /// the velocities at once. Links read only positions, which do not change in this
 /// part, so the file order matters only as the order of the additions into each
 /// mass's velocity (which is what bit-exactness needs).
-void apply_links(const Model& m, State& s) {
+[[gnu::always_inline]] inline void apply_links(const Model& m, State& s, double dt) {
   const int n = m.link_count();
   for (int i = 0; i < n; ++i) {
     const int a = m.link_a[i];
@@ -25,7 +25,7 @@ void apply_links(const Model& m, State& s) {
         m.link_muscle[i] ? rules::muscle_target_length(m.link_rest[i], m.wave_amplitude, m.link_amplitude[i],
                                                        m.link_phase[i], s.wave_phase)
                          : m.link_rest[i];
-    const double c = rules::link_impulse_factor(m.springyness, length, target);
+    const double c = rules::link_impulse_factor(m.springyness, length, target) * dt;
     if (m.is_mass(a)) {
       s.vx[a] += c * dx;
       s.vy[a] += c * dy;
@@ -38,11 +38,11 @@ void apply_links(const Model& m, State& s) {
 }
 
 /// Part 2 (spec 5.3): the masses in order.
-void move_masses(const Model& m, State& s) {
+[[gnu::always_inline]] inline void move_masses(const Model& m, State& s, EulerStep e) {
   for (int i = 0; i < m.mass_count; ++i) {
     double vx = s.vx[i];
-    double vy = rules::apply_gravity(s.vy[i], m.gravity, m.gravity_direction);
-    const double factor = rules::friction_factor(vx, vy, m.friction);
+    double vy = rules::apply_gravity(s.vy[i], e.gravity, m.gravity_direction);
+    const double factor = rules::friction_factor_kept(vx, vy, e.keep);
     vx = factor * vx;
     vy = factor * vy;
     if (rules::is_at_rest(vx, vy)) {
@@ -52,28 +52,29 @@ void move_masses(const Model& m, State& s) {
     }
     const double x0 = s.x[i];
     const double y0 = s.y[i];
-    double x = x0 + vx;
-    double y = y0 + vy;
-    const SideWall hit = rules::collide_with_container(x, y, vx, vy, m.width, m.height,
-                                                       m.surface_friction, m.surface_reflection);
-    rules::autoreverse_on_wall_hit(hit, m.autoreverse, s.wave_mode, s.last_side_wall);
-    s.x[i] = x;
-    s.y[i] = y;
-    s.vx[i] = vx;
-    s.vy[i] = vy;
-    if (m.bar_count() > 0) {
-      rules::collide_with_bars(s.x.data(), s.y.data(), m.bar_a.data(), m.bar_b.data(), m.bar_count(), i, x0, y0,
-                               s.x[i], s.y[i], s.vx[i], s.vy[i], m.surface_friction, m.surface_reflection);
-    }
+    double x = x0 + vx * e.dt;
+    double y = y0 + vy * e.dt;
+    const SideWall hit =
+        rules::collide_with_container(x, y, vx, vy, m.width, m.height, e.surface_friction, m.surface_reflection);
+    rules::complete_move(m, s, i, hit, e.dt, e.surface_friction, x0, y0, x, y, vx, vy);
   }
+}
+
+// Inlined into step() too, where dt = 1 is a constant and its products fold away:
+// the reference step costs no more than before it served both.
+[[gnu::always_inline]] inline void euler_step_inline(const Model& m, State& s, EulerStep e) {
+  apply_links(m, s, e.dt);
+  move_masses(m, s, e);
+  s.wave_phase = rules::advance_wave_phase(s.wave_phase, e.wave_step, s.wave_mode);
 }
 
 } // namespace
 
+void euler_step(const Model& model, State& state, const EulerStep& e) { euler_step_inline(model, state, e); }
+
 void step(const Model& model, State& state) {
-  apply_links(model, state);
-  move_masses(model, state);
-  state.wave_phase = rules::advance_wave_phase(state.wave_phase, model.wave_speed, state.wave_mode);
+  euler_step_inline(model, state,
+                    {1.0, model.gravity, 1.0 - model.friction, model.surface_friction, model.wave_speed});
   ++state.frame;
 }
 
