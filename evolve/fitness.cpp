@@ -131,20 +131,10 @@ soda::ModelDef export_form(const soda::ModelDef& creature, const std::string& id
 
 namespace {
 
-/// The score of a run of `model` whose centroid was `start` after settling and
-/// whose state is now `state`.
-Evaluation score_run(const soda::Model& model, const soda::State& state, soda::Point2 start,
-                     const FitnessConfig& fitness) {
+/// The score of a healthy run whose centroid moved from `start` (after settling)
+/// to `end`.
+Evaluation score_distance(soda::Point2 start, soda::Point2 end, const FitnessConfig& fitness) {
   Evaluation e;
-  const soda::Point2 end = soda::mass_centroid(model, state);
-  for (int i = 0; i < model.mass_count; ++i) {
-    if (!std::isfinite(state.x[i]) || !std::isfinite(state.y[i]) || !std::isfinite(state.vx[i]) ||
-        !std::isfinite(state.vy[i])) {
-      e.status = EvaluationStatus::Diverged;
-      e.reason = "non-finite state of mass " + std::to_string(i) + " at frame " + std::to_string(state.frame);
-      return e;
-    }
-  }
   e.distance = end.x - start.x;
   e.px_per_frame = e.distance / static_cast<double>(fitness.frames);
   switch (fitness.direction) {
@@ -154,6 +144,23 @@ Evaluation score_run(const soda::Model& model, const soda::State& state, soda::P
   }
   e.status = EvaluationStatus::Ok;
   return e;
+}
+
+/// The score of a run of `model` whose centroid was `start` after settling and
+/// whose state is now `state`.
+Evaluation score_run(const soda::Model& model, const soda::State& state, soda::Point2 start,
+                     const FitnessConfig& fitness) {
+  const soda::Point2 end = soda::mass_centroid(model, state);
+  for (int i = 0; i < model.mass_count; ++i) {
+    if (!std::isfinite(state.x[i]) || !std::isfinite(state.y[i]) || !std::isfinite(state.vx[i]) ||
+        !std::isfinite(state.vy[i])) {
+      Evaluation e;
+      e.status = EvaluationStatus::Diverged;
+      e.reason = "non-finite state of mass " + std::to_string(i) + " at frame " + std::to_string(state.frame);
+      return e;
+    }
+  }
+  return score_distance(start, end, fitness);
 }
 
 /// Frames between two non-finite checks when only those are asked for: the check
@@ -247,16 +254,7 @@ Evaluation evaluate_prepared_with(const soda::ModelDef& prepared, const FitnessC
       return e;
     }
   }
-  const soda::Point2 end = soda::mass_centroid(model, state);
-  e.distance = end.x - start.x;
-  e.px_per_frame = e.distance / static_cast<double>(fitness.frames);
-  switch (fitness.direction) {
-    case WalkDirection::Right: e.fitness = e.distance; break;
-    case WalkDirection::Left: e.fitness = -e.distance; break;
-    case WalkDirection::Either: e.fitness = std::fabs(e.distance); break;
-  }
-  e.status = EvaluationStatus::Ok;
-  return e;
+  return score_distance(start, soda::mass_centroid(model, state), fitness);
 }
 
 namespace {
