@@ -26,24 +26,11 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::vector<fs::path> model_files(const fs::path& dir) {
-  std::vector<fs::path> files;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (e.is_regular_file() && e.path().extension() == ".xml") files.push_back(e.path());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 /// The models of every file under `dir` that the engine takes (race files are skipped).
 void add_directory(const fs::path& dir, std::vector<std::pair<std::string, soda::Model>>& out) {
   if (dir.empty() || !fs::is_directory(dir)) return;
-  for (const fs::path& file : model_files(dir)) {
-    try {
-      out.emplace_back(file.string(), load_scene(file).model);
-    } catch (const soda::InputError& e) {
-      if (std::string(e.what()).find("race") == std::string::npos) throw;
-    }
+  for (const fs::path& file : xml_files_under(dir)) {
+    if (std::optional<Scene> scene = load_scene_unless_race(file)) out.emplace_back(file.string(), std::move(scene->model));
   }
 }
 

@@ -18,6 +18,7 @@
 
 namespace fs = std::filesystem;
 using sodaevo::test::run_shell;
+using sodaevo::test::run_sodaevo;
 
 namespace {
 
@@ -143,14 +144,13 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
   const fs::path work = sodaevo::test::fresh_temp_dir("browser");
   const fs::path shots = SODAEVO_SCREENSHOT_DIR;
   fs::create_directories(shots);
-  const std::string bin = SODAEVO_BINARY;
   const fs::path dainty = fs::absolute(sodaevo::test::models_dir() / "dainty_walker.xml");
 
   // A player and a filmstrip of the Dainty Walker.
-  auto r = run_shell(bin + " render " + dainty.string() + " --frames 800 -o " + (work / "dainty.html").string());
+  auto r = run_sodaevo("render " + dainty.string() + " --frames 800 -o " + (work / "dainty.html").string());
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
-  r = run_shell(bin + " render " + dainty.string() + " --frames 800 -o " + (work / "dainty.svg").string());
+  r = run_sodaevo("render " + dainty.string() + " --frames 800 -o " + (work / "dainty.svg").string());
   REQUIRE(r.exit_code == 0);
 
   // A short run; evolve writes its report.
@@ -158,7 +158,7 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
                       "{\"name\": \"browser\", \"seed\": 3, \"generations\": 3,"
                       " \"population\": {\"size\": 8, \"seed_models\": [\"" + dainty.string() + "\"], \"random_fraction\": 0.5},"
                       " \"fitness\": {\"frames\": 400, \"settle_frames\": 50}, \"save\": {\"generation_every\": 1}}");
-  r = run_shell(bin + " evolve " + (work / "config.json").string() + " --out " + (work / "run").string() + " --quiet --threads 1");
+  r = run_sodaevo("evolve " + (work / "config.json").string() + " --out " + (work / "run").string() + " --quiet --threads 1");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   const fs::path report = work / "run" / "report.html";

@@ -1,9 +1,7 @@
 // The sodaevo command line as a user runs it: the built binary, real files.
 #include <catch2/catch.hpp>
 
-#include <array>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -12,50 +10,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_file.hpp"
 #include "core/model_file.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo::test;
 namespace fs = std::filesystem;
 
-namespace {
-
-struct CommandResult {
-  int exit_code = -1;
-  std::string output; ///< stdout and stderr together
-};
-
-CommandResult run_sodaevo(const std::string& args) {
-  const std::string command = std::string(SODAEVO_BINARY) + " " + args + " 2>&1";
-  CommandResult r;
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
-
-fs::path temp_dir() {
-  fs::path dir = fs::temp_directory_path() / ("sodaevo_cli_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string read_text(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-} // namespace
-
 TEST_CASE("simulate --json reports the summary keys and the walk", "[cli]") {
   const fs::path model = golden_dir() / "dw_v1_wide100000_noautorev.xml";
-  const CommandResult r = run_sodaevo("simulate " + model.string() + " --frames 10000 --json");
+  const ShellResult r = run_sodaevo("simulate " + model.string() + " --frames 10000 --json");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   const auto j = nlohmann::json::parse(r.output);
@@ -71,10 +35,10 @@ TEST_CASE("simulate --json reports the summary keys and the walk", "[cli]") {
 }
 
 TEST_CASE("simulate --trace writes the golden trace's columns", "[cli]") {
-  const fs::path dir = temp_dir();
+  const fs::path dir = fresh_temp_dir("cli_trace");
   const fs::path csv = dir / "trace.csv";
-  const CommandResult r = run_sodaevo("simulate " + (golden_dir() / "random_5.xml").string() +
-                                      " --frames 300 --trace " + csv.string());
+  const ShellResult r = run_sodaevo("simulate " + (golden_dir() / "random_5.xml").string() +
+                                    " --frames 300 --trace " + csv.string());
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   const auto golden = read_golden_trace(golden_dir() / "random_5.trace.txt");
@@ -101,7 +65,7 @@ TEST_CASE("simulate --trace writes the golden trace's columns", "[cli]") {
 }
 
 TEST_CASE("simulate --out writes a final state that reloads and continues exactly", "[cli]") {
-  const fs::path dir = temp_dir();
+  const fs::path dir = fresh_temp_dir("cli_out");
   const fs::path model = golden_dir() / "random_16.xml";
   const fs::path mid = dir / "mid.xml";
   REQUIRE(run_sodaevo("simulate " + model.string() + " --frames 100 --out " + mid.string()).exit_code == 0);
@@ -129,13 +93,13 @@ TEST_CASE("simulate --out writes a final state that reloads and continues exactl
 }
 
 TEST_CASE("convert turns a v2 model into canonical v1 that loads the same", "[cli]") {
-  const fs::path dir = temp_dir();
+  const fs::path dir = fresh_temp_dir("cli_convert");
   const fs::path in = data_dir() / "soda" / "KeniF_SodaSumo" / "carefulslug.xml";
   const fs::path out = dir / "carefulslug.xml";
-  const CommandResult r = run_sodaevo("convert " + in.string() + " " + out.string());
+  const ShellResult r = run_sodaevo("convert " + in.string() + " " + out.string());
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
-  const std::string text = read_text(out);
+  const std::string text = soda::read_whole_file(out);
   CHECK(text.rfind("<?xml version=\"1.0\" encoding=\"ISO-8859-1\" standalone=\"no\"?>\n<!DOCTYPE sodaconstructor>\n<model>\n", 0) == 0);
   const soda::LoadedModel v2 = soda::read_model_file(in);
   const soda::LoadedModel v1 = soda::read_model_file(out);
@@ -145,11 +109,11 @@ TEST_CASE("convert turns a v2 model into canonical v1 that loads the same", "[cl
 }
 
 TEST_CASE("bad input: clear message with file and line, non-zero exit, no crash", "[cli]") {
-  const fs::path dir = temp_dir();
+  const fs::path dir = fresh_temp_dir("cli_bad_input");
   const fs::path bad = dir / "bad.xml";
   std::ofstream(bad) << "<model>\n<nodes>\n<mass id=\"m0\" x=\"1\" y=\"2\" vx=\"0\" vy=\"0\"/>\n</nodes>\n<links>\n"
                         "<spring a=\"m0\" b=\"m9\" restlength=\"3\"/>\n</links>\n</model>\n";
-  CommandResult r = run_sodaevo("simulate " + bad.string());
+  ShellResult r = run_sodaevo("simulate " + bad.string());
   CHECK(r.exit_code != 0);
   CHECK(r.output.find(bad.string() + ":6:") != std::string::npos);
   CHECK(r.output.find("m9") != std::string::npos);
@@ -173,17 +137,16 @@ TEST_CASE("bad input: clear message with file and line, non-zero exit, no crash"
 }
 
 TEST_CASE("bench evolve compares the three search methods at equal evaluations", "[cli]") {
-  const fs::path out = temp_dir() / "bench_evolve";
-  fs::remove_all(out);
+  const fs::path out = fresh_temp_dir("cli_bench_evolve");
   const fs::path root = fs::path(SODAEVO_MODELS_DIR).parent_path();
-  const CommandResult r = run_sodaevo("bench evolve --config " + (root / "configs" / "quick.json").string() +
-                                      " --classic " + (root / "models" / "dainty_walker.xml").string() +
-                                      " --generations 2 --seeds 2 --skip-full-run --out " + out.string());
+  const ShellResult r = run_sodaevo("bench evolve --config " + (root / "configs" / "quick.json").string() +
+                                    " --classic " + (root / "models" / "dainty_walker.xml").string() +
+                                    " --generations 2 --seeds 2 --skip-full-run --out " + out.string());
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   // One row per method and seed, all at the same evaluation count: the GA's two
   // generations of 24 minus the 2 elites it does not re-evaluate.
-  std::istringstream csv(read_text(out / "evolve.csv"));
+  std::istringstream csv(soda::read_whole_file(out / "evolve.csv"));
   std::string line;
   std::getline(csv, line);
   CHECK(line.rfind("method,seed,evaluations,", 0) == 0);
@@ -196,7 +159,7 @@ TEST_CASE("bench evolve compares the three search methods at equal evaluations",
   }
   CHECK(rows == 6);
   CHECK(per_method == std::map<std::string, int>{{"ga", 2}, {"hill", 2}, {"random", 2}});
-  CHECK(read_text(out / "evolve.svg").find("<svg") != std::string::npos);
-  CHECK(read_text(out / "evolve.md").find("Dainty Walker under the same fitness settings") != std::string::npos);
+  CHECK(soda::read_whole_file(out / "evolve.svg").find("<svg") != std::string::npos);
+  CHECK(soda::read_whole_file(out / "evolve.md").find("Dainty Walker under the same fitness settings") != std::string::npos);
   fs::remove_all(out);
 }

@@ -5,7 +5,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -22,53 +21,23 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
-
-std::string first_difference(const soda::Model& m, const soda::State& a, const soda::State& b) {
-  if (a.frame != b.frame) return "frame counter";
-  if (!same_bits(a.wave_phase, b.wave_phase)) return "wave phase";
-  if (a.wave_mode != b.wave_mode) return "wave mode";
-  if (a.last_side_wall != b.last_side_wall) return "last side wall";
-  for (int p = 0; p < m.point_count; ++p) {
-    if (!same_bits(a.x[p], b.x[p]) || !same_bits(a.y[p], b.y[p]) || !same_bits(a.vx[p], b.vx[p]) ||
-        !same_bits(a.vy[p], b.vy[p])) {
-      return "point " + std::to_string(p);
-    }
-  }
-  return {};
-}
-
-std::vector<fs::path> xml_files(const fs::path& dir) {
-  std::vector<fs::path> files;
-  if (!fs::is_directory(dir)) return files;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (e.is_regular_file() && e.path().extension() == ".xml") files.push_back(e.path());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 /// Compares soda::step with continuous Euler at one sub-step for `frames` frames,
 /// frame by frame. Returns the number of models compared.
 int compare_directory(const fs::path& dir, long long frames) {
   int compared = 0;
-  for (const fs::path& file : xml_files(dir)) {
-    Scene scene;
-    try {
-      scene = load_scene(file);
-    } catch (const soda::InputError& e) {
-      if (std::string(e.what()).find("race") != std::string::npos) continue; // race files hold no model
-      throw;
-    }
-    soda::State reference = soda::make_state(scene.model);
-    soda::State continuous = soda::make_state(scene.model);
-    soda::ContinuousStepper stepper(scene.model, {soda::Integrator::Euler, 1});
+  for (const fs::path& file : xml_files_under(dir)) {
+    const std::optional<Scene> scene = load_scene_unless_race(file);
+    if (!scene) continue;
+    const soda::Model& model = scene->model;
+    soda::State reference = soda::make_state(model);
+    soda::State continuous = soda::make_state(model);
+    soda::ContinuousStepper stepper(model, {soda::Integrator::Euler, 1});
     std::string diff;
     long long frame = 0;
     for (; frame < frames && diff.empty(); ++frame) {
-      soda::step(scene.model, reference);
+      soda::step(model, reference);
       stepper.step(continuous);
-      diff = first_difference(scene.model, reference, continuous);
+      diff = compare_states(model, reference, continuous);
     }
     INFO(file.string() << ": first difference at frame " << frame << ": " << diff);
     CHECK(diff.empty());

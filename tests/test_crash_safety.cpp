@@ -38,12 +38,7 @@ using Clock = std::chrono::steady_clock;
 
 namespace {
 
-fs::path work_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("sodaevo_crash_test_" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path work_dir(const std::string& name) { return test::fresh_temp_dir("crash_" + name); }
 
 /// Starts a program with stdout and stderr going to `log`; returns its pid.
 pid_t spawn(const std::vector<std::string>& args, const fs::path& log) {

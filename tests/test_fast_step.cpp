@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -13,7 +12,6 @@
 #include "bench/baselines.hpp"
 #include "bench/synthetic.hpp"
 #include "core/fast_step.hpp"
-#include "core/input_error.hpp"
 #include "core/model_file.hpp"
 #include "core/scene_analysis.hpp"
 #include "core/step.hpp"
@@ -25,7 +23,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 std::vector<soda::SimdLevel> supported_levels() {
   std::vector<soda::SimdLevel> levels;
@@ -59,38 +56,15 @@ std::string run_both(const soda::Model& model, long long frames, soda::FastStepO
   return {};
 }
 
-struct LoadResult {
-  bool skipped = false;
-  Scene scene;
-};
-
-LoadResult try_load(const fs::path& path) {
-  try {
-    return {false, load_scene(path)};
-  } catch (const soda::InputError& e) {
-    if (std::string(e.what()).find("race") != std::string::npos) return {true, {}};
-    throw;
-  }
-}
-
-std::vector<fs::path> model_files(const fs::path& dir) {
-  std::vector<fs::path> files;
-  for (const auto& e : fs::recursive_directory_iterator(dir)) {
-    if (e.is_regular_file() && e.path().extension() == ".xml") files.push_back(e.path());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 void check_directory(const fs::path& dir, long long frames) {
   int compared = 0;
-  for (const fs::path& file : model_files(dir)) {
-    const LoadResult loaded = try_load(file);
-    if (loaded.skipped) continue;
+  for (const fs::path& file : xml_files_under(dir)) {
+    const std::optional<Scene> scene = load_scene_unless_race(file);
+    if (!scene) continue;
     for (soda::SimdLevel level : supported_levels()) {
       soda::FastStepOptions opt;
       opt.simd = level;
-      const std::string diff = run_both(loaded.scene.model, frames, opt);
+      const std::string diff = run_both(scene->model, frames, opt);
       INFO(file.string() << " [" << soda::simd_level_name(level) << "]");
       CHECK(diff.empty());
       if (!diff.empty()) UNSCOPED_INFO(diff);
@@ -154,7 +128,7 @@ TEST_CASE("fast step equals the reference on the shared models for 10,000 frames
 
 TEST_CASE("fast step equals the reference on the bundled creatures", "[fast_step]") {
   if (!fs::is_directory(models_dir())) return;
-  for (const fs::path& file : model_files(models_dir())) {
+  for (const fs::path& file : xml_files_under(models_dir())) {
     const Scene scene = load_scene(file);
     const std::string diff = run_both(scene.model, 10000, {});
     INFO(file.string() << ": " << diff);

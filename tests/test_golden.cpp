@@ -8,7 +8,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 
 #include "core/step.hpp"
 #include "test_support.hpp"
@@ -16,8 +15,6 @@
 using namespace sodaevo::test;
 
 namespace {
-
-bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 struct TraceComparison {
   long long bit_exact_rows = 0; ///< leading rows equal in every bit

@@ -4,17 +4,15 @@
 // line exposes the same and never prints or writes a non-finite number.
 #include <catch2/catch.hpp>
 
-#include <array>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <sstream>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
+#include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
 #include "core/model_file.hpp"
 #include "evolve/fitness.hpp"
@@ -36,24 +34,6 @@ RunConfig config_with(const std::string& fitness_json) {
 soda::ModelDef prepared_dainty_walker(const RunConfig& config) {
   const soda::ModelDef seed = soda::read_model_file(std::string(SODAEVO_MODELS_DIR) + "/dainty_walker.xml").def;
   return prepare_for_evaluation(creature_from_seed(seed, config), config.fitness, config.world);
-}
-
-struct CommandResult {
-  int exit_code = -1;
-  std::string output;
-};
-
-CommandResult run_sodaevo(const std::string& args) {
-  const std::string command = std::string(SODAEVO_BINARY) + " " + args + " 2>&1";
-  CommandResult r;
-  FILE* pipe = popen(command.c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
 }
 
 } // namespace
@@ -128,8 +108,8 @@ TEST_CASE("honesty: the GA flags a creature whose distance changes more than all
 
 TEST_CASE("cli: simulate in the continuous mode, with the honesty check", "[honesty][cli]") {
   const std::string model = std::string(SODAEVO_MODELS_DIR) + "/dainty_walker.xml";
-  const CommandResult r =
-      run_sodaevo("simulate " + model + " --frames 500 --mode continuous --integrator verlet --substeps 4 --honesty --json");
+  const auto r =
+      test::run_sodaevo("simulate " + model + " --frames 500 --mode continuous --integrator verlet --substeps 4 --honesty --json");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   const auto j = nlohmann::json::parse(r.output);
@@ -138,10 +118,10 @@ TEST_CASE("cli: simulate in the continuous mode, with the honesty check", "[hone
   CHECK(j["diverged"] == false);
   CHECK(j["honesty_relative_change"].is_number());
 
-  const CommandResult bad = run_sodaevo("simulate " + model + " --substeps 4");
+  const auto bad = test::run_sodaevo("simulate " + model + " --substeps 4");
   CHECK(bad.exit_code != 0);
   CHECK(bad.output.find("--mode continuous") != std::string::npos);
-  const CommandResult bad_integrator = run_sodaevo("simulate " + model + " --mode continuous --integrator leapfrog");
+  const auto bad_integrator = test::run_sodaevo("simulate " + model + " --mode continuous --integrator leapfrog");
   CHECK(bad_integrator.exit_code != 0);
   CHECK(bad_integrator.output.find("leapfrog") != std::string::npos);
 }
@@ -149,8 +129,7 @@ TEST_CASE("cli: simulate in the continuous mode, with the honesty check", "[hone
 TEST_CASE("cli: a diverging model stops at the last healthy frame; no NaN in output, trace or saved model",
           "[honesty][cli]") {
   // Rest length 1.7e308 on a link 1e-9 px long: NaN velocity after frame 1.
-  const fs::path dir = fs::temp_directory_path() / ("sodaevo_honesty_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const fs::path dir = test::fresh_temp_dir("honesty_diverging");
   const fs::path model = dir / "overflow.xml";
   {
     std::ofstream out(model);
@@ -173,7 +152,7 @@ TEST_CASE("cli: a diverging model stops at the last healthy frame; no NaN in out
 )";
   }
   for (const std::string& extra : {std::string(), " --trace " + (dir / "t.csv").string() + " --out " + (dir / "final.xml").string()}) {
-    const CommandResult r = run_sodaevo("simulate " + model.string() + " --frames 50 --json" + extra);
+    const auto r = test::run_sodaevo("simulate " + model.string() + " --frames 50 --json" + extra);
     INFO(r.output);
     REQUIRE(r.exit_code == 0);
     const auto j = nlohmann::json::parse(r.output);
@@ -183,16 +162,12 @@ TEST_CASE("cli: a diverging model stops at the last healthy frame; no NaN in out
     CHECK(r.output.find("nan") == std::string::npos);
     CHECK(r.output.find("inf") == std::string::npos);
   }
-  std::ifstream trace(dir / "t.csv");
-  std::stringstream text;
-  text << trace.rdbuf();
-  CHECK(text.str().find("nan") == std::string::npos);
-  CHECK(text.str().find("inf") == std::string::npos);
-  std::ifstream saved(dir / "final.xml");
-  std::stringstream xml;
-  xml << saved.rdbuf();
-  CHECK(xml.str().find("NaN") == std::string::npos);
-  CHECK(xml.str().find("inf") == std::string::npos);
-  CHECK(xml.str().find("Inf") == std::string::npos);
+  const std::string trace = soda::read_whole_file(dir / "t.csv");
+  CHECK(trace.find("nan") == std::string::npos);
+  CHECK(trace.find("inf") == std::string::npos);
+  const std::string xml = soda::read_whole_file(dir / "final.xml");
+  CHECK(xml.find("NaN") == std::string::npos);
+  CHECK(xml.find("inf") == std::string::npos);
+  CHECK(xml.find("Inf") == std::string::npos);
   fs::remove_all(dir);
 }

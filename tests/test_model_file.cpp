@@ -8,8 +8,6 @@
 
 #include <catch2/catch.hpp>
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <bit>
 #include <cctype>
@@ -27,9 +25,12 @@
 #include "core/input_error.hpp"
 #include "core/model_def.hpp"
 #include "core/model_file.hpp"
+#include "test_support.hpp"
 
 namespace fs = std::filesystem;
 using soda::InputError;
+using sodaevo::test::same_bits;
+using sodaevo::test::xml_files_under;
 using soda::LinkDef;
 using soda::LinkKind;
 using soda::ModelDef;
@@ -75,15 +76,6 @@ std::string root_element_name(const std::string& text) {
   return "";
 }
 
-std::vector<fs::path> xml_files_under(const fs::path& dir) {
-  std::vector<fs::path> files;
-  for (const auto& entry : fs::recursive_directory_iterator(dir)) {
-    if (entry.is_regular_file() && entry.path().extension() == ".xml") files.push_back(entry.path());
-  }
-  std::sort(files.begin(), files.end());
-  return files;
-}
-
 struct Counts {
   std::size_t masses = 0, fixed = 0, springs = 0, muscles = 0, bars = 0;
 };
@@ -108,10 +100,6 @@ std::string error_of(const std::string& text) {
   }
   FAIL_CHECK("no InputError for:\n" << text);
   return "";
-}
-
-bool same_bits(double a, double b) {
-  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
 }
 
 bool contains(const std::string& haystack, const std::string& needle) {
@@ -618,9 +606,7 @@ TEST_CASE("the writer refuses a model no file may carry", "[model_file]") {
 }
 
 TEST_CASE("model files are written atomically and read back", "[model_file]") {
-  const fs::path dir = fs::temp_directory_path() / ("sodaevo_test_model_file_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
+  const fs::path dir = sodaevo::test::fresh_temp_dir("model_file_atomic");
   const fs::path path = dir / "walker.xml";
   const auto original = soda::read_model_file(kSodaDir / "OptimusLime_MINS.js/daintywalker.xml");
 

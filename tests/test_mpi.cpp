@@ -7,11 +7,6 @@
 // under `timeout`, so a hung job cannot block the suite.
 #include <catch2/catch.hpp>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -25,22 +20,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-struct Ran {
-  int exit_code = -1;
-  std::string output;
-};
-
-Ran run_shell(const std::string& command) {
-  Ran r;
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  REQUIRE(pipe != nullptr);
-  std::array<char, 4096> buf{};
-  std::size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.output.append(buf.data(), n);
-  const int status = pclose(pipe);
-  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using sodaevo::test::run_shell;
+using sodaevo::test::run_sodaevo;
+using sodaevo::test::sodaevo_command;
+using Ran = sodaevo::test::ShellResult;
 
 bool mpirun_available() { return run_shell("command -v mpirun").exit_code == 0; }
 
@@ -51,19 +34,12 @@ std::string why_skip() {
   return {};
 }
 
-std::string sodaevo_command(const std::string& args) { return std::string(SODAEVO_BINARY) + " " + args; }
-
 std::string mpirun(int ranks, const std::string& args, const std::string& env = "") {
   return env + " timeout -k 10 180 mpirun --allow-run-as-root --oversubscribe -np " + std::to_string(ranks) + " " +
          sodaevo_command(args);
 }
 
-fs::path work_dir(const std::string& name) {
-  fs::path d = fs::temp_directory_path() / ("sodaevo_mpi_test_" + std::to_string(::getpid())) / name;
-  fs::remove_all(d);
-  fs::create_directories(d);
-  return d;
-}
+fs::path work_dir(const std::string& name) { return sodaevo::test::fresh_temp_dir("mpi_" + name); }
 
 fs::path write_config(const fs::path& dir, int generations) {
   const fs::path config = dir / "mpi_test.json";
@@ -108,7 +84,7 @@ TEST_CASE("mpirun -np 3 (and -np 2 with 2 threads each) writes the same run fold
   }
   const fs::path dir = work_dir("identical");
   const fs::path config = write_config(dir, 6);
-  const Ran one = run_shell(sodaevo_command("evolve " + config.string() + " --out " + (dir / "one").string() + " --threads 2 --quiet"));
+  const Ran one = run_sodaevo("evolve " + config.string() + " --out " + (dir / "one").string() + " --threads 2 --quiet");
   INFO(one.output);
   REQUIRE(one.exit_code == 0);
   const Ran three = run_shell(mpirun(3, "evolve " + config.string() + " --out " + (dir / "three").string() + " --threads 1"));
@@ -133,7 +109,7 @@ TEST_CASE("a rank killed mid-run leaves a run folder that resumes on another N",
   }
   const fs::path dir = work_dir("killed");
   const fs::path config = write_config(dir, 8);
-  REQUIRE(run_shell(sodaevo_command("evolve " + config.string() + " --out " + (dir / "ref").string() + " --quiet")).exit_code == 0);
+  REQUIRE(run_sodaevo("evolve " + config.string() + " --out " + (dir / "ref").string() + " --quiet").exit_code == 0);
 
   // Rank 2 kills itself (SIGKILL) as it starts its 3rd chunk, in generation 2 at the latest.
   const Ran killed = run_shell(mpirun(3, "evolve " + config.string() + " --out " + (dir / "run").string() + " --threads 1",
@@ -161,7 +137,7 @@ TEST_CASE("a failed evaluation on a worker stops the run with a message; it resu
   }
   const fs::path dir = work_dir("failed");
   const fs::path config = write_config(dir, 6);
-  REQUIRE(run_shell(sodaevo_command("evolve " + config.string() + " --out " + (dir / "ref").string() + " --quiet")).exit_code == 0);
+  REQUIRE(run_sodaevo("evolve " + config.string() + " --out " + (dir / "ref").string() + " --quiet").exit_code == 0);
   const Ran failed = run_shell(mpirun(3, "evolve " + config.string() + " --out " + (dir / "run").string() + " --threads 1 --quiet",
                                       "SODAEVO_TEST_FAULT=fail:1:2"));
   INFO(failed.output);
@@ -172,7 +148,7 @@ TEST_CASE("a failed evaluation on a worker stops the run with a message; it resu
   // Stopped politely (workers told to stop), not by MPI_Abort.
   CHECK(failed.output.find("MPI_ABORT") == std::string::npos);
 
-  const Ran resumed = run_shell(sodaevo_command("evolve --resume " + (dir / "run").string() + " --quiet"));
+  const Ran resumed = run_sodaevo("evolve --resume " + (dir / "run").string() + " --quiet");
   INFO(resumed.output);
   REQUIRE(resumed.exit_code == 0);
   require_same_run_folder(dir / "ref", dir / "run");
@@ -180,7 +156,7 @@ TEST_CASE("a failed evaluation on a worker stops the run with a message; it resu
 }
 
 TEST_CASE("the CLI says whether MPI is built in", "[mpi]") {
-  const Ran version = run_shell(sodaevo_command("--version"));
+  const Ran version = run_sodaevo("--version");
   REQUIRE(version.exit_code == 0);
   CHECK(version.output.find(SODAEVO_HAS_MPI ? "MPI: yes" : "MPI: no") != std::string::npos);
   if (SODAEVO_HAS_MPI == 0) {

@@ -363,40 +363,39 @@ TEST_CASE("run report: bad run folders are named in the error", "[render][report
 
 TEST_CASE("render and report commands: outputs, and clear errors for bad input", "[render][cli]") {
   const fs::path dir = test::fresh_temp_dir("render_cli");
-  const std::string bin = SODAEVO_BINARY;
   const std::string model = (test::models_dir() / "carefulslug.xml").string();
-  auto ok = test::run_shell(bin + " render " + model + " --frames 300 -o " + (dir / "slug.svg").string());
+  auto ok = test::run_sodaevo("render " + model + " --frames 300 -o " + (dir / "slug.svg").string());
   INFO(ok.output);
   CHECK(ok.exit_code == 0);
   CHECK(fs::file_size(dir / "slug.svg") > 1000);
-  ok = test::run_shell(bin + " render " + model + " --frames 300 --every 10 -o " + (dir / "slug.html").string());
+  ok = test::run_sodaevo("render " + model + " --frames 300 --every 10 -o " + (dir / "slug.html").string());
   CHECK(ok.exit_code == 0);
   CHECK(embedded_json(soda::read_whole_file(dir / "slug.html"), "player-motion")["frames"].size() == 31);
 
-  ok = test::run_shell(bin + " render " + model + " --frames 300 --mode continuous --integrator rk4 --substeps 4 -o " +
-                       (dir / "slug_rk4.html").string());
+  ok = test::run_sodaevo("render " + model + " --frames 300 --mode continuous --integrator rk4 --substeps 4 -o " +
+                         (dir / "slug_rk4.html").string());
   CHECK(ok.exit_code == 0);
   CHECK(soda::read_whole_file(dir / "slug_rk4.html").find("rk4/4") != std::string::npos);
 
-  auto bad = test::run_shell(bin + " render " + model + " --substeps 4 -o " + (dir / "x.svg").string());
+  auto bad = test::run_sodaevo("render " + model + " --substeps 4 -o " + (dir / "x.svg").string());
   CHECK(bad.exit_code != 0);
   CHECK(bad.output.find("--mode continuous") != std::string::npos);
   CHECK(!fs::exists(dir / "x.svg"));
-  bad = test::run_shell(bin + " render " + (dir / "nope.xml").string() + " -o " + (dir / "x.svg").string());
+  bad = test::run_sodaevo("render " + (dir / "nope.xml").string() + " -o " + (dir / "x.svg").string());
   CHECK(bad.exit_code != 0);
   CHECK(bad.output.find("nope.xml") != std::string::npos);
   CHECK(!fs::exists(dir / "x.svg"));
   soda::write_file_atomically(dir / "broken.xml", "<model><nodes><mass id=\"m0\" x=\"1\"");
-  bad = test::run_shell(bin + " render " + (dir / "broken.xml").string() + " -o " + (dir / "x.svg").string());
+  bad = test::run_sodaevo("render " + (dir / "broken.xml").string() + " -o " + (dir / "x.svg").string());
   CHECK(bad.exit_code != 0);
   CHECK(bad.output.find("broken.xml") != std::string::npos);
-  bad = test::run_shell(bin + " render " + model + " -o " + (dir / "x.png").string());
+  bad = test::run_sodaevo("render " + model + " -o " + (dir / "x.png").string());
   CHECK(bad.exit_code != 0);
   CHECK(bad.output.find(".html") != std::string::npos);
-  bad = test::run_shell(bin + " render " + model + " -o " + (dir / "no" / "such" / "dir" / "x.svg").string());
+  bad = test::run_sodaevo("render " + model + " -o " + (dir / "no" / "such" / "dir" / "x.svg").string());
   CHECK(bad.exit_code != 0);
   CHECK(bad.output.find("x.svg") != std::string::npos);
-  bad = test::run_shell(bin + " report " + (dir / "no_run").string());
+  bad = test::run_sodaevo("report " + (dir / "no_run").string());
   CHECK(bad.exit_code != 0);
   CHECK(bad.output.find("no_run") != std::string::npos);
   CHECK(bad.output.find("terminate") == std::string::npos);

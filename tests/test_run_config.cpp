@@ -4,7 +4,6 @@
 
 #include <atomic>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -12,15 +11,15 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include <nlohmann/json.hpp>
 
 #include "core/input_error.hpp"
 #include "core/model_file.hpp"
 #include "evolve/run_config.hpp"
+#include "test_support.hpp"
 
 using sodaevo::RunConfig;
+using sodaevo::test::same_bits;
 namespace fs = std::filesystem;
 using nlohmann::json;
 
@@ -31,10 +30,7 @@ struct TempDir {
   fs::path path;
   TempDir() {
     static std::atomic<int> counter{0};
-    path = fs::temp_directory_path() /
-           ("sodaevo_config_test_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
-    fs::remove_all(path);
-    fs::create_directories(path);
+    path = sodaevo::test::fresh_temp_dir("config_" + std::to_string(counter++));
   }
   ~TempDir() {
     std::error_code ec;
@@ -73,13 +69,6 @@ std::vector<std::string> lines_of(const std::string& s) {
     start = nl + 1;
   }
   return out;
-}
-
-bool same_bits(double a, double b) {
-  std::uint64_t x = 0, y = 0;
-  std::memcpy(&x, &a, sizeof x);
-  std::memcpy(&y, &b, sizeof y);
-  return x == y;
 }
 
 const std::string kAllRandom = R"({"population": {"random_fraction": 1}})";

@@ -3,6 +3,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <cstring>
@@ -10,13 +11,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/input_error.hpp"
 #include "core/model_file.hpp"
 
 namespace sodaevo::test {
 
 namespace fs = std::filesystem;
 
-static bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 std::string compare_states(const soda::Model& m, const soda::State& a, const soda::State& b) {
   if (a.frame != b.frame) return "frame counter";
@@ -80,6 +82,15 @@ Scene load_scene(const fs::path& path) {
   return {std::move(loaded.def), std::move(model)};
 }
 
+std::optional<Scene> load_scene_unless_race(const fs::path& path) {
+  try {
+    return load_scene(path);
+  } catch (const soda::InputError& e) {
+    if (std::string(e.what()).find("race") != std::string::npos) return std::nullopt;
+    throw;
+  }
+}
+
 ShellResult run_shell(const std::string& command) {
   ShellResult r;
   FILE* pipe = popen((command + " 2>&1").c_str(), "r");
@@ -90,6 +101,19 @@ ShellResult run_shell(const std::string& command) {
   const int status = pclose(pipe);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+std::string sodaevo_command(const std::string& args) { return std::string(SODAEVO_BINARY) + " " + args; }
+
+ShellResult run_sodaevo(const std::string& args) { return run_shell(sodaevo_command(args)); }
+
+std::vector<fs::path> xml_files_under(const fs::path& dir) {
+  std::vector<fs::path> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    if (e.is_regular_file() && e.path().extension() == ".xml") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
 }
 
 fs::path fresh_temp_dir(const std::string& name) {

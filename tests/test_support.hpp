@@ -1,7 +1,9 @@
-// Shared helpers for the tests: where the data is, and reading golden traces.
+// Shared helpers for the tests: where the data is, reading golden traces, and
+// running the built binary in fresh folders.
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -32,6 +34,9 @@ struct GoldenCentroid {
 };
 std::vector<GoldenCentroid> read_golden_centroids(const std::filesystem::path& path);
 
+/// Whether a and b are the same double to the bit (tells -0 from 0, compares NaNs).
+bool same_bits(double a, double b);
+
 /// The state's values in golden-row order (x, y, vx, vy per free mass).
 std::vector<double> state_values(const soda::Model& model, const soda::State& state);
 
@@ -45,6 +50,9 @@ struct Scene {
   soda::Model model;
 };
 Scene load_scene(const std::filesystem::path& path);
+/// load_scene, or nullopt for a Sodarace race file (it holds no model); other
+/// errors still throw.
+std::optional<Scene> load_scene_unless_race(const std::filesystem::path& path);
 
 /// Runs a shell command; its exit code and stdout+stderr together.
 struct ShellResult {
@@ -52,6 +60,14 @@ struct ShellResult {
   std::string output;
 };
 ShellResult run_shell(const std::string& command);
+
+/// The shell command that runs the built sodaevo binary with `args`.
+std::string sodaevo_command(const std::string& args);
+/// run_shell(sodaevo_command(args)).
+ShellResult run_sodaevo(const std::string& args);
+
+/// Every .xml file under `dir` (recursively), sorted.
+std::vector<std::filesystem::path> xml_files_under(const std::filesystem::path& dir);
 
 /// A fresh, empty folder under the system's temp folder, unique to this process.
 std::filesystem::path fresh_temp_dir(const std::string& name);
