@@ -188,9 +188,11 @@ void add_bench_evolve_command(CLI::App& bench) {
       "settings. Writes evolve.csv, evolve.svg and evolve.md (and the full run's folder).");
   cmd->add_option("--config", opt->config, "Config whose GA, world and fitness are compared")
       ->default_val("configs/default.json")
+      ->check(non_empty_path())
       ->check(CLI::ExistingFile);
   cmd->add_option("--classic", opt->classic, "Classic creature to compare the champion with")
       ->default_val("models/dainty_walker.xml")
+      ->check(non_empty_path())
       ->check(CLI::ExistingFile);
   cmd->add_option("--generations", opt->generations,
                   "GA generations in the comparison; the other methods get the same evaluation count")

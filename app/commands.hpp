@@ -6,6 +6,13 @@
 
 namespace sodaevo::app {
 
+/// Refuses an empty path argument, saying so: CLI11's existence checks would print
+/// "File does not exist: " naming nothing. Checked before them.
+inline CLI::Validator non_empty_path() {
+  return CLI::Validator([](std::string& path) { return path.empty() ? "expected a path, got an empty one" : ""; },
+                        "");
+}
+
 void add_simulate_command(CLI::App& app);
 void add_convert_command(CLI::App& app);
 void add_evolve_command(CLI::App& app);

@@ -32,7 +32,7 @@ void add_convert_command(CLI::App& app) {
       "Convert a SodaConstructor model (v1 <model> or v2 object graph) to canonical v1 XML,\n"
       "the form the original SodaConstructor writes (fixed nodes first, links grouped as\n"
       "springs, muscles, fixed bars; numbers shortest round-trip).");
-  cmd->add_option("input", opt->input, "Model to read (.xml, v1 or v2)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("input", opt->input, "Model to read (.xml, v1 or v2)")->required()->check(non_empty_path())->check(CLI::ExistingFile);
   cmd->add_option("output", opt->output, "Where to write the v1 XML")->required();
   cmd->callback([opt] { run_convert(*opt); });
 }

@@ -232,9 +232,12 @@ void add_evolve_command(CLI::App& app) {
       "On a cluster: mpirun -np N sodaevo evolve CONFIG runs the algorithm on rank 0 and\n"
       "evaluates on every rank, with results identical to one process (README: Running on a\n"
       "cluster). This build: " + mpi_support_summary() + ".");
-  cmd->add_option("config", opt->config, "Run config (.json)")->check(CLI::ExistingFile);
+  cmd->add_option("config", opt->config, "Run config (.json)")
+      ->check(non_empty_path())
+      ->check(CLI::ExistingFile);
   cmd->add_option("--out", opt->out, "Run folder (default results/<config name>-<timestamp>)");
   cmd->add_option("--resume", opt->resume, "Continue the interrupted run in this folder from its last checkpoint")
+      ->check(non_empty_path())
       ->check(CLI::ExistingDirectory);
   cmd->add_option("--threads", opt->threads, "Evaluation threads per process (0 = all cores; under MPI, the node's cores shared\n"
                   "between its ranks); results do not depend on it")

@@ -52,7 +52,7 @@ void add_export_command(CLI::App& app) {
       "Write the best creatures of a run as SodaConstructor v1 XML, prepared exactly as they\n"
       "were evaluated (world, Sodarace scaling, wide container, wave forward, autoreverse off),\n"
       "so SodaConstructor and `sodaevo simulate` run them the same way.");
-  cmd->add_option("run", opt->run, "Run folder")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("run", opt->run, "Run folder")->required()->check(non_empty_path())->check(CLI::ExistingDirectory);
   cmd->add_option("--best", opt->best, "How many distinct creatures")->default_val(5)->check(CLI::Range(1, 100000));
   cmd->add_option("--out", opt->out, "Output folder")->required();
   cmd->callback([opt] { run_export(*opt); });

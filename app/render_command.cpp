@@ -77,7 +77,7 @@ void add_render_command(CLI::App& app) {
       "To keep files small only every K-th frame is kept (see --every) and positions are rounded\n"
       "to 0.1 px. Masses are drawn round, fixed nodes square, springs grey, fixed bars black,\n"
       "muscles red: dark and thick when contracted, pale and thin when stretched.");
-  cmd->add_option("model", opt->model, "Model file (SodaConstructor XML, v1 or v2)")->required();
+  cmd->add_option("model", opt->model, "Model file (SodaConstructor XML, v1 or v2)")->required()->check(non_empty_path());
   cmd->add_option("-o,--out", opt->out, "Output file: .html (player) or .svg (filmstrip)")->required();
   cmd->add_option("--frames", opt->frames, "Frames to simulate")->default_val(2000)->check(CLI::Range(1LL, 10000000LL));
   cmd->add_option("--every", opt->every,

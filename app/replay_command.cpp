@@ -63,7 +63,7 @@ void add_replay_command(CLI::App& app) {
       "replay",
       "Re-simulate every creature of a saved generation and check that each reproduces its\n"
       "logged fitness bit for bit (exit code 3 if any differs).");
-  cmd->add_option("run", opt->run, "Run folder")->required()->check(CLI::ExistingDirectory);
+  cmd->add_option("run", opt->run, "Run folder")->required()->check(non_empty_path())->check(CLI::ExistingDirectory);
   cmd->add_option("--generation,-g", opt->generation, "Saved generation to replay (default: the last saved)")
       ->check(CLI::Range(0, 100000000));
   cmd->add_option("--threads", opt->threads, "Threads (0 = all cores)")->default_val(0)->check(CLI::Range(0, 1024));

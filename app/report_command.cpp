@@ -28,7 +28,7 @@ void add_report_command(CLI::App& app) {
       "creatures with distance and speed; animations of the champion and of the best of a few\n"
       "generations next to the Dainty Walker under the same fitness settings. `evolve` writes\n"
       "RUN/report.html itself at the end of a run and every few generations.");
-  cmd->add_option("run", opt->run, "Run folder")->required();
+  cmd->add_option("run", opt->run, "Run folder")->required()->check(non_empty_path());
   cmd->add_option("-o,--out", opt->out, "Output .html (default RUN/report.html)");
   cmd->add_option("--rows", opt->report.table_rows, "Best distinct creatures listed in the table")
       ->default_val(10)

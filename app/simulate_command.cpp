@@ -214,6 +214,7 @@ void add_simulate_command(CLI::App& app) {
       "how fast it ran.");
   cmd->add_option("model", opt->model, "Model to run (.xml, SodaConstructor v1 or v2)")
       ->required()
+      ->check(non_empty_path())
       ->check(CLI::ExistingFile);
   cmd->add_option("--frames,-n", opt->frames, "Number of frames to simulate")
       ->default_val(1000)

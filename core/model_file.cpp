@@ -61,6 +61,8 @@ LoadedModel read_model_text(std::string_view text, const std::string& source_nam
 }
 
 LoadedModel read_model_file(const std::filesystem::path& path) {
+  // An empty path would otherwise report ": cannot open model file", naming nothing.
+  if (path.empty()) throw InputError("model file: expected a path, got an empty one");
   const std::string name = path.string();
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {

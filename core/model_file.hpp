@@ -40,7 +40,8 @@ struct LoadedModel {
 /// Throws InputError.
 LoadedModel read_model_text(std::string_view text, const std::string& source_name);
 
-/// Reads a model file. Throws InputError (also for a missing or unreadable file).
+/// Reads a model file. Throws InputError (also for an empty path or a missing or
+/// unreadable file).
 LoadedModel read_model_file(const std::filesystem::path& path);
 
 /// Canonical v1 XML text of canonical_form(def). Throws InputError if the model

@@ -133,6 +133,14 @@ TEST_CASE("bad input: clear message with file and line, non-zero exit, no crash"
 
   r = run_sodaevo("simulate " + (golden_dir() / "random_5.xml").string() + " --frames -3");
   CHECK(r.exit_code != 0);
+
+  // An empty path is named as such (it once printed ": cannot open model file").
+  for (const std::string command : {"simulate ''", "render '' -o x.svg", "convert '' x.xml", "report ''"}) {
+    r = run_sodaevo(command);
+    INFO(command << ": " << r.output);
+    CHECK(r.exit_code != 0);
+    CHECK(r.output.find(": expected a path, got an empty one") != std::string::npos);
+  }
   fs::remove_all(dir);
 }
 

@@ -634,6 +634,9 @@ TEST_CASE("model files are written atomically and read back", "[model_file]") {
     CHECK_THROWS_WITH(soda::read_model_file(missing),
                       Catch::Contains(missing.string()) && Catch::Contains("No such file"));
   }
+  SECTION("reading an empty path says so") {
+    CHECK_THROWS_WITH(soda::read_model_file(""), "model file: expected a path, got an empty one");
+  }
   SECTION("reading a directory") {
     CHECK_THROWS_WITH(soda::read_model_file(dir),
                       Catch::Contains(dir.string()) && Catch::Contains("directory"));
