@@ -4,8 +4,6 @@
 
 namespace sodaevo::bench {
 
-namespace {
-
 soda::ModelDef open_world(double gravity, double friction, double springyness) {
   soda::ModelDef def;
   def.width = 100000;
@@ -14,6 +12,8 @@ soda::ModelDef open_world(double gravity, double friction, double springyness) {
   def.settings.autoreverse = false;
   return def;
 }
+
+namespace {
 
 soda::NodeDef mass(const std::string& id, double x, double y, double vx = 0.0, double vy = 0.0) {
   return {id, false, x, y, vx, vy};

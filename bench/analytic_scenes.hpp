@@ -13,6 +13,10 @@
 
 namespace sodaevo::bench {
 
+/// An empty 100,000 px box with the given environment and autoreverse off: room
+/// for a scene that must not touch a wall.
+soda::ModelDef open_world(double gravity, double friction, double springyness);
+
 struct AnalyticScene {
   std::string name;
   soda::ModelDef def;

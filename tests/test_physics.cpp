@@ -5,19 +5,13 @@
 #include <cmath>
 #include <cstdint>
 
+#include "bench/analytic_scenes.hpp"
 #include "core/model.hpp"
 #include "core/step.hpp"
 
 namespace {
 
-soda::ModelDef empty_world(double gravity, double friction, double springyness) {
-  soda::ModelDef def;
-  def.width = 100000;
-  def.height = 100000;
-  def.environment = {gravity, friction, springyness};
-  def.settings.autoreverse = false;
-  return def;
-}
+using sodaevo::bench::open_world;
 
 soda::NodeDef mass(double x, double y, double vx = 0, double vy = 0) {
   return {"m", false, x, y, vx, vy};
@@ -29,7 +23,7 @@ TEST_CASE("free fall follows the closed form of the frame recurrence", "[physics
   // v_n = a*(v_{n-1} - g) with a = 1 - f, so v_n = v*(1 - a^n), v* = -a*g/f, and
   // y_n = y_0 + v*(n - a*(1 - a^n)/(1 - a)). Terminal speed a*g/f stays below 20.
   const double g = 0.3, f = 0.05, a = 1.0 - f, y0 = 90000.0;
-  soda::ModelDef def = empty_world(g, f, 0.2);
+  soda::ModelDef def = open_world(g, f, 0.2);
   def.nodes.push_back(mass(500.0, y0));
   const soda::Model model = soda::build_model(def);
   soda::State s = soda::make_state(model);
@@ -49,7 +43,7 @@ TEST_CASE("free fall follows the closed form of the frame recurrence", "[physics
 TEST_CASE("the syrup threshold caps the speed at 20 px/frame", "[physics]") {
   // Without air friction gravity 1 would reach 21 px/frame after 21 frames; the
   // speed limiter scales it back to 20 (spec 5.3 step 2).
-  soda::ModelDef def = empty_world(1.0, 0.0, 0.2);
+  soda::ModelDef def = open_world(1.0, 0.0, 0.2);
   def.nodes.push_back(mass(500.0, 90000.0));
   const soda::Model model = soda::build_model(def);
   soda::State s = soda::make_state(model);
@@ -67,7 +61,7 @@ TEST_CASE("a single spring oscillates with the period the recurrence predicts", 
   // e_n = e_0*cos(n*theta) + B*sin(n*theta), cos(theta) = 1 - k/2,
   // B = -e_0*(k/2)/sin(theta) (from e_1 = (1-k)*e_0), period 2*pi/theta frames.
   const double k = 0.2, rest = 100.0, e0 = 10.0;
-  soda::ModelDef def = empty_world(0.0, 0.0, k);
+  soda::ModelDef def = open_world(0.0, 0.0, k);
   def.nodes.push_back({"n", true, 50000.0, 50000.0, 0, 0});
   def.nodes.push_back(mass(50000.0 + rest + e0, 50000.0));
   def.links.push_back({soda::LinkKind::Spring, 0, 1, rest, 0, 0});
@@ -107,7 +101,7 @@ TEST_CASE("without friction, gravity and walls, momentum is conserved", "[physic
     z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
     return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
   };
-  soda::ModelDef def = empty_world(0.0, 0.0, 0.05);
+  soda::ModelDef def = open_world(0.0, 0.0, 0.05);
   def.wave = {1.0, 0.3, 0.02};
   const int masses = 12;
   for (int i = 0; i < masses; ++i) {
@@ -151,7 +145,7 @@ TEST_CASE("without friction, gravity and walls, momentum is conserved", "[physic
 }
 
 TEST_CASE("a mass at rest is not moved and fixed nodes ignore impulses", "[physics]") {
-  soda::ModelDef def = empty_world(0.0, 0.0, 0.5);
+  soda::ModelDef def = open_world(0.0, 0.0, 0.5);
   def.nodes.push_back(mass(100.0, 100.0, 5e-6, -5e-6)); // below the rest threshold 1e-5
   const soda::Model model = soda::build_model(def);
   soda::State s = soda::make_state(model);
@@ -166,7 +160,7 @@ TEST_CASE("a mass crossing a fixed bar responds as spec 5.4 says", "[physics]") 
   // by (2, -10), crossing at t = 0.5. With u = (1, 0), n = (0, 1): vt = 2, vn = -10.
   // Position: crossing point (301, 100) plus (1 - t)*Fs*vt*u = (0.1, 0); velocity
   // Fs*vt*u + Rs*vn*n = (0.2, 7.5) for (Fs, Rs) = (0.1, -0.75).
-  soda::ModelDef def = empty_world(0.0, 0.0, 0.2);
+  soda::ModelDef def = open_world(0.0, 0.0, 0.2);
   def.nodes.push_back({"n0", true, 100.0, 100.0, 0, 0});
   def.nodes.push_back({"n1", true, 500.0, 100.0, 0, 0});
   def.nodes.push_back(mass(300.0, 105.0, 2.0, -10.0));
