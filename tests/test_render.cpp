@@ -115,6 +115,15 @@ int count_of(const std::string& text, const std::string& needle) {
   return n;
 }
 
+/// A run of `config` evolved to its end in a fresh folder named `name`.
+fs::path finished_run(const RunConfig& config, const std::string& name) {
+  const fs::path dir = test::fresh_temp_dir(name);
+  RunStore store = RunStore::create(dir, config, false, "test");
+  ThreadEvaluator evaluator(1);
+  run_evolution(store, evaluator, {});
+  return dir;
+}
+
 } // namespace
 
 TEST_CASE("motion: samples every k frames and the last, positions from the reference step", "[render]") {
@@ -251,13 +260,7 @@ TEST_CASE("run report: config, charts, table and players for a finished run", "[
   c.fitness.frames = 300;
   c.fitness.settle_frames = 40;
   c.save.generation_every = 2;
-  const fs::path dir = test::fresh_temp_dir("report_run");
-  fs::remove_all(dir);
-  {
-    RunStore store = RunStore::create(dir, c, false, "test");
-    ThreadEvaluator evaluator(1);
-    run_evolution(store, evaluator, {});
-  }
+  const fs::path dir = finished_run(c, "report_run");
   const std::string html = run_report_html(dir);
   CHECK(html.find("report-test") != std::string::npos);
   CHECK(unbalanced_html(html) == "");
@@ -332,13 +335,7 @@ TEST_CASE("run report: the players run in the run's physics mode", "[render][rep
   c.fitness.mode = soda::PhysicsMode::Continuous;
   c.fitness.integrator = soda::Integrator::Verlet;
   c.fitness.substeps = 2;
-  const fs::path dir = test::fresh_temp_dir("report_mode_run");
-  fs::remove_all(dir);
-  {
-    RunStore store = RunStore::create(dir, c, false, "test");
-    ThreadEvaluator evaluator(1);
-    run_evolution(store, evaluator, {});
-  }
+  const fs::path dir = finished_run(c, "report_mode_run");
   const std::string html = run_report_html(dir);
   CHECK(html.find("the run&apos;s physics mode: verlet/2") != std::string::npos);
   CHECK(html.find("soda mode, as the original") == std::string::npos);
