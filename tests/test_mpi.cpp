@@ -7,6 +7,7 @@
 // under `timeout`, so a hung job cannot block the suite.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -117,11 +118,14 @@ TEST_CASE("a rank killed mid-run leaves a run folder that resumes on another N",
   INFO(killed.output);
   CHECK(killed.exit_code != 0);
   CHECK(killed.output.find("sodaevo evolve --resume") != std::string::npos);
-  // Intact: a readable checkpoint of a generation before the end, no other damage.
+  // Intact: the run folder opens, and its checkpoint, if the kill came after the
+  // first one (rank 2 may take several chunks of generation 0 when the other
+  // ranks are slow), is readable and of a generation before the end.
   sodaevo::RunStore store = sodaevo::RunStore::open(dir / "run");
   const auto checkpoint = store.read_checkpoint();
-  REQUIRE(checkpoint.has_value());
-  CHECK(checkpoint->generation.index <= 1);
+  if (checkpoint) CHECK(checkpoint->generation.index <= 1);
+  const std::string log = file(dir / "run" / "generations.csv");
+  CHECK(std::count(log.begin(), log.end(), '\n') <= 1 + 2); // header and at most generations 0 and 1
 
   const Ran resumed = run_shell(mpirun(2, "evolve --resume " + (dir / "run").string() + " --threads 1 --quiet"));
   INFO(resumed.output);
