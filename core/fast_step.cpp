@@ -493,6 +493,19 @@ struct FusedScene::Data {
   std::vector<double> row_phase_after;        ///< [creatures * rows] rules::advance_wave_phase of the row's phase
   AVec<double> row_arg, row_sin;             ///< [rows * groups, padded]
   long long sines = 0;
+  // Sharing sines between creatures (fill_rows): creatures whose waves are in the
+  // same state (phase bits, direction, speed bits) have the same rows of phases,
+  // and a muscle phase they share then gives bit-identical sine arguments.
+  int uphases = 0;                   ///< distinct muscle phases of the whole scene
+  std::vector<double> uphase;        ///< [uphases] their values
+  std::vector<int> group_u;          ///< [groups] index of the group's phase in uphase
+  std::vector<int> fill_slot;        ///< [creatures] the wave state of this fill
+  std::vector<int> slot_leader;      ///< [creatures] first creature of each wave state
+  std::vector<double> slot_phase;    ///< [creatures * rows] each wave state's phases
+  std::vector<int> su_index;         ///< [creatures * uphases] distinct argument of (state, phase), -1: none
+  std::vector<int> dist_su;          ///< [groups] (state, phase) key of each distinct argument
+  std::vector<int> group_arg;        ///< [groups] distinct argument of each group
+  AVec<double> dist_arg, dist_sin;   ///< [rows * groups, padded] distinct arguments, their sines
 
   std::vector<int> bar_a, bar_b; ///< 2 * working index (offset of x in pos), file order
 
@@ -1080,6 +1093,23 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   row_phase_after.assign(creatures.size() * static_cast<std::size_t>(rows), 0.0);
   row_arg.assign(row_values, 1.0); // padding lanes: an argument the tables take
   row_sin.assign(row_values, 0.0);
+  dist_arg.assign(row_values, 1.0);
+  dist_sin.assign(row_values, 0.0);
+  std::map<std::uint64_t, int> u_of_phase;
+  uphase.clear();
+  group_u.assign(static_cast<std::size_t>(groups), 0);
+  for (int g = 0; g < groups; ++g) {
+    auto [it, inserted] = u_of_phase.try_emplace(bits_of(group_phase[g]), static_cast<int>(uphase.size()));
+    if (inserted) uphase.push_back(group_phase[g]);
+    group_u[g] = it->second;
+  }
+  uphases = static_cast<int>(uphase.size());
+  fill_slot.assign(creatures.size(), 0);
+  slot_leader.assign(creatures.size(), 0);
+  slot_phase.assign(creatures.size() * static_cast<std::size_t>(rows), 0.0);
+  su_index.assign(creatures.size() * static_cast<std::size_t>(uphases), -1);
+  dist_su.assign(static_cast<std::size_t>(groups), 0);
+  group_arg.assign(static_cast<std::size_t>(groups), 0);
 
   if (creatures.size() == 1) {
     const Model& m = *creatures[0].model;
@@ -1121,32 +1151,95 @@ void FusedScene::Data::store_state(State* const* st) {
 
 // Sines for this frame and the next rows - 1 (while each wave's direction holds),
 // for every creature, in one batch. Row 0 is the current phase.
+//
+// Creatures whose waves are in the same state (phase and speed bit for bit, same
+// direction; a GA population shares most genes) get the same rows of phases, so
+// their rows are computed once, and each distinct (wave state, muscle phase) pair
+// gives one sine argument whatever the number of creatures and muscles sharing it:
+// the same operations on the same bits give the same sine.
 void FusedScene::Data::fill_rows(State* const* st) {
-  bool all_standing = true;
+  int states = 0;
   for (int c : wave_creatures) {
-    Creature& cr = creatures[c];
+    const State& sc = *st[c];
+    const std::uint64_t speed = bits_of(creatures[c].model->wave_speed);
+    int k = 0;
+    for (; k < states; ++k) {
+      const int o = slot_leader[k];
+      if (bits_of(st[o]->wave_phase) == bits_of(sc.wave_phase) && st[o]->wave_mode == sc.wave_mode &&
+          bits_of(creatures[o].model->wave_speed) == speed) {
+        break;
+      }
+    }
+    fill_slot[c] = k;
+    if (k == states) slot_leader[states++] = c;
+  }
+  bool all_standing = true;
+  for (int k = 0; k < states; ++k) {
+    const int c = slot_leader[k];
+    double* phases = slot_phase.data() + static_cast<std::size_t>(k) * rows;
+    double phase = st[c]->wave_phase;
+    const WaveDirection mode = st[c]->wave_mode;
+    const double speed = creatures[c].model->wave_speed;
     std::uint64_t* phase_bits = row_phase_bits.data() + static_cast<std::size_t>(c) * rows;
     double* phase_after = row_phase_after.data() + static_cast<std::size_t>(c) * rows;
-    double phase = st[c]->wave_phase;
-    cr.rows_mode = st[c]->wave_mode;
     for (int r = 0; r < rows; ++r) {
+      phases[r] = phase;
       phase_bits[r] = bits_of(phase);
-      double* arg = row_arg.data() + static_cast<std::size_t>(r) * groups + cr.group_base;
-      for (int g = 0; g < cr.groups; ++g) arg[g] = kTwoPi * (group_phase[cr.group_base + g] - phase);
-      const double next = rules::advance_wave_phase(phase, cr.model->wave_speed, cr.rows_mode);
+      const double next = rules::advance_wave_phase(phase, speed, mode);
       phase_after[r] = next;
       all_standing = all_standing && bits_of(next) == bits_of(phase);
       phase = next;
     }
   }
+  // Distinct arguments, numbered in group order (so that without sharing argument
+  // d is group d and the sines go straight to row_sin).
+  int distinct = 0;
+  for (int c : wave_creatures) {
+    Creature& cr = creatures[c];
+    cr.rows_mode = st[c]->wave_mode;
+    const int k = fill_slot[c];
+    if (slot_leader[k] != c) {
+      const std::size_t from = static_cast<std::size_t>(slot_leader[k]) * rows;
+      const std::size_t to = static_cast<std::size_t>(c) * rows;
+      std::copy_n(row_phase_bits.data() + from, rows, row_phase_bits.data() + to);
+      std::copy_n(row_phase_after.data() + from, rows, row_phase_after.data() + to);
+    }
+    for (int g = cr.group_base; g < cr.group_base + cr.groups; ++g) {
+      const int key = k * uphases + group_u[g];
+      if (su_index[key] < 0) {
+        su_index[key] = distinct;
+        dist_su[distinct++] = key;
+      }
+      group_arg[g] = su_index[key];
+    }
+  }
+  for (int d = 0; d < distinct; ++d) su_index[dist_su[d]] = -1;
+  const bool shared = distinct < groups;
+  double* arg_rows = shared ? dist_arg.data() : row_arg.data();
+  double* sin_rows = shared ? dist_sin.data() : row_sin.data();
   // Every wave stands still (manual mode, speed 0): one row of sines serves all.
   const int filled = all_standing ? 1 : rows;
-  const int n = filled * groups;
+  for (int r = 0; r < filled; ++r) {
+    double* arg = arg_rows + static_cast<std::size_t>(r) * distinct;
+    for (int d = 0; d < distinct; ++d) {
+      const int k = dist_su[d] / uphases, u = dist_su[d] % uphases;
+      // The argument rules::muscle_target_length forms.
+      arg[d] = kTwoPi * (uphase[u] - slot_phase[static_cast<std::size_t>(k) * rows + r]);
+    }
+  }
+  const int n = filled * distinct;
   // Two lanes (SSE2) do not pay for the table work: std::sin is as fast there.
   if (options.table_sines && W >= 4) {
-    sin_fn(simd)(row_arg.data(), row_sin.data(), n);
+    sin_fn(simd)(arg_rows, sin_rows, n);
   } else {
-    for (int g = 0; g < n; ++g) row_sin[g] = std::sin(row_arg[g]);
+    for (int g = 0; g < n; ++g) sin_rows[g] = std::sin(arg_rows[g]);
+  }
+  if (shared) {
+    for (int r = 0; r < filled; ++r) {
+      const double* from = dist_sin.data() + static_cast<std::size_t>(r) * distinct;
+      double* to = row_sin.data() + static_cast<std::size_t>(r) * groups;
+      for (int g = 0; g < groups; ++g) to[g] = from[group_arg[g]];
+    }
   }
   for (int r = filled; r < rows; ++r) std::copy(row_sin.data(), row_sin.data() + groups, row_sin.data() + r * groups);
   sines += n;

@@ -217,3 +217,59 @@ TEST_CASE("batch: the comparison sees a difference of one creature's parameter",
   models.emplace_back("twin", twin);
   CHECK(run_batch_and_reference(models, {0, 2, 1, 2, 0}, 1000, {}).empty());
 }
+
+TEST_CASE("batch: creatures sharing wave and muscle phases share sines and stay exact", "[batch_step]") {
+  // A GA population shares most genes: the fused scene computes each distinct
+  // (wave state, muscle phase) sine once per frame. Copies that share everything,
+  // some, or nothing, and copies whose waves part (autoreverse in a small box,
+  // another speed or start phase, a manual wave) must all stay exact.
+  const soda::Model base = load_scene(models_dir() / "dainty_walker.xml").model;
+  std::vector<std::pair<std::string, soda::Model>> models;
+  for (int k = 0; k < 4; ++k) models.emplace_back("copy", base);
+  soda::Model shifted = base; // every muscle phase its own
+  for (std::size_t i = 0; i < shifted.link_phase.size(); ++i) {
+    if (shifted.link_muscle[i]) shifted.link_phase[i] = soda::wrap_phase(shifted.link_phase[i] + 0.001 * (i + 1));
+  }
+  models.emplace_back("shifted phases", shifted);
+  soda::Model one_changed = base; // one muscle phase changed: the others still shared
+  for (std::size_t i = 0; i < one_changed.link_phase.size(); ++i) {
+    if (one_changed.link_muscle[i]) {
+      one_changed.link_phase[i] = soda::wrap_phase(one_changed.link_phase[i] + 0.25);
+      break;
+    }
+  }
+  models.emplace_back("one phase changed", one_changed);
+  soda::Model faster = base;
+  faster.wave_speed *= 1.5;
+  models.emplace_back("faster wave", faster);
+  soda::Model later = base;
+  later.wave_phase0 = soda::wrap_phase(base.wave_phase0 + 0.5);
+  models.emplace_back("later wave", later);
+  soda::Model boxed = base; // hits the side walls: its wave turns, the copies' do not
+  double max_x = 0;
+  for (int p = 0; p < boxed.mass_count; ++p) max_x = std::max(max_x, boxed.x0[p]);
+  boxed.width = max_x + 30.0;
+  boxed.autoreverse = true;
+  models.emplace_back("boxed, autoreverse", boxed);
+  soda::Model manual = base;
+  manual.wave_direction0 = soda::WaveDirection::Manual;
+  models.emplace_back("manual wave", manual);
+  const std::vector<int> picks = all_indices(models.size());
+  for (soda::SimdLevel level : supported_levels()) {
+    soda::FastStepOptions opt;
+    opt.simd = level;
+    const std::string diff = run_batch_and_reference(models, picks, 4000, opt);
+    INFO(soda::simd_level_name(level) << ": " << diff);
+    CHECK(diff.empty());
+  }
+  // Identical copies evaluate the sines of one creature.
+  soda::FastStepper alone(base, 1000);
+  soda::State s = soda::make_state(base);
+  alone.run(s, 1000);
+  soda::FusedScene copies({&base, &base, &base, &base}, 1000);
+  std::vector<soda::State> states(4, soda::make_state(base));
+  soda::State* const ptrs[4] = {&states[0], &states[1], &states[2], &states[3]};
+  copies.run(ptrs, 1000);
+  CHECK(copies.sines_evaluated() == alone.sines_evaluated());
+  for (const soda::State& c : states) CHECK(compare_states(base, s, c).empty());
+}
