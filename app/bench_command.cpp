@@ -56,10 +56,13 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
   o << "Measured with `" << command << "` (fast = " << r.simd
     << "; medians of the runs; ratios within this one invocation).\n\n";
   o << "\"fast\" steps one creature alone. \"fast-batch\" steps " << bench::kBenchBatch
-    << " copies of the creature on one core (soda::BatchStepper: packed into fused scenes of at most "
+    << " different creatures (copies with their muscle phases shifted, no sine shared) on one core "
+       "(soda::BatchStepper: packed into fused scenes of at most "
     << soda::kMaxFusedLinks << " links, whose links share SIMD batches) "
        "and counts creature-frames: it is population throughput per core, what the genetic algorithm "
-       "gets, not the speed of a single creature. Both are bit-exact against the reference step.\n\n";
+       "gets, not the speed of a single creature. \"fast-batch-same\" steps " << bench::kBenchBatch
+    << " identical copies, which share every muscle sine (the best case of a population sharing genes). "
+       "All are bit-exact against the reference step.\n\n";
   o << "| creature | links | engine | frames/s | link updates/s | vs seed | vs plain |\n";
   o << "|---|---:|---|---:|---:|---:|---:|\n";
   for (const bench::SpeedRow& row : r.rows) {
@@ -91,8 +94,9 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
       << "x |\n";
   }
   o << "\nPopulation throughput (every creature stepped from scratch, results by index; fast = a "
-       "FastStepper per creature, fast-batch = batches of "
-    << bench::kBenchBatch << " creatures fused on one core):\n\n";
+       "FastStepper per creature, fast-batch = batches of at most "
+    << bench::kBenchBatch << " creatures fused on one core, cut where a new fused scene starts; "
+       "no two creatures share a sine):\n\n";
   o << "| engine | threads | creatures x frames | creature-frames/s | link updates/s |\n|---|---:|---|---:|---:|\n";
   for (const bench::SpeedRow& row : r.rows) {
     if (row.section != "population") continue;

@@ -33,6 +33,19 @@ double median(std::vector<double> v) {
 // Keeps results observable so the optimiser cannot drop a run.
 volatile double g_sink = 0.0;
 
+/// Copy k of `model` with every muscle phase moved by k * 0.0007 cycles: as costly
+/// to step as the model, but its sine arguments are its own. Fused scenes compute
+/// a sine shared by creatures with the same wave and muscle phase once
+/// (fast_step.cpp, fill_rows), so identical copies would overstate what a batch of
+/// different creatures gets.
+soda::Model shifted_copy(const soda::Model& model, int k) {
+  soda::Model m = model;
+  for (std::size_t i = 0; i < m.link_phase.size(); ++i) {
+    if (m.link_muscle[i]) m.link_phase[i] = soda::wrap_phase(m.link_phase[i] + 0.0007 * k);
+  }
+  return m;
+}
+
 /// An engine under test: run(frames) steps from the initial state.
 struct Engine {
   std::string name;
@@ -72,18 +85,27 @@ std::vector<Engine> make_engines(const soda::Model& model, bool with_reference, 
                        }});
   }
   if (with_batch) {
-    // kBenchBatch copies of the creature fused on one core (population throughput).
-    const std::vector<const soda::Model*> copies(kBenchBatch, &model);
-    auto stepper = std::make_shared<soda::BatchStepper>(copies, 1'000'000);
-    engines.push_back({"fast-batch",
-                       [stepper, &model](long long frames) {
-                         std::vector<soda::State> states(kBenchBatch, soda::make_state(model));
-                         std::vector<soda::State*> ptrs;
-                         for (soda::State& s : states) ptrs.push_back(&s);
-                         stepper->run(ptrs, frames);
-                         g_sink = g_sink + states.back().x[0];
-                       },
-                       kBenchBatch});
+    // kBenchBatch creatures fused on one core (population throughput): "fast-batch"
+    // 16 different ones (shifted_copy: no sine shared between them), and
+    // "fast-batch-same" 16 identical copies, which share every sine (the best case
+    // of a population sharing genes).
+    for (bool same : {false, true}) {
+      auto copies = std::make_shared<std::vector<soda::Model>>();
+      for (int k = 0; k < kBenchBatch; ++k) copies->push_back(same ? model : shifted_copy(model, k));
+      std::vector<const soda::Model*> ptrs;
+      for (const soda::Model& m : *copies) ptrs.push_back(&m);
+      auto stepper = std::make_shared<soda::BatchStepper>(ptrs, 1'000'000);
+      engines.push_back({same ? "fast-batch-same" : "fast-batch",
+                         [stepper, copies](long long frames) {
+                           std::vector<soda::State> states;
+                           for (const soda::Model& m : *copies) states.push_back(soda::make_state(m));
+                           std::vector<soda::State*> sp;
+                           for (soda::State& s : states) sp.push_back(&s);
+                           stepper->run(sp, frames);
+                           g_sink = g_sink + states.back().x[0];
+                         },
+                         kBenchBatch});
+    }
   }
   return engines;
 }
@@ -202,13 +224,23 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     const int copies = options.quick ? 8 : 64;
     const long long frames = options.quick ? 1000 : 5000;
     const std::size_t count = creatures.size() * static_cast<std::size_t>(copies);
+    // Creature i is copy i / 3 of bundled creature i % 3, its muscle phases shifted
+    // (shifted_copy) so that no two creatures share a sine.
+    std::vector<soda::Model> population;
+    for (std::size_t i = 0; i < count; ++i) {
+      population.push_back(shifted_copy(creatures[i % creatures.size()].second, static_cast<int>(i / creatures.size())));
+    }
     long long links_per_round = 0;
-    for (std::size_t i = 0; i < count; ++i) links_per_round += creatures[i % creatures.size()].second.link_count();
+    std::vector<int> population_links;
+    for (const soda::Model& m : population) {
+      links_per_round += m.link_count();
+      population_links.push_back(m.link_count());
+    }
     std::vector<double> results(count), batch_results(count);
     auto evaluate = [&](int threads) {
       const auto t0 = Clock::now();
       parallel_for_index(count, threads, [&](std::size_t i) {
-        const soda::Model& model = creatures[i % creatures.size()].second;
+        const soda::Model& model = population[i];
         soda::FastStepper stepper(model, frames);
         soda::State s = soda::make_state(model);
         stepper.run(s, frames);
@@ -216,17 +248,18 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
       });
       return seconds_since(t0);
     };
-    // The batch path: each work item is a batch of kBenchBatch creatures (the mix
-    // of the population) fused on one core, results by index.
-    const std::size_t batches = (count + kBenchBatch - 1) / kBenchBatch;
+    // The batch path (the GA's, evolve/batch_evaluation.cpp): each work item is a
+    // batch of at most kBenchBatch consecutive creatures fused on one core, cut
+    // where a new fused scene starts (soda::fused_batch_ends), results by index.
+    const std::vector<std::size_t> batch_ends = soda::fused_batch_ends(population_links, kBenchBatch);
     auto evaluate_batches = [&](int threads) {
       const auto t0 = Clock::now();
-      parallel_for_index(batches, threads, [&](std::size_t b) {
-        const std::size_t first = b * kBenchBatch, last = std::min(count, first + kBenchBatch);
+      parallel_for_index(batch_ends.size(), threads, [&](std::size_t b) {
+        const std::size_t first = b == 0 ? 0 : batch_ends[b - 1], last = batch_ends[b];
         std::vector<const soda::Model*> models;
         std::vector<soda::State> states;
         for (std::size_t i = first; i < last; ++i) {
-          models.push_back(&creatures[i % creatures.size()].second);
+          models.push_back(&population[i]);
           states.push_back(soda::make_state(*models.back()));
         }
         std::vector<soda::State*> ptrs;
@@ -238,7 +271,8 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
       return seconds_since(t0);
     };
     say("population of " + std::to_string(count) + " creatures x " + std::to_string(frames) + " frames, 1 and " +
-        std::to_string(all) + " threads, one by one and in batches of " + std::to_string(kBenchBatch));
+        std::to_string(all) + " threads, one by one and in " + std::to_string(batch_ends.size()) +
+        " batches of at most " + std::to_string(kBenchBatch));
     evaluate(all); // warm-up
     evaluate_batches(all);
     const std::vector<double> one_thread_results = [&] {

@@ -6,9 +6,11 @@
 // exact rules as a plain scalar loop, baselines.hpp), "reference" (soda::run, the
 // plain SoA reference step), "fast-sse2" (FastStepper on the portable x86-64
 // level) and "fast" (FastStepper on the best level of this CPU): each steps ONE
-// creature alone. "fast-batch" (BatchStepper) steps kBenchBatch copies of the
-// creature fused on one core and counts creature-frames: it measures population
-// throughput per core (what the GA gets), not the speed of one creature.
+// creature alone. "fast-batch" (BatchStepper) steps kBenchBatch different
+// creatures (copies with shifted muscle phases, so no sine is shared) fused on one
+// core and counts creature-frames: it measures population throughput per core
+// (what the GA gets), not the speed of one creature. "fast-batch-same" steps
+// kBenchBatch identical copies, which share every sine (the best case).
 //
 // Method: every figure is the median of `runs` timed runs; a run steps the engine
 // from the model's initial state for a frame count calibrated so that one run takes

@@ -26,12 +26,28 @@ BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long fr
       continue;
     }
     const int links = models[i]->link_count();
-    if (!pack.empty() && pack_links + links > kMaxFusedLinks) close_pack();
+    if (!pack.empty() && starts_new_scene(pack_links, links)) close_pack();
     pack.push_back(models[i]);
     pack_index.push_back(i);
     pack_links += links;
   }
   close_pack();
+}
+
+std::vector<std::size_t> fused_batch_ends(const std::vector<int>& links, std::size_t max_models) {
+  std::vector<std::size_t> ends;
+  std::size_t first = 0;
+  int scene_links = 0;
+  for (std::size_t i = 0; i < links.size(); ++i) {
+    if (i > first && (i - first >= std::max<std::size_t>(max_models, 1) || starts_new_scene(scene_links, links[i]))) {
+      ends.push_back(i);
+      first = i;
+      scene_links = 0;
+    }
+    scene_links += links[i];
+  }
+  if (first < links.size()) ends.push_back(links.size());
+  return ends;
 }
 
 BatchStepper::~BatchStepper() = default;

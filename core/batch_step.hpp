@@ -38,6 +38,18 @@ class FusedScene;
 /// Most links (springs and muscles) fused in one scene (see above).
 inline constexpr int kMaxFusedLinks = 512;
 
+/// Whether a model of `links` links starts a new scene after a non-empty scene of
+/// `scene_links` links (the packing rule of BatchStepper).
+inline bool starts_new_scene(int scene_links, int links) { return scene_links + links > kMaxFusedLinks; }
+
+/// Consecutive batches of at most `max_models` models (links[i]: model i's links),
+/// cut where BatchStepper starts a new fused scene anyway. Returns each batch's
+/// end index. Why: a work item for a thread pool should be as small as fusing
+/// allows; a batch of 16 mixed creatures holds several scenes run one after the
+/// other, and 12 such batches on 2 threads leave one thread idle for up to a
+/// batch at the end. Cutting at scene boundaries loses nothing of the fusing.
+std::vector<std::size_t> fused_batch_ends(const std::vector<int>& links, std::size_t max_models);
+
 class BatchStepper {
  public:
   /// `models[i]` may repeat (each entry has its own state). `frame_budget` as for

@@ -21,7 +21,8 @@ namespace sodaevo {
 inline constexpr std::size_t kMaxEvaluationBatch = 16;
 
 /// Creatures per batch for `count` creatures on `threads` threads: at most
-/// kMaxEvaluationBatch, and small enough that every thread gets about two batches.
+/// kMaxEvaluationBatch, and small enough that every thread gets about two batches
+/// (evaluate_creatures cuts them further where a new fused scene starts).
 std::size_t evaluation_batch_size(std::size_t count, int threads);
 
 /// Result i is exactly evaluate_creature(*creatures[i], config), for any `threads`
