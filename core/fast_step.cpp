@@ -503,7 +503,8 @@ struct FusedScene::Data {
   std::vector<int> slot_leader;      ///< [creatures] first creature of each wave state
   std::vector<double> slot_phase;    ///< [creatures * rows] each wave state's phases
   std::vector<int> su_index;         ///< [creatures * uphases] distinct argument of (state, phase), -1: none
-  std::vector<int> dist_su;          ///< [groups] (state, phase) key of each distinct argument
+  std::vector<int> dist_key;         ///< [groups] (state, phase) key of each distinct argument
+  std::vector<int> dist_state, dist_u; ///< [groups] its wave state and phase
   std::vector<int> group_arg;        ///< [groups] distinct argument of each group
   AVec<double> dist_arg, dist_sin;   ///< [rows * groups, padded] distinct arguments, their sines
 
@@ -1108,7 +1109,9 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   slot_leader.assign(creatures.size(), 0);
   slot_phase.assign(creatures.size() * static_cast<std::size_t>(rows), 0.0);
   su_index.assign(creatures.size() * static_cast<std::size_t>(uphases), -1);
-  dist_su.assign(static_cast<std::size_t>(groups), 0);
+  dist_key.assign(static_cast<std::size_t>(groups), 0);
+  dist_state.assign(static_cast<std::size_t>(groups), 0);
+  dist_u.assign(static_cast<std::size_t>(groups), 0);
   group_arg.assign(static_cast<std::size_t>(groups), 0);
 
   if (creatures.size() == 1) {
@@ -1156,75 +1159,105 @@ void FusedScene::Data::store_state(State* const* st) {
 // direction; a GA population shares most genes) get the same rows of phases, so
 // their rows are computed once, and each distinct (wave state, muscle phase) pair
 // gives one sine argument whatever the number of creatures and muscles sharing it:
-// the same operations on the same bits give the same sine.
+// the same operations on the same bits give the same sine. When no two creatures
+// share a wave state nothing can be shared (a creature's groups are its distinct
+// phases already) and the rows go straight to row_arg and row_sin.
 void FusedScene::Data::fill_rows(State* const* st) {
   int states = 0;
-  for (int c : wave_creatures) {
-    const State& sc = *st[c];
-    const std::uint64_t speed = bits_of(creatures[c].model->wave_speed);
-    int k = 0;
-    for (; k < states; ++k) {
-      const int o = slot_leader[k];
-      if (bits_of(st[o]->wave_phase) == bits_of(sc.wave_phase) && st[o]->wave_mode == sc.wave_mode &&
-          bits_of(creatures[o].model->wave_speed) == speed) {
-        break;
+  if (wave_creatures.size() > 1) {
+    for (int c : wave_creatures) {
+      const State& sc = *st[c];
+      const std::uint64_t speed = bits_of(creatures[c].model->wave_speed);
+      int k = 0;
+      for (; k < states; ++k) {
+        const int o = slot_leader[k];
+        if (bits_of(st[o]->wave_phase) == bits_of(sc.wave_phase) && st[o]->wave_mode == sc.wave_mode &&
+            bits_of(creatures[o].model->wave_speed) == speed) {
+          break;
+        }
       }
+      fill_slot[c] = k;
+      if (k == states) slot_leader[states++] = c;
     }
-    fill_slot[c] = k;
-    if (k == states) slot_leader[states++] = c;
   }
+  const bool shared = states > 0 && states < static_cast<int>(wave_creatures.size());
   bool all_standing = true;
-  for (int k = 0; k < states; ++k) {
-    const int c = slot_leader[k];
-    double* phases = slot_phase.data() + static_cast<std::size_t>(k) * rows;
-    double phase = st[c]->wave_phase;
-    const WaveDirection mode = st[c]->wave_mode;
-    const double speed = creatures[c].model->wave_speed;
-    std::uint64_t* phase_bits = row_phase_bits.data() + static_cast<std::size_t>(c) * rows;
-    double* phase_after = row_phase_after.data() + static_cast<std::size_t>(c) * rows;
-    for (int r = 0; r < rows; ++r) {
-      phases[r] = phase;
-      phase_bits[r] = bits_of(phase);
-      const double next = rules::advance_wave_phase(phase, speed, mode);
-      phase_after[r] = next;
-      all_standing = all_standing && bits_of(next) == bits_of(phase);
-      phase = next;
-    }
-  }
-  // Distinct arguments, numbered in group order (so that without sharing argument
-  // d is group d and the sines go straight to row_sin).
-  int distinct = 0;
-  for (int c : wave_creatures) {
-    Creature& cr = creatures[c];
-    cr.rows_mode = st[c]->wave_mode;
-    const int k = fill_slot[c];
-    if (slot_leader[k] != c) {
-      const std::size_t from = static_cast<std::size_t>(slot_leader[k]) * rows;
-      const std::size_t to = static_cast<std::size_t>(c) * rows;
-      std::copy_n(row_phase_bits.data() + from, rows, row_phase_bits.data() + to);
-      std::copy_n(row_phase_after.data() + from, rows, row_phase_after.data() + to);
-    }
-    for (int g = cr.group_base; g < cr.group_base + cr.groups; ++g) {
-      const int key = k * uphases + group_u[g];
-      if (su_index[key] < 0) {
-        su_index[key] = distinct;
-        dist_su[distinct++] = key;
+  int distinct = groups;
+  if (!shared) {
+    for (int c : wave_creatures) {
+      Creature& cr = creatures[c];
+      std::uint64_t* phase_bits = row_phase_bits.data() + static_cast<std::size_t>(c) * rows;
+      double* phase_after = row_phase_after.data() + static_cast<std::size_t>(c) * rows;
+      double phase = st[c]->wave_phase;
+      cr.rows_mode = st[c]->wave_mode;
+      for (int r = 0; r < rows; ++r) {
+        phase_bits[r] = bits_of(phase);
+        double* arg = row_arg.data() + static_cast<std::size_t>(r) * groups + cr.group_base;
+        // The argument rules::muscle_target_length forms.
+        for (int g = 0; g < cr.groups; ++g) arg[g] = kTwoPi * (group_phase[cr.group_base + g] - phase);
+        const double next = rules::advance_wave_phase(phase, cr.model->wave_speed, cr.rows_mode);
+        phase_after[r] = next;
+        all_standing = all_standing && bits_of(next) == bits_of(phase);
+        phase = next;
       }
-      group_arg[g] = su_index[key];
     }
+  } else {
+    for (int k = 0; k < states; ++k) {
+      const int c = slot_leader[k];
+      double* phases = slot_phase.data() + static_cast<std::size_t>(k) * rows;
+      double phase = st[c]->wave_phase;
+      const WaveDirection mode = st[c]->wave_mode;
+      const double speed = creatures[c].model->wave_speed;
+      std::uint64_t* phase_bits = row_phase_bits.data() + static_cast<std::size_t>(c) * rows;
+      double* phase_after = row_phase_after.data() + static_cast<std::size_t>(c) * rows;
+      for (int r = 0; r < rows; ++r) {
+        phases[r] = phase;
+        phase_bits[r] = bits_of(phase);
+        const double next = rules::advance_wave_phase(phase, speed, mode);
+        phase_after[r] = next;
+        all_standing = all_standing && bits_of(next) == bits_of(phase);
+        phase = next;
+      }
+    }
+    // Distinct arguments, numbered in order of first use.
+    distinct = 0;
+    for (int c : wave_creatures) {
+      Creature& cr = creatures[c];
+      cr.rows_mode = st[c]->wave_mode;
+      const int k = fill_slot[c];
+      if (slot_leader[k] != c) {
+        const std::size_t from = static_cast<std::size_t>(slot_leader[k]) * rows;
+        const std::size_t to = static_cast<std::size_t>(c) * rows;
+        std::copy_n(row_phase_bits.data() + from, rows, row_phase_bits.data() + to);
+        std::copy_n(row_phase_after.data() + from, rows, row_phase_after.data() + to);
+      }
+      for (int g = cr.group_base; g < cr.group_base + cr.groups; ++g) {
+        const int key = k * uphases + group_u[g];
+        if (su_index[key] < 0) {
+          su_index[key] = distinct;
+          dist_key[distinct] = key;
+          dist_state[distinct] = k;
+          dist_u[distinct++] = group_u[g];
+        }
+        group_arg[g] = su_index[key];
+      }
+    }
+    for (int d = 0; d < distinct; ++d) su_index[dist_key[d]] = -1;
   }
-  for (int d = 0; d < distinct; ++d) su_index[dist_su[d]] = -1;
-  const bool shared = distinct < groups;
-  double* arg_rows = shared ? dist_arg.data() : row_arg.data();
-  double* sin_rows = shared ? dist_sin.data() : row_sin.data();
+  // With every argument distinct, argument d is group d (both numbered in creature
+  // and group order): no remapping.
+  const bool remap = distinct < groups;
+  double* arg_rows = remap ? dist_arg.data() : row_arg.data();
+  double* sin_rows = remap ? dist_sin.data() : row_sin.data();
   // Every wave stands still (manual mode, speed 0): one row of sines serves all.
   const int filled = all_standing ? 1 : rows;
-  for (int r = 0; r < filled; ++r) {
-    double* arg = arg_rows + static_cast<std::size_t>(r) * distinct;
-    for (int d = 0; d < distinct; ++d) {
-      const int k = dist_su[d] / uphases, u = dist_su[d] % uphases;
-      // The argument rules::muscle_target_length forms.
-      arg[d] = kTwoPi * (uphase[u] - slot_phase[static_cast<std::size_t>(k) * rows + r]);
+  if (shared) {
+    for (int r = 0; r < filled; ++r) {
+      double* arg = arg_rows + static_cast<std::size_t>(r) * distinct;
+      for (int d = 0; d < distinct; ++d) {
+        // The argument rules::muscle_target_length forms.
+        arg[d] = kTwoPi * (uphase[dist_u[d]] - slot_phase[static_cast<std::size_t>(dist_state[d]) * rows + r]);
+      }
     }
   }
   const int n = filled * distinct;
@@ -1234,7 +1267,7 @@ void FusedScene::Data::fill_rows(State* const* st) {
   } else {
     for (int g = 0; g < n; ++g) sin_rows[g] = std::sin(arg_rows[g]);
   }
-  if (shared) {
+  if (remap) {
     for (int r = 0; r < filled; ++r) {
       const double* from = dist_sin.data() + static_cast<std::size_t>(r) * distinct;
       double* to = row_sin.data() + static_cast<std::size_t>(r) * groups;

@@ -255,12 +255,16 @@ TEST_CASE("batch: creatures sharing wave and muscle phases share sines and stay 
   manual.wave_direction0 = soda::WaveDirection::Manual;
   models.emplace_back("manual wave", manual);
   const std::vector<int> picks = all_indices(models.size());
+  // Also a batch whose waves are in one state but whose arguments all differ.
+  const std::vector<int> same_wave_no_shared_phase = {0, 4};
   for (soda::SimdLevel level : supported_levels()) {
     soda::FastStepOptions opt;
     opt.simd = level;
-    const std::string diff = run_batch_and_reference(models, picks, 4000, opt);
-    INFO(soda::simd_level_name(level) << ": " << diff);
-    CHECK(diff.empty());
+    for (const std::vector<int>* p : {&picks, &same_wave_no_shared_phase}) {
+      const std::string diff = run_batch_and_reference(models, *p, 4000, opt);
+      INFO(soda::simd_level_name(level) << ", " << p->size() << " creatures: " << diff);
+      CHECK(diff.empty());
+    }
   }
   // Identical copies evaluate the sines of one creature.
   soda::FastStepper alone(base, 1000);
