@@ -14,6 +14,9 @@
 //    reflection per mass (vectors, not broadcasts); wave phase, direction, speed
 //    and muscle sines per creature; autoreverse replayed per creature, in its mass
 //    order, into its own State;
+//  - a sine is computed once for all creatures whose waves are in the same state
+//    (phase and speed bit for bit, same direction) and all their muscles with the
+//    same phase bits: the same operations on the same bits give the same sine;
 //  - the optional work is only ever skipped when it is an identity for every lane:
 //    a wall is tested when some creature may reach it (testing an unreachable
 //    wall changes nothing), gravity is applied when some creature has it (g*d = +0
