@@ -183,29 +183,38 @@ TEST_CASE("a run killed with SIGKILL at random moments resumes to the uninterrup
   require_complete_files(dir / "whole");
 
   const unsigned seed = std::random_device{}();
-  INFO("kill times drawn with seed " << seed << "; the uninterrupted run took " << whole_seconds << " s");
+  INFO("kill moments drawn with seed " << seed << "; the uninterrupted run took " << whole_seconds << " s");
   std::mt19937 rng(seed);
-  // At most a quarter of the run between kills, so four kills land before it ends.
-  std::uniform_real_distribution<double> kill_after(0.02 * whole_seconds, 0.25 * whole_seconds);
-
+  // A kill moment is drawn in progress, not in wall time (the machine's load may
+  // change between the runs): once the run has logged a random number of further
+  // generations (0 to 4), wait a random part of one generation's time and kill.
+  // At most 4 of the 24 generations per attempt, so four kills land before the end.
+  const double generation_seconds = whole_seconds / 24.0;
+  std::uniform_int_distribution<long> more_generations(0, 4);
+  std::uniform_real_distribution<double> within_generation(0.0, generation_seconds);
   const fs::path killed = dir / "killed";
+  auto logged_generations = [&] {
+    std::error_code ec;
+    if (!fs::exists(killed / "generations.csv", ec)) return 0L;
+    const std::string text = text_of(killed / "generations.csv");
+    return std::max(0L, static_cast<long>(std::count(text.begin(), text.end(), '\n')) - 1);
+  };
   int kills = 0;
   bool finished = false;
   for (int attempt = 0; attempt < 8 && kills < 4 && !finished; ++attempt) {
+    const long target = std::min(20L, logged_generations() + more_generations(rng));
     const pid_t pid =
         spawn(attempt == 0 ? evolve_args({config.string(), "--out", killed.string()})
                            : evolve_args({"--resume", killed.string()}),
               log);
-    if (attempt == 0) {
-      // Resuming needs the run folder's config: kill only once it is there.
-      while (!fs::exists(killed / "config.json")) std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    const auto deadline = Clock::now() + std::chrono::duration<double>(kill_after(rng));
     int status = 0;
     pid_t done = 0;
-    while ((done = ::waitpid(pid, &status, WNOHANG)) == 0 && Clock::now() < deadline) {
-      std::this_thread::sleep_for(std::chrono::microseconds(500));
-    }
+    auto running = [&] { return done == 0 && (done = ::waitpid(pid, &status, WNOHANG)) == 0; };
+    // Resuming needs the run folder's config: kill only once it is there.
+    while (running() && !fs::exists(killed / "config.json")) std::this_thread::sleep_for(std::chrono::microseconds(500));
+    while (running() && logged_generations() < target) std::this_thread::sleep_for(std::chrono::microseconds(500));
+    const auto deadline = Clock::now() + std::chrono::duration<double>(within_generation(rng));
+    while (running() && Clock::now() < deadline) std::this_thread::sleep_for(std::chrono::microseconds(500));
     if (done == 0) {
       ::kill(pid, SIGKILL);
       const int code = wait_for(pid);
