@@ -28,15 +28,8 @@ namespace fs = std::filesystem;
 namespace {
 
 RunConfig small_config() {
-  RunConfig c;
-  c.name = "test";
-  c.seed = 42;
-  c.population.size = 12;
-  c.population.seed_models = {fs::absolute(test::models_dir() / "dainty_walker.xml").string()};
+  RunConfig c = test::walker_run_config("test", 42, 12, 5, 400, 50);
   c.population.random_fraction = 0.5;
-  c.budget.generations = 5;
-  c.fitness.frames = 400;
-  c.fitness.settle_frames = 50;
   c.crossover_rate = 0.3;
   c.save.generation_every = 2;
   return c;

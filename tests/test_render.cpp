@@ -251,14 +251,7 @@ TEST_CASE("player page: self-contained, controls present, every sample embedded"
 }
 
 TEST_CASE("run report: config, charts, table and players for a finished run", "[render][report]") {
-  RunConfig c;
-  c.name = "report-test";
-  c.seed = 7;
-  c.population.size = 10;
-  c.population.seed_models = {fs::absolute(test::models_dir() / "dainty_walker.xml").string()};
-  c.budget.generations = 4;
-  c.fitness.frames = 300;
-  c.fitness.settle_frames = 40;
+  RunConfig c = test::walker_run_config("report-test", 7, 10, 4, 300, 40);
   c.save.generation_every = 2;
   const fs::path dir = finished_run(c, "report_run");
   const std::string html = run_report_html(dir);
@@ -324,14 +317,7 @@ TEST_CASE("run report: config, charts, table and players for a finished run", "[
 }
 
 TEST_CASE("run report: the players run in the run's physics mode", "[render][report]") {
-  RunConfig c;
-  c.name = "report-mode-test";
-  c.seed = 3;
-  c.population.size = 6;
-  c.population.seed_models = {fs::absolute(test::models_dir() / "dainty_walker.xml").string()};
-  c.budget.generations = 2;
-  c.fitness.frames = 200;
-  c.fitness.settle_frames = 20;
+  RunConfig c = test::walker_run_config("report-mode-test", 3, 6, 2, 200, 20);
   c.fitness.mode = soda::PhysicsMode::Continuous;
   c.fitness.integrator = soda::Integrator::Verlet;
   c.fitness.substeps = 2;

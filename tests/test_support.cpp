@@ -123,4 +123,17 @@ fs::path fresh_temp_dir(const std::string& name) {
   return d;
 }
 
+RunConfig walker_run_config(const std::string& name, std::uint64_t seed, int population, int generations,
+                            int frames, int settle_frames) {
+  RunConfig c;
+  c.name = name;
+  c.seed = seed;
+  c.population.size = population;
+  c.population.seed_models = {std::filesystem::absolute(models_dir() / "dainty_walker.xml").string()};
+  c.budget.generations = generations;
+  c.fitness.frames = frames;
+  c.fitness.settle_frames = settle_frames;
+  return c;
+}
+
 } // namespace sodaevo::test

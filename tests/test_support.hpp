@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "core/model.hpp"
+#include "evolve/run_config.hpp"
 
 namespace sodaevo::test {
 
@@ -71,5 +72,10 @@ std::vector<std::filesystem::path> xml_files_under(const std::filesystem::path& 
 
 /// A fresh, empty folder under the system's temp folder, unique to this process.
 std::filesystem::path fresh_temp_dir(const std::string& name);
+
+/// A small evolution run for tests: the Dainty Walker as seed model, every other
+/// key at its default.
+RunConfig walker_run_config(const std::string& name, std::uint64_t seed, int population, int generations,
+                            int frames, int settle_frames);
 
 } // namespace sodaevo::test
