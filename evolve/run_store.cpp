@@ -204,6 +204,20 @@ Generation generation_from_xml(const std::string& text, const std::string& sourc
   return g;
 }
 
+namespace {
+
+void write_manifest(const fs::path& dir, const RunConfig& config, const std::string& command_line) {
+  const nlohmann::json manifest = {{"program", "sodaevo"},
+                                   {"version", "0.1.0"},
+                                   {"compiler", std::string("g++ ") + __VERSION__},
+                                   {"seed", config.seed},
+                                   {"started", now_iso8601()},
+                                   {"command", command_line}};
+  soda::write_file_atomically(dir / "manifest.json", manifest.dump(2) + "\n");
+}
+
+} // namespace
+
 RunStore RunStore::create(const fs::path& dir, const RunConfig& config, bool force, const std::string& command_line) {
   std::error_code ec;
   if (fs::exists(dir, ec) && !fs::is_empty(dir, ec)) {
@@ -223,13 +237,7 @@ RunStore RunStore::create(const fs::path& dir, const RunConfig& config, bool for
 
   RunStore store(dir, config);
   soda::write_file_atomically(dir / "config.json", to_json(config).dump(2) + "\n");
-  nlohmann::json manifest = {{"program", "sodaevo"},
-                             {"version", "0.1.0"},
-                             {"compiler", std::string("g++ ") + __VERSION__},
-                             {"seed", config.seed},
-                             {"started", now_iso8601()},
-                             {"command", command_line}};
-  soda::write_file_atomically(dir / "manifest.json", manifest.dump(2) + "\n");
+  write_manifest(dir, config, command_line);
   store.write_logs();
   return store;
 }
@@ -247,6 +255,11 @@ RunStore RunStore::open(const fs::path& dir) {
     }
   }
   RunStore store(dir, read_run_config(dir / "config.json"));
+  // A run killed between writing its config and its manifest has none: write one,
+  // saying so, rather than leave the folder without it.
+  if (std::error_code ec; !fs::exists(dir / "manifest.json", ec)) {
+    write_manifest(dir, store.config_, "(unknown: the run was killed before its manifest was written; resumed)");
+  }
   store.generation_rows_ = read_rows(dir / "generations.csv");
   store.timing_rows_ = read_rows(dir / "timing.csv");
   return store;

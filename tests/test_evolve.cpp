@@ -314,3 +314,15 @@ TEST_CASE("a seed model that cannot be evolved is a config error, before any run
   CHECK(!fs::exists(run));
   fs::remove_all(dir);
 }
+
+TEST_CASE("a run folder without its manifest (killed right after its config) gets one on resume", "[evolve]") {
+  const fs::path dir = fresh_dir("no_manifest");
+  { RunStore::create(dir, small_config(), false, "test"); }
+  fs::remove(dir / "manifest.json");
+  RunStore::open(dir);
+  REQUIRE(fs::exists(dir / "manifest.json"));
+  const std::string manifest = file(dir / "manifest.json");
+  CHECK(manifest.find("killed before its manifest was written") != std::string::npos);
+  CHECK(manifest.find("\"seed\": 42") != std::string::npos);
+  fs::remove_all(dir);
+}
