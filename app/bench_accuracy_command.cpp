@@ -19,6 +19,7 @@
 #include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
 #include "evolve/parallel_for.hpp"
+#include "core/number_text.hpp"
 
 namespace sodaevo::app {
 
@@ -26,17 +27,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string num(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.6g", v);
-  return buf;
-}
-
-std::string pct(double share) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g %%", 100.0 * share);
-  return buf;
-}
+std::string num(double v) { return soda::format_printf("%.6g", v); }
+std::string pct(double share) { return soda::format_printf("%.3g %%", 100.0 * share); }
 
 std::string slug(const std::string& s) {
   std::string out;

@@ -16,6 +16,7 @@
 #include "core/batch_step.hpp"
 #include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
+#include "core/number_text.hpp"
 
 namespace sodaevo::app {
 
@@ -30,11 +31,7 @@ struct BenchSpeedOptions {
   int threads = 0;
 };
 
-std::string sci(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.4g", v);
-  return buf;
-}
+std::string sci(double v) { return soda::format_printf("%.4g", v); }
 
 std::string csv(const bench::SpeedReport& r) {
   std::ostringstream o;

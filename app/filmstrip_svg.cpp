@@ -14,17 +14,8 @@ namespace sodaevo::app {
 
 namespace {
 
-std::string num(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.1f", v);
-  return buf;
-}
-
-std::string signed_px(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%+.0f px", v);
-  return buf;
-}
+std::string num(double v) { return soda::format_printf("%.1f", v); }
+std::string signed_px(double v) { return soda::format_printf("%+.0f px", v); }
 
 } // namespace
 

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/classic_models.hpp"
+#include "app/fixed_text.hpp"
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
 #include "app/svg_chart.hpp"
@@ -93,12 +94,8 @@ std::vector<GenerationRow> read_generations_csv(const fs::path& path) {
   return rows;
 }
 
-std::string fixed(double v, int digits) {
-  if (!std::isfinite(v)) return "&#8211;";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
+/// A table or caption number; none (NaN: no creature scored) shows as a dash.
+std::string table_number(double v, int digits) { return std::isfinite(v) ? fixed(v, digits) : "&#8211;"; }
 
 std::string esc(const std::string& s) { return html_escape(s); }
 
@@ -317,18 +314,18 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
       std::string distance = esc(k.problem), speed;
       if (k.problem.empty()) {
         const Evaluation e = evaluate_prepared(k.prepared, config.fitness);
-        if (e.ok()) distance = fixed(e.distance, 1), speed = fixed(e.px_per_frame, 3);
+        if (e.ok()) distance = table_number(e.distance, 1), speed = table_number(e.px_per_frame, 3);
         else distance = esc(e.reason);
       }
       o << "<tr><td class=\"n\">" << rank << "</td><td>" << esc(r.best_id) << "</td><td class=\"n\">" << generation_ranges(k.generations)
-        << "</td><td class=\"n\">" << fixed(r.best, 1) << "</td><td class=\"n\">" << distance << "</td><td class=\"n\">"
+        << "</td><td class=\"n\">" << table_number(r.best, 1) << "</td><td class=\"n\">" << distance << "</td><td class=\"n\">"
         << speed << "</td><td><a href=\"best/" << generation_file_name(r.generation) << "\">best/"
         << generation_file_name(r.generation) << "</a></td></tr>\n";
     }
     if (classic_evaluation && classic_evaluation->ok()) {
       o << "<tr class=\"classic\"><td></td><td>Dainty Walker (classic)</td><td></td><td class=\"n\">"
-        << fixed(classic_evaluation->fitness, 1) << "</td><td class=\"n\">" << fixed(classic_evaluation->distance, 1)
-        << "</td><td class=\"n\">" << fixed(classic_evaluation->px_per_frame, 3) << "</td><td>built in</td></tr>\n";
+        << table_number(classic_evaluation->fitness, 1) << "</td><td class=\"n\">" << table_number(classic_evaluation->distance, 1)
+        << "</td><td class=\"n\">" << table_number(classic_evaluation->px_per_frame, 3) << "</td><td>built in</td></tr>\n";
     }
     o << "</table>\n";
   }
@@ -338,7 +335,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   if (!ranked.empty() && ranked.front().problem.empty()) {
     const GenerationRow& champion = ranked.front().row;
     shown.push_back({"Champion " + champion.best_id + " (best of generation " + std::to_string(champion.generation) +
-                         ", fitness " + fixed(champion.best, 1) + " px)",
+                         ", fitness " + table_number(champion.best, 1) + " px)",
                      ranked.front().prepared});
     const int last = rows.back().generation, first = rows.front().generation;
     const int k = std::max(1, options.chosen_generations);
@@ -350,7 +347,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
         const soda::ModelDef def = soda::read_model_file(best_file(g)).def;
         const bool seen = std::any_of(shown.begin(), shown.end(), [&](const Shown& s) { return body(s.prepared) == body(def); });
         if (seen) continue;
-        shown.push_back({"Generation " + std::to_string(g) + ": " + row->best_id + " (its best, fitness " + fixed(row->best, 1) + " px)", def});
+        shown.push_back({"Generation " + std::to_string(g) + ": " + row->best_id + " (its best, fitness " + table_number(row->best, 1) + " px)", def});
       } catch (const soda::InputError& e) {
         o << "<p class=\"note\">" << esc(e.what()) << "</p>\n";
       }

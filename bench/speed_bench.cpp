@@ -15,6 +15,7 @@
 #include "core/model_file.hpp"
 #include "core/step.hpp"
 #include "evolve/parallel_for.hpp"
+#include "core/number_text.hpp"
 
 namespace sodaevo::bench {
 
@@ -169,11 +170,7 @@ std::vector<SpeedRow> time_engines(const std::string& section, const std::string
   return rows;
 }
 
-std::string fmt(const char* f, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, f, v);
-  return buf;
-}
+std::string fmt(const char* f, double v) { return soda::format_printf(f, v); }
 
 } // namespace
 

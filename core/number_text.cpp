@@ -1,5 +1,7 @@
 #include "number_text.hpp"
 
+#include <cstdio>
+
 #include <charconv>
 #include <cmath>
 #include <system_error>
@@ -50,6 +52,12 @@ std::optional<long long> parse_integer(std::string_view text) {
   auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
   if (ec != std::errc() || ptr != text.data() + text.size()) return std::nullopt;
   return v;
+}
+
+std::string format_printf(const char* format, double v) {
+  char buf[128];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
 }
 
 } // namespace soda

@@ -20,6 +20,10 @@ std::string format_double(double v);
 /// Shortest round-trip text without the ".0" suffix (CSV and JSON output).
 std::string format_double_plain(double v);
 
+/// `v` formatted by a printf conversion for one double ("%.2f", "%+.0f px"): the
+/// text of tables, charts and pictures, where a rounded number is wanted.
+std::string format_printf(const char* format, double v);
+
 /// Parses a whole string as a finite double. Leading/trailing ASCII white space is
 /// allowed (XML attributes often carry it); a leading '+' is accepted as Java does.
 /// Returns nullopt for empty text, junk, trailing characters, inf, nan or overflow.
