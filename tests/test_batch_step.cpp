@@ -112,14 +112,6 @@ std::string run_batch_and_reference(const std::vector<std::pair<std::string, sod
   return {};
 }
 
-std::vector<soda::SimdLevel> supported_levels() {
-  std::vector<soda::SimdLevel> levels;
-  for (auto l : {soda::SimdLevel::Sse2, soda::SimdLevel::Avx2, soda::SimdLevel::Avx512}) {
-    if (soda::simd_level_supported(l)) levels.push_back(l);
-  }
-  return levels;
-}
-
 std::vector<int> all_indices(std::size_t n) {
   std::vector<int> v(n);
   for (std::size_t i = 0; i < n; ++i) v[i] = static_cast<int>(i);

@@ -146,25 +146,11 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
   fs::create_directories(shots);
   const fs::path dainty = fs::absolute(sodaevo::test::models_dir() / "dainty_walker.xml");
 
-  // A player and a filmstrip of the Dainty Walker.
-  auto r = run_sodaevo("render " + dainty.string() + " --frames 800 -o " + (work / "dainty.html").string());
-  INFO(r.output);
-  REQUIRE(r.exit_code == 0);
-  r = run_sodaevo("render " + dainty.string() + " --frames 800 -o " + (work / "dainty.svg").string());
-  REQUIRE(r.exit_code == 0);
-
-  // A short run; evolve writes its report.
-  soda::write_file_atomically(work / "config.json",
-                      "{\"name\": \"browser\", \"seed\": 3, \"generations\": 3,"
-                      " \"population\": {\"size\": 8, \"seed_models\": [\"" + dainty.string() + "\"], \"random_fraction\": 0.5},"
-                      " \"fitness\": {\"frames\": 400, \"settle_frames\": 50}, \"save\": {\"generation_every\": 1}}");
-  r = run_sodaevo("evolve " + (work / "config.json").string() + " --out " + (work / "run").string() + " --quiet --threads 1");
-  INFO(r.output);
-  REQUIRE(r.exit_code == 0);
-  const fs::path report = work / "run" / "report.html";
-  REQUIRE(fs::exists(report));
-
+  // Catch runs the body once per section: each section makes only what it opens.
   SECTION("render: one player, drawn and moving, no console messages") {
+    const auto r = run_sodaevo("render " + dainty.string() + " --frames 800 -o " + (work / "dainty.html").string());
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
     const LoadedPage a = load(chromium, work / "dainty.html", 100, work);
     const LoadedPage b = load(chromium, work / "dainty.html", 700, work);
     require_clean(a);
@@ -191,12 +177,25 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
     CHECK(soda::read_whole_file(shots / "render_frame100.png") != soda::read_whole_file(shots / "render_frame700.png"));
   }
   SECTION("filmstrip: opens without console messages") {
+    const auto r = run_sodaevo("render " + dainty.string() + " --frames 800 -o " + (work / "dainty.svg").string());
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
     const LoadedPage p = load(chromium, work / "dainty.svg", -1, work);
     CHECK(p.console.empty());
     CHECK(p.dom.find("class=\"still\"") != std::string::npos);
     screenshot(chromium, "file://" + (work / "dainty.svg").string(), shots / "filmstrip.png", "1600,320", work);
   }
   SECTION("report: every player drawn and moving, no console messages") {
+    // A short run; evolve writes its report.
+    soda::write_file_atomically(work / "config.json",
+                        "{\"name\": \"browser\", \"seed\": 3, \"generations\": 3,"
+                        " \"population\": {\"size\": 8, \"seed_models\": [\"" + dainty.string() + "\"], \"random_fraction\": 0.5},"
+                        " \"fitness\": {\"frames\": 400, \"settle_frames\": 50}, \"save\": {\"generation_every\": 1}}");
+    const auto r = run_sodaevo("evolve " + (work / "config.json").string() + " --out " + (work / "run").string() + " --quiet --threads 1");
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    const fs::path report = work / "run" / "report.html";
+    REQUIRE(fs::exists(report));
     const LoadedPage a = load(chromium, report, 60, work);
     const LoadedPage b = load(chromium, report, 400, work);
     require_clean(a);

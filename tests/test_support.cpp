@@ -123,6 +123,14 @@ fs::path fresh_temp_dir(const std::string& name) {
   return d;
 }
 
+std::vector<soda::SimdLevel> supported_levels() {
+  std::vector<soda::SimdLevel> levels;
+  for (auto l : {soda::SimdLevel::Sse2, soda::SimdLevel::Avx2, soda::SimdLevel::Avx512}) {
+    if (soda::simd_level_supported(l)) levels.push_back(l);
+  }
+  return levels;
+}
+
 RunConfig walker_run_config(const std::string& name, std::uint64_t seed, int population, int generations,
                             int frames, int settle_frames) {
   RunConfig c;

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/fast_step.hpp"
 #include "core/model.hpp"
 #include "evolve/run_config.hpp"
 
@@ -72,6 +73,9 @@ std::vector<std::filesystem::path> xml_files_under(const std::filesystem::path& 
 
 /// A fresh, empty folder under the system's temp folder, unique to this process.
 std::filesystem::path fresh_temp_dir(const std::string& name);
+
+/// The SIMD levels of the fast stepper this CPU can run (core/fast_step.hpp).
+std::vector<soda::SimdLevel> supported_levels();
 
 /// A small evolution run for tests: the Dainty Walker as seed model, every other
 /// key at its default.
