@@ -54,10 +54,6 @@ BatchStepper::~BatchStepper() = default;
 BatchStepper::BatchStepper(BatchStepper&&) noexcept = default;
 BatchStepper& BatchStepper::operator=(BatchStepper&&) noexcept = default;
 
-bool BatchStepper::fused(int i) const {
-  return std::find(alone_index_.begin(), alone_index_.end(), i) == alone_index_.end() && i >= 0 && i < count_;
-}
-
 int BatchStepper::fused_count() const { return count_ - static_cast<int>(alone_index_.size()); }
 
 void BatchStepper::run(const std::vector<State*>& states, long long frames) {

@@ -66,8 +66,6 @@ class BatchStepper {
   void run(const std::vector<State*>& states, long long frames);
 
   [[nodiscard]] int size() const { return count_; }
-  /// Whether model i runs in a fused scene (else on its own FastStepper).
-  [[nodiscard]] bool fused(int i) const;
   [[nodiscard]] int fused_count() const;
   /// Number of fused scenes.
   [[nodiscard]] int scene_count() const { return static_cast<int>(scenes_.size()); }

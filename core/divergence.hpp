@@ -57,7 +57,6 @@ public:
   /// Returns true while the run is healthy.
   bool check(const State& state);
   [[nodiscard]] const Divergence& result() const { return result_; }
-  [[nodiscard]] double budget() const { return budget_; }
 
 private:
   const Model& model_;

@@ -99,7 +99,7 @@ class FastStepper {
 
   [[nodiscard]] const SceneNeeds& needs() const;
   [[nodiscard]] const Model& model() const;
-  /// Kernels used since construction, as a bit set over kernel_index(); for tests.
+  /// Whether kernel `k` has run since construction; for tests.
   [[nodiscard]] bool used(const KernelChoice& k) const;
   [[nodiscard]] const KernelChoice& last_kernel() const;
   /// Whether the table sines passed their self-check against this C library.

@@ -153,11 +153,6 @@ inline BarResponse respond_to_bar_dt(double cross_x, double cross_y, double t, d
           surface_friction * vt * uy + surface_reflection * vn * ny};
 }
 
-/// The original's bar response: a move of one frame (the factor dt = 1 is exact).
-inline BarResponse respond_to_bar(double cross_x, double cross_y, double t, double vx, double vy, double ux,
-                                  double uy, double surface_friction, double surface_reflection) {
-  return respond_to_bar_dt(cross_x, cross_y, t, 1.0, vx, vy, ux, uy, surface_friction, surface_reflection);
-}
 
 inline double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
 

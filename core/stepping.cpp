@@ -31,15 +31,6 @@ std::optional<Integrator> parse_integrator(const std::string& name) {
   return std::nullopt;
 }
 
-int integrator_order(Integrator integrator) {
-  switch (integrator) {
-    case Integrator::Euler: return 1;
-    case Integrator::Verlet: return 2;
-    case Integrator::Rk4: return 4;
-  }
-  return 1;
-}
-
 std::string stepping_label(const Stepping& s) {
   if (s.mode == PhysicsMode::Soda) return "soda";
   return integrator_name(s.integrator) + "/" + std::to_string(s.substeps);
@@ -75,10 +66,6 @@ void FrameStepper::run(State& state, long long frames) {
   if (continuous_) continuous_->run(state, frames);
   else if (fast_) fast_->run(state, frames);
   else soda::run(model_, state, frames);
-}
-
-void run_frames(const Model& model, State& state, long long frames, const Stepping& stepping) {
-  FrameStepper(model, stepping, frames).run(state, frames);
 }
 
 } // namespace soda

@@ -38,8 +38,6 @@ std::string mode_name(PhysicsMode mode);       ///< "soda" | "continuous"
 std::string integrator_name(Integrator integrator); ///< "euler" | "verlet" | "rk4"
 std::optional<PhysicsMode> parse_mode(const std::string& name);
 std::optional<Integrator> parse_integrator(const std::string& name);
-/// Order of accuracy of the integrator on smooth scenes (1, 2 or 4).
-int integrator_order(Integrator integrator);
 
 /// Short label: "soda", "euler/4", "rk4/16".
 std::string stepping_label(const Stepping& stepping);
@@ -76,8 +74,5 @@ private:
   std::unique_ptr<FastStepper> fast_;             ///< soda mode, unless the reference step is asked for
 };
 
-/// Advances `state` by `frames` frames with the chosen mode. `soda` is the
-/// FastStepper (same bits as run()); `continuous` builds a ContinuousStepper.
-void run_frames(const Model& model, State& state, long long frames, const Stepping& stepping);
 
 } // namespace soda
