@@ -51,8 +51,10 @@ std::uint64_t bits_of(double v) {
 // SIMD operations. Each is one IEEE operation per lane (add, sub, mul, div, sqrt
 // are correctly rounded in every instruction set, so all levels give the same
 // bits); comparisons are the ordered ones, false for NaN, as C++'s < and >. No
-// fused multiply-add anywhere (the build has -ffp-contract=off and the kernels
-// below only use separate mul and add intrinsics).
+// fused multiply-add in the physics (the build has -ffp-contract=off and the
+// kernels only use separate mul and add intrinsics); the one fused operation,
+// Avx512Ops::fms, finds the exact error of a product in the sine, where Dekker's
+// split gives the same exact value on the other levels.
 // ---------------------------------------------------------------------------
 
 struct Sse2Ops {
@@ -94,6 +96,16 @@ struct Sse2Ops {
     return _mm_cvtepi32_pd(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(in)));
   }
   static V gather(const double* base, const std::int32_t* idx) { return _mm_set_pd(base[idx[1]], base[idx[0]]); }
+  /// Rows idx[l] of a table of 4-double rows, transposed: column c of lane l's row in lane l of v[c].
+  static void gather_rows4(const double* rows, const std::int32_t* idx, V (&v)[4]) {
+    const double* r0 = rows + 4 * idx[0];
+    const double* r1 = rows + 4 * idx[1];
+    for (int c = 0; c < 4; c += 2) {
+      const V a = _mm_load_pd(r0 + c), b = _mm_load_pd(r1 + c);
+      v[c] = _mm_unpacklo_pd(a, b);
+      v[c + 1] = _mm_unpackhi_pd(a, b);
+    }
+  }
   // W (x, y) pairs -> x and y vectors, lanes in the order sigma (see kLaneLink).
   // off: offsets in doubles (2 * pair index), unsigned so that no sign extension is needed.
   static void load_pairs_at(const double* pairs, const std::uint32_t* off, V& x, V& y) {
@@ -155,6 +167,16 @@ struct Avx2Ops {
   static V gather(const double* base, const std::int32_t* idx) {
     return _mm256_set_pd(base[idx[3]], base[idx[2]], base[idx[1]], base[idx[0]]);
   }
+  static void gather_rows4(const double* rows, const std::int32_t* idx, V (&v)[4]) {
+    const V r0 = _mm256_load_pd(rows + 4 * idx[0]), r1 = _mm256_load_pd(rows + 4 * idx[1]);
+    const V r2 = _mm256_load_pd(rows + 4 * idx[2]), r3 = _mm256_load_pd(rows + 4 * idx[3]);
+    const V lo01 = _mm256_unpacklo_pd(r0, r1), hi01 = _mm256_unpackhi_pd(r0, r1); // c0 c0 c2 c2 / c1 c1 c3 c3
+    const V lo23 = _mm256_unpacklo_pd(r2, r3), hi23 = _mm256_unpackhi_pd(r2, r3);
+    v[0] = _mm256_permute2f128_pd(lo01, lo23, 0x20);
+    v[1] = _mm256_permute2f128_pd(hi01, hi23, 0x20);
+    v[2] = _mm256_permute2f128_pd(lo01, lo23, 0x31);
+    v[3] = _mm256_permute2f128_pd(hi01, hi23, 0x31);
+  }
   static V pair2(const double* pairs, std::uint32_t i, std::uint32_t j) {
     return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_load_pd(pairs + i)), _mm_load_pd(pairs + j), 1);
   }
@@ -210,6 +232,8 @@ struct Avx512Ops {
   static V bits_xor(V a, V b) {
     return _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(a), _mm512_castpd_si512(b)));
   }
+  /// a*b - c with one rounding (AVX-512F has it; used only for exact product errors).
+  static V fms(V a, V b, V c) { return _mm512_fmsub_pd(a, b, c); }
   static M le(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LE_OQ); }
   static M ge(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
   static M ne(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_NEQ_UQ); }
@@ -225,6 +249,24 @@ struct Avx512Ops {
   static V gather(const double* base, const std::int32_t* idx) {
     return _mm512_set_pd(base[idx[7]], base[idx[6]], base[idx[5]], base[idx[4]], base[idx[3]], base[idx[2]],
                          base[idx[1]], base[idx[0]]);
+  }
+  // One 256-bit load per row and a transpose: a quarter of the loads of four gathers.
+  static void gather_rows4(const double* rows, const std::int32_t* idx, V (&v)[4]) {
+    auto two = [&](int l) { // rows of lanes l and l + 1 in one register
+      return _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_load_pd(rows + 4 * idx[l])),
+                                _mm256_load_pd(rows + 4 * idx[l + 1]), 1);
+    };
+    const V z01 = two(0), z23 = two(2), z45 = two(4), z67 = two(6);
+    // lo: c0 of rows (0,2) | c2 of (0,2) | c0 of (1,3) | c2 of (1,3); hi: c1, c3 likewise.
+    const V lo0 = _mm512_unpacklo_pd(z01, z23), hi0 = _mm512_unpackhi_pd(z01, z23);
+    const V lo4 = _mm512_unpacklo_pd(z45, z67), hi4 = _mm512_unpackhi_pd(z45, z67);
+    // Lane l takes element k[l] of (first, second): rows 0 1 2 3 from the first, 4 5 6 7 from the second.
+    const __m512i even = _mm512_setr_epi64(0, 4, 1, 5, 8, 12, 9, 13);
+    const __m512i odd = _mm512_setr_epi64(2, 6, 3, 7, 10, 14, 11, 15);
+    v[0] = _mm512_permutex2var_pd(lo0, even, lo4);
+    v[1] = _mm512_permutex2var_pd(hi0, even, hi4);
+    v[2] = _mm512_permutex2var_pd(lo0, odd, lo4);
+    v[3] = _mm512_permutex2var_pd(hi0, odd, hi4);
   }
   // Pair loads and inserts: about 2.5x faster than vgatherdpd on the CPUs measured.
   static V pair4(const double* pairs, const std::uint32_t* off) {
@@ -276,14 +318,16 @@ int width_of(SimdLevel level) {
 // Exact sine, several at a time.
 //
 // The muscle rule needs glibc's sin(x) bit for bit (the reference calls std::sin).
-// glibc's sin is not correctly rounded but its error is below 0.548 ulp (its
-// documented bound; 0.515 ulp is the largest we measured on muscle arguments). So
-// wherever the true value lies within 0.45 ulp of a double r, r is the only double
-// within 0.548 ulp of it and glibc returns r. We compute sin(x) to about 2^-62 with
-// a table and a short polynomial, in SIMD, and accept r only when that test passes
-// with the error bound added; the other lanes (about 11 %: true values near a
-// rounding midpoint, results below 2^-8, arguments outside (2^-5, 6.28)) call
-// std::sin.
+// glibc's sin is not correctly rounded, but its source states an error bound for
+// each of its branches: 0.548 ulp for |x| < 0.85546875, 0.51 ulp up to 2.4262...,
+// 0.518 ulp above (0.515 ulp is the largest we measured on muscle arguments). So
+// wherever the true value lies within 1 - bound of a double r (0.45, 0.488, 0.48
+// ulp with a margin), r is the only double within the bound of it and glibc
+// returns r. We compute sin(x) to about 2^-62 with a table and a short
+// polynomial, in SIMD, and accept r only when that test passes with our own error
+// added; the other lanes (about 5.4 % of uniform arguments in (-2pi, 2pi), 11 %
+// with the single bound 0.548: true values near a rounding midpoint, results
+// below 2^-8, arguments outside (2^-5, 6.28)) call std::sin.
 // A self-check against std::sin at first use switches the shortcut off if the C
 // library disagrees (a libm with a larger error), so the result is always the
 // reference's.
@@ -291,18 +335,27 @@ int width_of(SimdLevel level) {
 // sin(T + d) = S + (C*d + (S*(cos d - 1) + C*(sin d - d))) with T = j/128 the
 // table point nearest to |x| (d = |x| - T is exact, |d| <= 1/256), S = sin T and
 // C = cos T as double-double (from long double sinl/cosl, error ~2^-63), C*d an
-// exact product (Dekker), and the small terms in plain double.
+// exact product (product_error), and the small terms in plain double.
 // ---------------------------------------------------------------------------
 
 namespace {
 
 constexpr int kSinTableSize = 806; // j/128 up to 6.29 > 2*pi
 struct SinTable {
-  alignas(64) double sh[kSinTableSize], sl[kSinTableSize], ch[kSinTableSize], cl[kSinTableSize];
+  /// Row j: sin(j/128) as high + low double, cos(j/128) likewise (one row per load).
+  alignas(64) double row[kSinTableSize][4];
   bool usable = false;
 };
 
-constexpr double kSinAcceptUlps = 0.45;     // 1 - 0.548 (glibc's bound) - margin
+// glibc's stated bounds per branch of its sin (comments in its s_sin.c):
+// |x| < 0.85546875: 0.548 ulp; below 0x1.368fdp+1 (2.4262...): 0.51 ulp; above,
+// up to 105414350: 0.518 ulp. A true value within 1 - bound of a double is that
+// double; the margin covers the error of our own value.
+constexpr double kSinBranch1 = 0x1.b6p-1;     // 0.85546875
+constexpr double kSinBranch2 = 0x1.368fdp+1;  // 2.4262647...
+constexpr double kSinAcceptUlps1 = 0.45;      // 1 - 0.548 - margin
+constexpr double kSinAcceptUlps2 = 0.488;     // 1 - 0.51 - margin
+constexpr double kSinAcceptUlps3 = 0.48;      // 1 - 0.518 - margin
 constexpr double kSinMinArgument = 0x1p-5;  // below: std::sin
 constexpr double kSinMaxArgument = 6.28;    // above: std::sin (table ends at 6.29)
 constexpr double kSinMinResult = 0x1p-8;    // smaller |sin|: std::sin (keeps the final sum exact)
@@ -312,6 +365,23 @@ SinTable build_sin_table();
 const SinTable& sin_table() {
   static const SinTable table = build_sin_table();
   return table;
+}
+
+/// e with a*b = p + e exactly, where p = a*b rounded: a fused multiply-subtract
+/// where the level has one, Dekker's split product elsewhere (both exact, so the
+/// same e).
+template <class O>
+typename O::V product_error(typename O::V a, typename O::V b, typename O::V p) {
+  if constexpr (requires { O::fms(a, b, p); }) {
+    return O::fms(a, b, p);
+  } else {
+    using V = typename O::V;
+    const V split = O::set1(134217729.0); // 2^27 + 1
+    const V at = O::mul(split, a), bt = O::mul(split, b);
+    const V ah = O::sub(at, O::sub(at, a)), al = O::sub(a, ah);
+    const V bh = O::sub(bt, O::sub(bt, b)), bl = O::sub(b, bh);
+    return O::add(O::add(O::add(O::sub(O::mul(ah, bh), p), O::mul(ah, bl)), O::mul(al, bh)), O::mul(al, bl));
+  }
 }
 
 /// Lanes of `a` whose sine is known exactly go to out; the returned bit set marks
@@ -327,14 +397,12 @@ unsigned table_sin(const SinTable& t, const double* a, double* out) {
   alignas(64) std::int32_t j[kMaxWidth];
   O::to_i32(O::add(O::mul(x, O::set1(128.0)), O::set1(0.5)), j);
   const V d = O::sub(x, O::mul(O::from_i32(j), O::set1(0.0078125))); // exact
-  const V sh = O::gather(t.sh, j), sl = O::gather(t.sl, j), ch = O::gather(t.ch, j), cl = O::gather(t.cl, j);
-  // p + e = ch*d exactly (Dekker's product, no FMA needed).
+  V cols[4];
+  O::gather_rows4(&t.row[0][0], j, cols);
+  const V sh = cols[0], sl = cols[1], ch = cols[2], cl = cols[3];
+  // p + e = ch*d exactly.
   const V p = O::mul(ch, d);
-  const V split = O::set1(134217729.0);
-  const V ct = O::mul(split, ch), dt = O::mul(split, d);
-  const V chh = O::sub(ct, O::sub(ct, ch)), chl = O::sub(ch, chh);
-  const V dh = O::sub(dt, O::sub(dt, d)), dl = O::sub(d, dh);
-  const V e = O::add(O::add(O::add(O::sub(O::mul(chh, dh), p), O::mul(chh, dl)), O::mul(chl, dh)), O::mul(chl, dl));
+  const V e = product_error<O>(ch, d, p);
   const V d2 = O::mul(d, d);
   // sin d - d and cos d - 1 (|d| <= 1/256: the next terms are below 2^-79).
   const V sdm_poly =
@@ -354,7 +422,10 @@ unsigned table_sin(const SinTable& t, const double* a, double* out) {
   const V mantissa = O::bits_and(abs_r, O::set1(0x1.fffffffffffffp-1022));         // fraction bits
   const V ulp = O::mul(pow2, O::set1(0x1p-52));
   const V bound = O::add(O::mul(O::set1(0x1p-62), O::add(O::abs(sh), O::set1(0x1p-8))), O::set1(0x1p-66));
-  M ok = O::m_and(in_range, O::le(O::add(O::abs(err), bound), O::mul(O::set1(kSinAcceptUlps), ulp)));
+  const V accept = O::select(O::lt(x, O::set1(kSinBranch1)), O::set1(kSinAcceptUlps1),
+                             O::select(O::lt(x, O::set1(kSinBranch2)), O::set1(kSinAcceptUlps2),
+                                       O::set1(kSinAcceptUlps3)));
+  M ok = O::m_and(in_range, O::le(O::add(O::abs(err), bound), O::mul(accept, ulp)));
   ok = O::m_and(ok, O::ne(mantissa, O::set1(0.0))); // not a power of two: neighbours 1 ulp away
   ok = O::m_and(ok, O::ge(abs_r, O::set1(kSinMinResult)));
   O::storeu(out, O::bits_xor(r, O::bits_and(arg, O::set1(-0.0)))); // sin(-x) = -sin(x)
@@ -391,10 +462,11 @@ SinTable build_sin_table() {
   for (int j = 0; j < kSinTableSize; ++j) {
     const long double x = static_cast<long double>(j) / 128.0L;
     const long double s = sinl(x), c = cosl(x);
-    t.sh[j] = static_cast<double>(s);
-    t.sl[j] = static_cast<double>(s - static_cast<long double>(t.sh[j])); // exact: fewer than 53 bits
-    t.ch[j] = static_cast<double>(c);
-    t.cl[j] = static_cast<double>(c - static_cast<long double>(t.ch[j]));
+    double* r = t.row[j];
+    r[0] = static_cast<double>(s);
+    r[1] = static_cast<double>(s - static_cast<long double>(r[0])); // exact: fewer than 53 bits
+    r[2] = static_cast<double>(c);
+    r[3] = static_cast<double>(c - static_cast<long double>(r[2]));
   }
   // Self-check on the portable level: every accepted value must be std::sin's.
   t.usable = true;
@@ -611,7 +683,13 @@ void gather_impulses(Impl& s) {
     __m128d acc[kGatherGroup];
     for (int l = 0; l < kGatherGroup; ++l) acc[l] = _mm_load_pd(vel + at[l]);
     for (int r = s.block_rounds[b]; r > 0; --r, sl += kGatherGroup) {
-      for (int l = 0; l < kGatherGroup; ++l) acc[l] = _mm_add_pd(acc[l], _mm_load_pd(imp + sl[l]));
+      // Two offsets per 64-bit load: the loads, not the additions, limit this loop.
+      for (int l = 0; l < kGatherGroup; l += 2) {
+        std::uint64_t two;
+        std::memcpy(&two, sl + l, sizeof two);
+        acc[l] = _mm_add_pd(acc[l], _mm_load_pd(imp + static_cast<std::uint32_t>(two)));
+        acc[l + 1] = _mm_add_pd(acc[l + 1], _mm_load_pd(imp + (two >> 32)));
+      }
     }
     for (int l = 0; l < kGatherGroup; ++l) _mm_store_pd(vel + at[l], acc[l]);
   }
@@ -770,6 +848,7 @@ struct KernelTable {
   template void run_chunk<O, true, true, false, true>(Impl&, State* const*, long long);                          \
   template void run_chunk<O, true, true, true, false>(Impl&, State* const*, long long);                          \
   template void run_chunk<O, true, true, true, true>(Impl&, State* const*, long long);                           \
+  template typename O::V product_error<O>(typename O::V, typename O::V, typename O::V);                  \
   template unsigned table_sin<O>(const SinTable&, const double*, double*);                                \
   template void sines<O>(const double*, double*, int);                                                     \
   template void targets_kernel<O>(Impl&, const double*);                                                   \

@@ -4,11 +4,6 @@
 
 namespace soda {
 
-double wrap_phase(double cycles) {
-  double wrapped = cycles - std::floor(cycles);
-  return wrapped >= 1.0 ? 0.0 : wrapped;
-}
-
 ModelDef canonical_form(const ModelDef& def) {
   ModelDef out = def;
   out.nodes.clear();

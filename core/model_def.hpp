@@ -9,6 +9,7 @@
 // Units: pixels and frames, y up, floor at y = 0; phases in cycles.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -99,7 +100,24 @@ struct ModelDef {
 /// Wraps a phase in cycles into [0, 1) as the original parser does (1.0 -> 0.0,
 /// -0.25 -> 0.75). Exact for every finite input: x - floor(x) is exact except for
 /// tiny negative x, where the rounded result can be 1.0 and is mapped to 0.
-double wrap_phase(double cycles);
+/// Inline, with floor found by comparisons on [-1, 2) (the wave moves by less than
+/// a cycle per frame, so nearly every call lands there): std::floor is a library
+/// call on baseline x86-64, and this runs once per creature per frame. Outside
+/// that range, and for +-0 (whose sign floor keeps), std::floor; same bits either way.
+inline double wrap_phase(double cycles) {
+  double whole;
+  if (cycles > 0.0 && cycles < 1.0) {
+    whole = 0.0;
+  } else if (cycles >= 1.0 && cycles < 2.0) {
+    whole = 1.0;
+  } else if (cycles >= -1.0 && cycles < 0.0) {
+    whole = -1.0;
+  } else {
+    whole = std::floor(cycles);
+  }
+  const double wrapped = cycles - whole;
+  return wrapped >= 1.0 ? 0.0 : wrapped;
+}
 
 /// The canonical form the original writer produces (spec 2.1): fixed nodes first,
 /// then masses (order kept inside each group), ids regenerated from one running

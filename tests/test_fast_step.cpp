@@ -15,6 +15,7 @@
 #include "core/model_file.hpp"
 #include "core/scene_analysis.hpp"
 #include "core/step.hpp"
+#include "evolve/rng.hpp"
 #include "evolve/parallel_for.hpp"
 #include "test_support.hpp"
 
@@ -325,13 +326,8 @@ TEST_CASE("fast step: synthetic stress cases, each kernel specialisation", "[fas
 }
 
 TEST_CASE("fast step: random creatures stay bit-exact", "[fast_step]") {
-  std::uint64_t seed = 99;
-  auto uniform = [&seed]() {
-    std::uint64_t z = (seed += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-  };
+  sodaevo::Rng rng(99);
+  auto uniform = [&rng]() { return rng.uniform(); };
   for (int trial = 0; trial < 40; ++trial) {
     soda::ModelDef def;
     def.width = 200 + static_cast<int>(800 * uniform());
@@ -389,6 +385,19 @@ TEST_CASE("exact sines equal std::sin bit for bit", "[fast_step]") {
   for (double v : {0.0, -0.0, 1e-300, 0x1p-5, -0x1p-5, 3.141592653589793, 6.28, 6.2831853071795862, -6.283185307179586,
                    1.5707963267948966, 100.0, -1e6}) {
     args.push_back(v);
+  }
+  // Around the ends of glibc's branches (0.85546875, 0x1.368fdp+1), where the
+  // accepted error changes: 2,000 neighbours on each side, both signs.
+  for (double edge : {0x1.b6p-1, 0x1.368fdp+1}) {
+    double up = edge, down = edge;
+    for (int k = 0; k < 1000; ++k) {
+      for (double v : {up, down}) {
+        args.push_back(v);
+        args.push_back(-v);
+      }
+      up = std::nextafter(up, 10.0);
+      down = std::nextafter(down, 0.0);
+    }
   }
   std::vector<double> out(args.size());
   for (soda::SimdLevel level : supported_levels()) {

@@ -4,10 +4,13 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstring>
+#include <vector>
 
 #include "bench/analytic_scenes.hpp"
 #include "core/model.hpp"
 #include "core/step.hpp"
+#include "evolve/rng.hpp"
 
 namespace {
 
@@ -94,13 +97,8 @@ TEST_CASE("a single spring oscillates with the period the recurrence predicts", 
 TEST_CASE("without friction, gravity and walls, momentum is conserved", "[physics]") {
   // Every link adds +c*d to one end and -c*d to the other (spec 5.2), so the sum of
   // velocities only changes by rounding. A random creature with springs and muscles.
-  std::uint64_t seed = 12345;
-  auto uniform = [&seed]() { // SplitMix64 -> [0, 1)
-    std::uint64_t z = (seed += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-  };
+  sodaevo::Rng rng(12345);
+  auto uniform = [&rng]() { return rng.uniform(); };
   soda::ModelDef def = open_world(0.0, 0.0, 0.05);
   def.wave = {1.0, 0.3, 0.02};
   const int masses = 12;
@@ -176,4 +174,31 @@ TEST_CASE("a mass crossing a fixed bar responds as spec 5.4 says", "[physics]") 
   // Next frame it moves up, away from the bar, freely.
   soda::step(model, s);
   CHECK(s.y[0] == Approx(107.5).epsilon(1e-9));
+}
+
+// wrap_phase finds floor by comparisons on [-1, 2); its definition (spec 5.1, the
+// original's parser) is x - floor(x) with a result of 1.0 mapped to 0.
+TEST_CASE("wrap_phase equals x - floor(x) bit for bit, signed zeros and edges included", "[physics]") {
+  auto by_definition = [](double x) {
+    const double w = x - std::floor(x);
+    return w >= 1.0 ? 0.0 : w;
+  };
+  auto bits = [](double v) {
+    std::uint64_t b = 0;
+    std::memcpy(&b, &v, sizeof b);
+    return b;
+  };
+  std::vector<double> xs = {0.0, -0.0, 1.0, -1.0, 2.0, -2.0, 0.5, -0.5, 1e-300, -1e-300, -1e-17, -0x1p-54,
+                            -0x1p-53, std::nextafter(1.0, 0.0), std::nextafter(2.0, 0.0), std::nextafter(-1.0, 0.0),
+                            std::nextafter(-1.0, -2.0), std::nextafter(0.0, -1.0), 3.75, -7.25, 1e20, -1e20};
+  sodaevo::Rng rng(42);
+  for (int k = 0; k < 100000; ++k) {
+    const double u = rng.uniform();
+    xs.push_back(-1.5 + 4.0 * u);                    // around the fast range [-1, 2)
+    xs.push_back((k % 2 ? -1.0 : 1.0) * u * 0x1p-40); // tiny values of both signs
+  }
+  for (double x : xs) {
+    INFO("x = " << x);
+    REQUIRE(bits(soda::wrap_phase(x)) == bits(by_definition(x)));
+  }
 }
