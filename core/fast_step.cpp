@@ -347,10 +347,8 @@ struct SinTable {
   bool usable = false;
 };
 
-// glibc's stated bounds per branch of its sin (comments in its s_sin.c):
-// |x| < 0.85546875: 0.548 ulp; below 0x1.368fdp+1 (2.4262...): 0.51 ulp; above,
-// up to 105414350: 0.518 ulp. A true value within 1 - bound of a double is that
-// double; the margin covers the error of our own value.
+// Where glibc's sin changes branch (stated in its s_sin.c; bounds above), and the
+// distance to a double accepted in each: 1 - bound - a margin for our own error.
 constexpr double kSinBranch1 = 0x1.b6p-1;     // 0.85546875
 constexpr double kSinBranch2 = 0x1.368fdp+1;  // 2.4262647...
 constexpr double kSinAcceptUlps1 = 0.45;      // 1 - 0.548 - margin
