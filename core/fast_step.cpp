@@ -59,6 +59,7 @@ std::uint64_t bits_of(double v) {
 
 struct Sse2Ops {
   static constexpr int W = 2;
+  static constexpr bool kPointRegisters = false; // see Avx512Ops
   using V = __m128d;
   using M = __m128d;
   static V load(const double* p) { return _mm_load_pd(p); }
@@ -129,6 +130,7 @@ struct Sse2Ops {
 #pragma GCC target("avx2")
 struct Avx2Ops {
   static constexpr int W = 4;
+  static constexpr bool kPointRegisters = false;
   using V = __m256d;
   using M = __m256d;
   static V load(const double* p) { return _mm256_load_pd(p); }
@@ -203,6 +205,23 @@ struct Avx512Ops {
   static constexpr int W = 8;
   using V = __m512d;
   using M = __mmask8;
+  // Scenes of at most kRegisterPoints points keep x and y of every point in two
+  // registers each during the link pass; an end's coordinate is then one
+  // two-register permute instead of a pair load with its offset load and inserts.
+  static constexpr bool kPointRegisters = true;
+  static constexpr int kRegisterPoints = 16;
+  static void load_points(const double* pairs, V (&x)[2], V (&y)[2]) {
+    const __m512i even = _mm512_setr_epi64(0, 2, 4, 6, 8, 10, 12, 14);
+    const __m512i odd = _mm512_setr_epi64(1, 3, 5, 7, 9, 11, 13, 15);
+    for (int r = 0; r < 2; ++r) {
+      const V p0 = _mm512_load_pd(pairs + 16 * r), p1 = _mm512_load_pd(pairs + 16 * r + 8);
+      x[r] = _mm512_permutex2var_pd(p0, even, p1);
+      y[r] = _mm512_permutex2var_pd(p0, odd, p1);
+    }
+  }
+  static V point(const V (&c)[2], const std::int64_t* idx) {
+    return _mm512_permutex2var_pd(c[0], _mm512_load_si512(idx), c[1]);
+  }
   static V load(const double* p) { return _mm512_load_pd(p); }
   static void store(double* p, V v) { _mm512_store_pd(p, v); }
   static V set1(double v) { return _mm512_set1_pd(v); }
@@ -526,6 +545,8 @@ struct FusedScene::Data {
   // from point 0 to itself (length 0: no impulse).
   int nl = 0, nl_pad = 0;
   std::vector<std::uint32_t> la, lb; ///< [nl_pad] 2 * working index of the ends (offset in pos)
+  bool points_in_registers = false;  ///< the link pass keeps the points in registers (Avx512Ops)
+  AVec<std::int64_t> la_point, lb_point; ///< [nl_pad] working index of the ends, in lane order
   // Impulses as (x, y) pairs: pair k = end A of acting link k (+c*d), pair
   // nl_pad + k = end B (-c*d), pair 2*nl_pad = (-0, -0), the identity of +.
   AVec<double> imp; ///< [4*nl_pad + 2]
@@ -625,8 +646,10 @@ namespace {
 using Impl = FusedScene::Data;
 
 /// The links (spec 5.2; step.cpp apply_links): impulses of all acting links in
-/// SIMD from the positions (which do not change while links act).
-template <class O>
+/// SIMD from the positions (which do not change while links act). With
+/// PointRegisters (Avx512Ops, small scenes) the ends' coordinates come from
+/// registers holding every point (O::load_points, O::point).
+template <class O, bool PointRegisters>
 void link_kernel(Impl& s) {
   using V = typename O::V;
   const double* pos = s.pos.data();
@@ -638,11 +661,22 @@ void link_kernel(Impl& s) {
   const double* link_k = s.link_k.data();
   const V zero = O::set1(0.0);
   const V neg_zero = O::set1(-0.0);
+  [[maybe_unused]] V x[2], y[2];
+  if constexpr (PointRegisters) O::load_points(pos, x, y);
   const int n = (s.nl + O::W - 1) / O::W * O::W;
   for (int i = 0; i < n; i += O::W) {
     V xa, ya, xb, yb;
-    O::load_pairs_at(pos, la + i, xa, ya);
-    O::load_pairs_at(pos, lb + i, xb, yb);
+    if constexpr (PointRegisters) {
+      const std::int64_t* pa = s.la_point.data() + i;
+      const std::int64_t* pb = s.lb_point.data() + i;
+      xa = O::point(x, pa);
+      ya = O::point(y, pa);
+      xb = O::point(x, pb);
+      yb = O::point(y, pb);
+    } else {
+      O::load_pairs_at(pos, la + i, xa, ya);
+      O::load_pairs_at(pos, lb + i, xb, yb);
+    }
     const V dx = O::sub(xb, xa);
     const V dy = O::sub(yb, ya);
     const V length = O::sqrt(O::add(O::mul(dx, dx), O::mul(dy, dy)));
@@ -792,7 +826,15 @@ void run_chunk(Impl& s, State* const* st, long long frames) {
   const bool wave = s.nwm > 0;
   for (long long f = 0; f < frames; ++f) {
     if (wave) s.update_targets(st);
-    if (s.nl > 0) link_kernel<O>(s);
+    if constexpr (O::kPointRegisters) {
+      if (s.nl > 0 && s.points_in_registers) {
+        link_kernel<O, true>(s);
+      } else if (s.nl > 0) {
+        link_kernel<O, false>(s);
+      }
+    } else if (s.nl > 0) {
+      link_kernel<O, false>(s);
+    }
     if (mass_kernel<O, Gravity, Floor, Ceiling, Sides>(s)) s.replay_side_hits(st);
     if (!s.bar_a.empty()) s.bars_pass();
     s.advance_waves(st);
@@ -829,7 +871,7 @@ struct KernelTable {
   template bool mass_kernel<O, true, true, false, true>(Impl&);                                           \
   template bool mass_kernel<O, true, true, true, false>(Impl&);                                           \
   template bool mass_kernel<O, true, true, true, true>(Impl&);                                            \
-  template void link_kernel<O>(Impl&);                                                                     \
+  template void link_kernel<O, false>(Impl&);                                                                     \
   template void run_chunk<O, false, false, false, false>(Impl&, State* const*, long long);                       \
   template void run_chunk<O, false, false, false, true>(Impl&, State* const*, long long);                        \
   template void run_chunk<O, false, false, true, false>(Impl&, State* const*, long long);                        \
@@ -860,7 +902,7 @@ struct KernelTable {
   }                                                                                                        \
   template <>                                                                                              \
   LinkFn KernelTable<O>::link() {                                                                          \
-    return &link_kernel<O>;                                                                                \
+    return &link_kernel<O, false>;                                                                                \
   }                                                                                                        \
   template <>                                                                                              \
   ChunkFn KernelTable<O>::chunk(bool g, bool f, bool c, bool sides) {                                      \
@@ -888,6 +930,7 @@ SODA_KERNELS(Avx2Ops)
 #pragma GCC push_options
 #pragma GCC target("avx512f")
 SODA_KERNELS(Avx512Ops)
+template void link_kernel<Avx512Ops, true>(Impl&);
 #pragma GCC pop_options
 
 #undef SODA_KERNELS
@@ -1020,7 +1063,8 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
     nf += m.point_count - m.mass_count;
   }
   sink = nm_pad + nf;
-  pos.assign(2 * static_cast<std::size_t>(sink + 1), 0.0);
+  // (At least 16 points: Avx512Ops::load_points reads that many.)
+  pos.assign(2 * static_cast<std::size_t>(std::max(sink + 1, 16)), 0.0);
   vel.assign(2 * static_cast<std::size_t>(sink + 1), 0.0);
   old_pos.assign(2 * static_cast<std::size_t>(nm_pad), 0.0);
   side.assign(2 * static_cast<std::size_t>(nm_pad), 0.0);
@@ -1123,6 +1167,13 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   std::vector<int> slot_of_link(static_cast<std::size_t>(nl_pad));
   for (int b = 0; b < nl_pad; b += W) {
     for (int l = 0; l < W; ++l) slot_of_link[b + kLaneLink(W, l)] = b + l;
+  }
+  points_in_registers = simd == SimdLevel::Avx512 && nm_pad + nf <= Avx512Ops::kRegisterPoints;
+  la_point.assign(static_cast<std::size_t>(nl_pad), 0);
+  lb_point.assign(static_cast<std::size_t>(nl_pad), 0);
+  for (int k = 0; k < nl_pad; ++k) {
+    la_point[slot_of_link[k]] = la[k] / 2;
+    lb_point[slot_of_link[k]] = lb[k] / 2;
   }
   tm_rest.assign(static_cast<std::size_t>(nwm_pad), 0.0);
   tm_power.assign(static_cast<std::size_t>(nwm_pad), 0.0);
@@ -1486,6 +1537,7 @@ bool FusedScene::used(const KernelChoice& k) const {
 }
 const KernelChoice& FusedScene::last_kernel() const { return d_->last; }
 long long FusedScene::sines_evaluated() const { return d_->sines; }
+bool FusedScene::points_in_registers() const { return d_->points_in_registers; }
 
 void FusedScene::run(State* const* states, long long frames) {
   if (frames <= 0) return;
@@ -1553,6 +1605,7 @@ const Model& FastStepper::model() const { return scene_->model(0); }
 bool FastStepper::used(const KernelChoice& k) const { return scene_->used(k); }
 const KernelChoice& FastStepper::last_kernel() const { return scene_->last_kernel(); }
 long long FastStepper::sines_evaluated() const { return scene_->sines_evaluated(); }
+bool FastStepper::points_in_registers() const { return scene_->points_in_registers(); }
 bool FastStepper::table_sines_usable() { return sin_table().usable; }
 
 void FastStepper::run(State& state, long long frames) {

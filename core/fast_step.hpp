@@ -107,6 +107,9 @@ class FastStepper {
   /// Sines evaluated since construction (shared per phase, skipped when the wave
   /// phase did not move).
   [[nodiscard]] long long sines_evaluated() const;
+  /// Whether the link pass keeps every point in registers (AVX-512, at most 16
+  /// points with the padding masses); for tests.
+  [[nodiscard]] bool points_in_registers() const;
 
  private:
   std::unique_ptr<FusedScene> scene_; ///< a scene of this one model (fused_scene.hpp)

@@ -61,6 +61,7 @@ class FusedScene {
   [[nodiscard]] bool used(const KernelChoice& k) const;
   [[nodiscard]] const KernelChoice& last_kernel() const;
   [[nodiscard]] long long sines_evaluated() const;
+  [[nodiscard]] bool points_in_registers() const;
 
   struct Data;
 

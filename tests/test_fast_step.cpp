@@ -270,6 +270,29 @@ TEST_CASE("fast step: synthetic stress cases, each kernel specialisation", "[fas
         check(def, 500, opt);
       }
 
+      SECTION("small scenes keep their points in registers (AVX-512): fixed nodes, zero-length links") {
+        soda::ModelDef def = lattice(3, 2, 300, 40); // 6 masses: 8 with padding
+        const int base = static_cast<int>(def.nodes.size());
+        def.nodes.push_back(node(250, 120));
+        def.nodes.push_back(mass(250, 120, 0.5, -0.0)); // on the fixed node: a zero-length link
+        def.links.push_back(spring(base, 0, 60.0));
+        def.links.push_back(muscle(base + 1, base, 5.0, 0.7, 0.3));
+        def.links.push_back(spring(base + 1, 2, 80.0));
+        for (int extra = 0; extra <= 9; extra += 3) { // 8 or 16 mass slots, fixed nodes up to 16 points and past
+          soda::ModelDef d = def;
+          for (int e = 0; e < extra; ++e) {
+            d.nodes.push_back(node(40.0 * e, 200.0));
+            d.links.push_back(spring(static_cast<int>(d.nodes.size()) - 1, e % base, 90.0));
+          }
+          const soda::Model model = build(d);
+          soda::FastStepper s(model, 1500, opt);
+          INFO("fixed nodes " << model.point_count - model.mass_count);
+          CHECK(run_both(model, 1500, opt, &s).empty());
+          const bool fits = 8 + (model.point_count - model.mass_count) <= 16;
+          CHECK(s.points_in_registers() == (level == soda::SimdLevel::Avx512 && fits));
+        }
+      }
+
       SECTION("no muscles: no wave kernel") {
         soda::ModelDef def = lattice(3, 3, 400, 10);
         for (auto& l : def.links) l.kind = soda::LinkKind::Spring;
