@@ -29,6 +29,8 @@ struct BenchSpeedOptions {
   std::string out = "results/bench";
   std::string models = "models";
   int threads = 0;
+  std::vector<std::string> sections; ///< empty: all
+  bool out_given = false;
 };
 
 std::string sci(double v) { return soda::format_printf("%.4g", v); }
@@ -60,15 +62,20 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
        "gets, not the speed of a single creature. \"fast-batch-same\" steps " << bench::kBenchBatch
     << " identical copies, which share every muscle sine (the best case of a population sharing genes). "
        "All are bit-exact against the reference step.\n\n";
-  o << "| creature | links | engine | frames/s | link updates/s | vs seed | vs plain |\n";
-  o << "|---|---:|---|---:|---:|---:|---:|\n";
+  auto has = [&](const char* section) {
+    const auto in_section = [&](const bench::SpeedRow& row) { return row.section == section; };
+    return std::any_of(r.rows.begin(), r.rows.end(), in_section);
+  };
+  if (has("creature")) {
+    o << "| creature | links | engine | frames/s | link updates/s | vs seed | vs plain |\n";
+    o << "|---|---:|---|---:|---:|---:|---:|\n";
+  }
   for (const bench::SpeedRow& row : r.rows) {
     if (row.section != "creature") continue;
     o << "| " << row.creature << " | " << row.links << " | " << row.engine << " | " << human(row.frames_per_second)
       << " | " << human(row.link_updates_per_second) << " | " << fixed(row.speedup_vs_seed, 1) << "x | "
       << fixed(row.speedup_vs_plain, 2) << "x |\n";
   }
-  o << "\nSize sweep (synthetic lattices), link updates per second, one thread:\n\n";
   std::map<int, std::map<std::string, double>> sweep;
   std::vector<std::string> engines;
   for (const bench::SpeedRow& row : r.rows) {
@@ -76,11 +83,13 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
     sweep[row.links][row.engine] = row.link_updates_per_second;
     if (std::find(engines.begin(), engines.end(), row.engine) == engines.end()) engines.push_back(row.engine);
   }
-  o << "| links |";
-  for (const auto& e : engines) o << ' ' << e << " |";
-  o << " fast vs seed | fast vs plain |\n|---:|";
-  for (std::size_t i = 0; i < engines.size() + 2; ++i) o << "---:|";
-  o << '\n';
+  if (!sweep.empty()) {
+    o << "\nSize sweep (synthetic lattices), link updates per second, one thread:\n\n| links |";
+    for (const auto& e : engines) o << ' ' << e << " |";
+    o << " fast vs seed | fast vs plain |\n|---:|";
+    for (std::size_t i = 0; i < engines.size() + 2; ++i) o << "---:|";
+    o << '\n';
+  }
   for (const auto& [links, by_engine] : sweep) {
     o << "| " << links << " |";
     for (const auto& e : engines) o << ' ' << human(by_engine.count(e) ? by_engine.at(e) : 0.0) << " |";
@@ -89,6 +98,12 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
     const double plain = by_engine.count("plain") ? by_engine.at("plain") : 0.0;
     o << ' ' << (seed > 0 ? fixed(fast / seed, 1) : "-") << "x | " << (plain > 0 ? fixed(fast / plain, 2) : "-")
       << "x |\n";
+  }
+  if (!has("population")) {
+    if (!sweep.empty()) {
+      o << "\nBest single-thread rate: " << human(r.best_link_updates_per_second) << " link updates/s.\n";
+    }
+    return o.str();
   }
   o << "\nPopulation throughput (every creature stepped from scratch, results by index; fast = a "
        "FastStepper per creature, fast-batch = batches of at most "
@@ -102,9 +117,11 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
   }
   o << "\n" << r.population_threads << "-thread / 1-thread population throughput: " << fixed(r.population_speedup, 2)
     << "x (fast), " << fixed(r.population_batch_speedup, 2) << "x (fast-batch).\n";
-  o << "Best single-thread rate: " << human(r.best_link_updates_per_second) << " link updates/s (" << r.best_links
-    << " links), " << fixed(100.0 * r.best_link_updates_per_second / bench::kPhysicalLimitLinkUpdatesPerSecond, 0)
-    << " % of 1e9/s, the upper end of the 0.5-1e9/s physical limit per core.\n";
+  if (!sweep.empty()) {
+    o << "Best single-thread rate: " << human(r.best_link_updates_per_second) << " link updates/s (" << r.best_links
+      << " links), " << fixed(100.0 * r.best_link_updates_per_second / bench::kPhysicalLimitLinkUpdatesPerSecond, 0)
+      << " % of 1e9/s, the upper end of the 0.5-1e9/s physical limit per core.\n";
+  }
   return o.str();
 }
 
@@ -159,6 +176,13 @@ void run_bench_speed(const BenchSpeedOptions& opt, const std::string& command) {
   bench::SpeedOptions so;
   so.quick = opt.quick;
   so.threads = opt.threads;
+  const bool all_sections = opt.sections.empty();
+  auto wanted = [&](const char* name) {
+    return all_sections || std::find(opt.sections.begin(), opt.sections.end(), name) != opt.sections.end();
+  };
+  so.creature_section = wanted("creature");
+  so.size_section = wanted("size");
+  so.population_section = wanted("population");
   for (const char* name : {"dainty_walker", "carefulslug", "monster_truck"}) {
     const fs::path p = fs::path(opt.models) / (std::string(name) + ".xml");
     if (!fs::exists(p)) {
@@ -169,15 +193,27 @@ void run_bench_speed(const BenchSpeedOptions& opt, const std::string& command) {
   }
   so.progress = [](const std::string& line) { std::cerr << "bench speed: " << line << std::endl; };
   const bench::SpeedReport report = bench::run_speed_bench(so);
+  const std::string table = markdown(report, command);
+  std::cout << table;
+  // A run of some sections does not overwrite the full results unless asked to.
+  if (!all_sections && !opt.out_given) {
+    std::cerr << "bench speed: some sections only: nothing written (pass --out DIR to write the files)\n";
+    return;
+  }
   fs::create_directories(opt.out);
   const fs::path out(opt.out);
+  std::string written = (out / "speed.csv").string() + ", speed.md";
   soda::write_file_atomically(out / "speed.csv", csv(report));
-  soda::write_file_atomically(out / "speed.svg", sweep_svg(report));
-  soda::write_file_atomically(out / "speed_creatures.svg", creatures_svg(report));
-  const std::string table = markdown(report, command);
+  if (so.size_section) {
+    soda::write_file_atomically(out / "speed.svg", sweep_svg(report));
+    written += ", speed.svg";
+  }
+  if (so.creature_section) {
+    soda::write_file_atomically(out / "speed_creatures.svg", creatures_svg(report));
+    written += ", speed_creatures.svg";
+  }
   soda::write_file_atomically(out / "speed.md", table);
-  std::cout << table;
-  std::cerr << "bench speed: wrote " << (out / "speed.csv").string() << ", speed.svg, speed_creatures.svg, speed.md\n";
+  std::cerr << "bench speed: wrote " << written << "\n";
 }
 
 } // namespace
@@ -192,16 +228,27 @@ void add_bench_command(CLI::App& app) {
       "on the bundled creatures, a size sweep (10..100,000 links) and population throughput on\n"
       "1 and all threads. Writes speed.csv, speed.svg, speed_creatures.svg and speed.md.");
   speed->add_flag("--quick", opt->quick, "Short runs (a few seconds) for a smoke test");
-  speed->add_option("--out", opt->out, "Output directory")->default_val("results/bench");
+  CLI::Option* out = speed->add_option("--out", opt->out, "Output directory")->default_val("results/bench");
   speed->add_option("--models", opt->models, "Directory with the bundled creatures")->default_val("models");
   speed->add_option("--threads", opt->threads, "Threads for the population run (0 = all cores)")
       ->default_val(0)
       ->check(CLI::Range(0, 1024));
+  speed
+      ->add_option("--sections", opt->sections,
+                   "Only these sections (comma-separated): creature, size, population. A partial run prints its "
+                   "table and writes files only with an explicit --out")
+      ->delimiter(',')
+      ->check(CLI::IsMember({"creature", "size", "population"}));
   add_bench_accuracy_commands(*bench);
-  speed->callback([opt] {
+  speed->callback([opt, out] {
     std::string command = "sodaevo bench speed";
     if (opt->quick) command += " --quick";
     if (opt->threads > 0) command += " --threads " + std::to_string(opt->threads);
+    if (!opt->sections.empty()) {
+      command += " --sections ";
+      for (std::size_t i = 0; i < opt->sections.size(); ++i) command += (i ? "," : "") + opt->sections[i];
+    }
+    opt->out_given = out->count() > 0;
     run_bench_speed(*opt, command);
   });
   add_bench_evolve_command(*bench);

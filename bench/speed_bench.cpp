@@ -189,6 +189,7 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     creatures.emplace_back(name, soda::build_model(soda::read_model_file(path).def));
   }
   for (const auto& [name, model] : creatures) {
+    if (!options.creature_section) break;
     say("creature " + name + " (" + std::to_string(model.mass_count) + " masses, " +
         std::to_string(model.link_count()) + " links)");
     for (SpeedRow& r : time_engines("creature", name, model, make_engines(model, true, true), runs, target)) {
@@ -200,6 +201,7 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
   const std::vector<int> sizes = options.quick ? std::vector<int>{10, 100, 1000, 10000, 100000}
                                                : std::vector<int>{10, 30, 100, 300, 1000, 3000, 10000, 30000, 100000};
   for (int links : sizes) {
+    if (!options.size_section) break;
     const soda::Model model = soda::build_model(synthetic_creature(links));
     say("synthetic " + std::to_string(links) + " links");
     for (SpeedRow& r : time_engines("size", "synthetic", model, make_engines(model, false, false), runs, target)) {
@@ -213,7 +215,7 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
 
   // 3. Population throughput: every creature evaluated from scratch (stepper built,
   //    frames run) by index, on 1 thread and on all threads.
-  if (!creatures.empty()) {
+  if (!creatures.empty() && options.population_section) {
     const int all = resolve_thread_count(options.threads);
     report.population_threads = all;
     // Long enough (about 0.3 s on one thread) that a second core waking up from

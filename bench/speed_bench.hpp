@@ -28,6 +28,9 @@ namespace sodaevo::bench {
 struct SpeedOptions {
   bool quick = false;        ///< shorter runs, fewer repeats, smaller sweep
   int threads = 0;           ///< "all threads" for the population (0 = all cores)
+  bool creature_section = true;   ///< 1. the bundled creatures, every engine
+  bool size_section = true;       ///< 2. the size sweep
+  bool population_section = true; ///< 3. population throughput, 1 and all threads
   std::vector<std::pair<std::string, std::string>> creatures; ///< name, model path
   std::function<void(const std::string&)> progress;          ///< one line per step
 };
