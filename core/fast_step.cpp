@@ -124,6 +124,11 @@ struct Sse2Ops {
     _mm_store_pd(pairs, _mm_unpacklo_pd(x, y));
     _mm_store_pd(pairs + 2, _mm_unpackhi_pd(x, y));
   }
+  // Eight pairs in the stores the mass kernel's loads read (W pairs per store:
+  // a load then takes its data from one store, which the CPU can forward).
+  static void store_pairs8(double* pairs, const __m128d (&p)[8]) {
+    for (int l = 0; l < 8; ++l) _mm_store_pd(pairs + 2 * l, p[l]);
+  }
 };
 
 #pragma GCC push_options
@@ -195,6 +200,9 @@ struct Avx2Ops {
   static void store_pairs(double* pairs, V x, V y) {
     _mm256_store_pd(pairs, _mm256_unpacklo_pd(x, y));
     _mm256_store_pd(pairs + 4, _mm256_unpackhi_pd(x, y));
+  }
+  static void store_pairs8(double* pairs, const __m128d (&p)[8]) {
+    for (int l = 0; l < 8; l += 2) _mm256_store_pd(pairs + 2 * l, _mm256_set_m128d(p[l + 1], p[l]));
   }
 };
 #pragma GCC pop_options
@@ -308,6 +316,12 @@ struct Avx512Ops {
   static void store_pairs(double* pairs, V x, V y) {
     _mm512_store_pd(pairs, _mm512_unpacklo_pd(x, y));
     _mm512_store_pd(pairs + 8, _mm512_unpackhi_pd(x, y));
+  }
+  static void store_pairs8(double* pairs, const __m128d (&p)[8]) {
+    for (int l = 0; l < 8; l += 4) {
+      const __m256d lo = _mm256_set_m128d(p[l + 1], p[l]), hi = _mm256_set_m128d(p[l + 3], p[l + 2]);
+      _mm512_store_pd(pairs + 2 * l, _mm512_insertf64x4(_mm512_castpd256_pd512(lo), hi, 1));
+    }
   }
 };
 #pragma GCC pop_options
@@ -557,7 +571,6 @@ struct FusedScene::Data {
   // (fixed trip counts: no branch mispredictions).
   std::vector<std::uint32_t> slots;      ///< double offsets into imp (2 * pair)
   std::vector<std::int32_t> block_rounds; ///< per gather group
-  std::vector<std::uint32_t> gather_vel;  ///< per gather group, kGatherGroup offsets into vel (2 * mass)
   std::vector<std::int32_t> slot_of_mass; ///< [nm] first slot of mass i; its rounds stride kGatherGroup
   std::vector<std::int32_t> rounds_of_mass;
   AVec<double> target;    ///< [nl_pad] desired length D, per block in kLaneLink order
@@ -709,11 +722,10 @@ void gather_impulses(Impl& s) {
   const double* imp = s.imp.data();
   double* vel = s.vel.data();
   const std::uint32_t* sl = s.slots.data();
-  const std::uint32_t* at = s.gather_vel.data();
   const int groups = static_cast<int>(s.block_rounds.size());
-  for (int b = 0; b < groups; ++b, at += kGatherGroup) {
+  for (int b = 0; b < groups; ++b, vel += 2 * kGatherGroup) {
     __m128d acc[kGatherGroup];
-    for (int l = 0; l < kGatherGroup; ++l) acc[l] = _mm_load_pd(vel + at[l]);
+    for (int l = 0; l < kGatherGroup; ++l) acc[l] = _mm_load_pd(vel + 2 * l);
     for (int r = s.block_rounds[b]; r > 0; --r, sl += kGatherGroup) {
       // Two offsets per 64-bit load: the loads, not the additions, limit this loop.
       for (int l = 0; l < kGatherGroup; l += 2) {
@@ -723,7 +735,7 @@ void gather_impulses(Impl& s) {
         acc[l + 1] = _mm_add_pd(acc[l + 1], _mm_load_pd(imp + (two >> 32)));
       }
     }
-    for (int l = 0; l < kGatherGroup; ++l) _mm_store_pd(vel + at[l], acc[l]);
+    O::store_pairs8(vel, acc);
   }
 }
 
@@ -1054,12 +1066,24 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
     bars = cr.needs.bars;
   }
   nm_pad = (nm + kMaxWidth - 1) / kMaxWidth * kMaxWidth;
+  // A creature's masses get working indices [mass_base, mass_base + mass_count)
+  // in order of decreasing degree (acting links), so that the impulse sums go
+  // over consecutive masses of similar degree (gather_impulses: few padding
+  // rounds, results stored as whole vectors). The file order stays in
+  // work_of_point for what runs in mass order.
   for (Creature& cr : creatures) {
     const Model& m = *cr.model;
-    cr.work_of_point.resize(static_cast<std::size_t>(m.point_count));
-    for (int p = 0; p < m.point_count; ++p) {
-      cr.work_of_point[p] = p < m.mass_count ? cr.mass_base + p : nm_pad + nf + (p - m.mass_count);
+    std::vector<int> degree(static_cast<std::size_t>(m.mass_count), 0);
+    for (int i = 0; i < m.link_count(); ++i) {
+      if (m.is_mass(m.link_a[i])) ++degree[m.link_a[i]];
+      if (m.is_mass(m.link_b[i])) ++degree[m.link_b[i]];
     }
+    std::vector<int> order(static_cast<std::size_t>(m.mass_count));
+    for (int p = 0; p < m.mass_count; ++p) order[p] = p;
+    std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return degree[a] > degree[b]; });
+    cr.work_of_point.resize(static_cast<std::size_t>(m.point_count));
+    for (int r = 0; r < m.mass_count; ++r) cr.work_of_point[order[r]] = cr.mass_base + r;
+    for (int p = m.mass_count; p < m.point_count; ++p) cr.work_of_point[p] = nm_pad + nf + (p - m.mass_count);
     nf += m.point_count - m.mass_count;
   }
   sink = nm_pad + nf;
@@ -1138,27 +1162,21 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
     for (const auto& e : list) per_mass[w].push_back(e.second);
   }
   identity_pair = 2 * nl_pad;
-  std::vector<int> by_degree(static_cast<std::size_t>(nm_pad));
-  for (int w = 0; w < nm_pad; ++w) by_degree[w] = w;
-  std::stable_sort(by_degree.begin(), by_degree.end(),
-                   [&](int a, int b) { return per_mass[a].size() > per_mass[b].size(); });
   block_rounds.clear();
-  gather_vel.clear();
   slots.clear();
   slot_of_mass.assign(static_cast<std::size_t>(nm_pad), 0);
   rounds_of_mass.assign(static_cast<std::size_t>(nm_pad), 0);
   for (int g = 0; g < nm_pad; g += kGatherGroup) {
     std::size_t rounds = 0;
-    for (int l = 0; l < kGatherGroup; ++l) rounds = std::max(rounds, per_mass[by_degree[g + l]].size());
+    for (int l = 0; l < kGatherGroup; ++l) rounds = std::max(rounds, per_mass[g + l].size());
     block_rounds.push_back(static_cast<std::int32_t>(rounds));
     for (int l = 0; l < kGatherGroup; ++l) {
-      gather_vel.push_back(2 * static_cast<std::uint32_t>(by_degree[g + l]));
-      slot_of_mass[by_degree[g + l]] = static_cast<std::int32_t>(slots.size()) + l;
-      rounds_of_mass[by_degree[g + l]] = static_cast<std::int32_t>(rounds);
+      slot_of_mass[g + l] = static_cast<std::int32_t>(slots.size()) + l;
+      rounds_of_mass[g + l] = static_cast<std::int32_t>(rounds);
     }
     for (std::size_t r = 0; r < rounds; ++r) {
       for (int l = 0; l < kGatherGroup; ++l) {
-        const auto& list = per_mass[by_degree[g + l]];
+        const auto& list = per_mass[g + l];
         slots.push_back(2 * static_cast<std::uint32_t>(r < list.size() ? list[r] : identity_pair));
       }
     }
@@ -1271,7 +1289,7 @@ void FusedScene::Data::store_state(State* const* st) {
     const Creature& cr = creatures[c];
     State& s = *st[c];
     for (int p = 0; p < cr.model->mass_count; ++p) {
-      const int w = cr.mass_base + p;
+      const int w = cr.work_of_point[p];
       s.x[p] = px(w);
       s.y[p] = py(w);
       s.vx[p] = pvx(w);
@@ -1444,7 +1462,8 @@ void FusedScene::Data::collide_with_bars(int i, double x0, double y0) {
 // masses moved before it).
 void FusedScene::Data::ordered_masses(State& s) {
   const Model& m = *creatures[0].model;
-  for (int i = 0; i < nm; ++i) {
+  for (int p = 0; p < nm; ++p) {
+    const int i = creatures[0].work_of_point[p];
     // Impulses in file order of the links.
     double vxi = pvx(i), vyi = pvy(i);
     const std::uint32_t* sl = slots.data() + slot_of_mass[i];
@@ -1484,8 +1503,8 @@ void FusedScene::Data::record(const KernelChoice& k) {
 void FusedScene::Data::replay_side_hits(State* const* st) {
   for (std::size_t c = 0; c < creatures.size(); ++c) {
     const Creature& cr = creatures[c];
-    for (int i = cr.mass_base; i < cr.mass_base + cr.model->mass_count; ++i) {
-      const double h = side[2 * static_cast<std::size_t>(i)];
+    for (int p = 0; p < cr.model->mass_count; ++p) {
+      const double h = side[2 * static_cast<std::size_t>(cr.work_of_point[p])];
       if (h != 0.0) {
         rules::autoreverse_on_wall_hit(h < 0.0 ? SideWall::Left : SideWall::Right, cr.model->autoreverse,
                                        st[c]->wave_mode, st[c]->last_side_wall);
@@ -1497,7 +1516,10 @@ void FusedScene::Data::replay_side_hits(State* const* st) {
 // Bars whose ends are fixed nodes: each mass independent of the others, so the bar
 // tests can follow the SIMD container step, in mass order.
 void FusedScene::Data::bars_pass() {
-  for (int i = 0; i < nm; ++i) collide_with_bars(i, old_pos[2 * i], old_pos[2 * i + 1]);
+  for (int p = 0; p < nm; ++p) {
+    const int i = creatures[0].work_of_point[p];
+    collide_with_bars(i, old_pos[2 * i], old_pos[2 * i + 1]);
+  }
 }
 
 void FusedScene::Data::ordered_frame(State& s) {
