@@ -126,8 +126,10 @@ struct Sse2Ops {
   }
   // Eight pairs in the stores the mass kernel's loads read (W pairs per store:
   // a load then takes its data from one store, which the CPU can forward).
-  static void store_pairs8(double* pairs, const __m128d (&p)[8]) {
-    for (int l = 0; l < 8; ++l) _mm_store_pd(pairs + 2 * l, p[l]);
+  // W pairs held in registers -> x and y vectors, lanes as load_pairs puts them.
+  static void pairs_to_xy(const __m128d* p, V& x, V& y) {
+    x = _mm_unpacklo_pd(p[0], p[1]);
+    y = _mm_unpackhi_pd(p[0], p[1]);
   }
 };
 
@@ -201,8 +203,10 @@ struct Avx2Ops {
     _mm256_store_pd(pairs, _mm256_unpacklo_pd(x, y));
     _mm256_store_pd(pairs + 4, _mm256_unpackhi_pd(x, y));
   }
-  static void store_pairs8(double* pairs, const __m128d (&p)[8]) {
-    for (int l = 0; l < 8; l += 2) _mm256_store_pd(pairs + 2 * l, _mm256_set_m128d(p[l + 1], p[l]));
+  static void pairs_to_xy(const __m128d* p, V& x, V& y) {
+    const V p0 = _mm256_set_m128d(p[1], p[0]), p1 = _mm256_set_m128d(p[3], p[2]);
+    x = _mm256_unpacklo_pd(p0, p1);
+    y = _mm256_unpackhi_pd(p0, p1);
   }
 };
 #pragma GCC pop_options
@@ -317,11 +321,13 @@ struct Avx512Ops {
     _mm512_store_pd(pairs, _mm512_unpacklo_pd(x, y));
     _mm512_store_pd(pairs + 8, _mm512_unpackhi_pd(x, y));
   }
-  static void store_pairs8(double* pairs, const __m128d (&p)[8]) {
-    for (int l = 0; l < 8; l += 4) {
-      const __m256d lo = _mm256_set_m128d(p[l + 1], p[l]), hi = _mm256_set_m128d(p[l + 3], p[l + 2]);
-      _mm512_store_pd(pairs + 2 * l, _mm512_insertf64x4(_mm512_castpd256_pd512(lo), hi, 1));
-    }
+  static void pairs_to_xy(const __m128d* p, V& x, V& y) {
+    const V p0 = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_set_m128d(p[1], p[0])),
+                                    _mm256_set_m128d(p[3], p[2]), 1);
+    const V p1 = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_set_m128d(p[5], p[4])),
+                                    _mm256_set_m128d(p[7], p[6]), 1);
+    x = _mm512_unpacklo_pd(p0, p1);
+    y = _mm512_unpackhi_pd(p0, p1);
   }
 };
 #pragma GCC pop_options
@@ -566,8 +572,8 @@ struct FusedScene::Data {
   AVec<double> imp; ///< [4*nl_pad + 2]
   std::int32_t identity_pair = 0;
   // Impulse pairs per mass in file order of its model's links, by groups of
-  // kGatherGroup masses sorted by degree: group b, round r, lane l at the next
-  // slots; lists shorter than the group's longest are padded with identity_pair
+  // kGatherGroup consecutive masses (masses are numbered by degree): group b,
+  // round r, lane l at the next slots; lists shorter than the group's longest are padded with identity_pair
   // (fixed trip counts: no branch mispredictions).
   std::vector<std::uint32_t> slots;      ///< double offsets into imp (2 * pair)
   std::vector<std::int32_t> block_rounds; ///< per gather group
@@ -710,39 +716,18 @@ void link_kernel(Impl& s) {
   }
 }
 
-/// Adds to every mass's velocity its impulses, in file order of the links (the
-/// order of the additions into one velocity is the reference's). Masses go in
-/// groups of kGatherGroup of similar degree (sorted at build), one round per
-/// impulse; slots hold double offsets (2 * pair index), so each addition is one
-/// load and one add.
-/// (Pairs of masses in 256-bit additions measured 30 % slower: the inserts cost
-/// more than the additions saved.)
-template <class O>
-void gather_impulses(Impl& s) {
-  const double* imp = s.imp.data();
-  double* vel = s.vel.data();
-  const std::uint32_t* sl = s.slots.data();
-  const int groups = static_cast<int>(s.block_rounds.size());
-  for (int b = 0; b < groups; ++b, vel += 2 * kGatherGroup) {
-    __m128d acc[kGatherGroup];
-    for (int l = 0; l < kGatherGroup; ++l) acc[l] = _mm_load_pd(vel + 2 * l);
-    for (int r = s.block_rounds[b]; r > 0; --r, sl += kGatherGroup) {
-      // Two offsets per 64-bit load: the loads, not the additions, limit this loop.
-      for (int l = 0; l < kGatherGroup; l += 2) {
-        std::uint64_t two;
-        std::memcpy(&two, sl + l, sizeof two);
-        acc[l] = _mm_add_pd(acc[l], _mm_load_pd(imp + static_cast<std::uint32_t>(two)));
-        acc[l + 1] = _mm_add_pd(acc[l + 1], _mm_load_pd(imp + (two >> 32)));
-      }
-    }
-    O::store_pairs8(vel, acc);
-  }
-}
-
-/// The masses (spec 5.3) in SIMD over masses: gravity, friction with the syrup
-/// limit, rest test, move, container walls, each mass with its own creature's
+/// The masses (spec 5.3) in SIMD over masses: first each mass's impulses added to
+/// its velocity in file order of the links (the order of the additions into one
+/// velocity is the reference's), then gravity, friction with the syrup limit,
+/// rest test, move, container walls, each mass with its own creature's
 /// parameters. Returns whether some mass responded to a side wall (autoreverse is
 /// then replayed in mass order).
+///
+/// The sums go by groups of kGatherGroup consecutive masses (numbered by degree at
+/// build), one round per impulse; slots hold double offsets (2 * pair index), so
+/// each addition is one load and one add, and the sums stay in registers for the
+/// rest of the step. (Pairs of masses in 256-bit additions measured 30 % slower:
+/// the inserts cost more than the additions saved.)
 template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
 bool mass_kernel(Impl& s) {
   using V = typename O::V;
@@ -755,66 +740,83 @@ bool mass_kernel(Impl& s) {
   const V zero = O::set1(0.0);
   const V left = O::set1(-1.0), right = O::set1(1.0);
   M any_side = O::m_none();
-  gather_impulses<O>(s);
-  for (int i = 0; i < s.nm_pad; i += O::W) {
-    V vx, vy, x0, y0;
-    O::load_pairs(vel + 2 * i, vx, vy);
-    O::load_pairs(pos + 2 * i, x0, y0);
-    if (!s.bar_a.empty()) O::store_pairs(s.old_pos.data() + 2 * i, x0, y0);
-    if constexpr (Gravity) vy = O::sub(vy, O::load(s.mass_gd.data() + i)); // rules::apply_gravity
-    // rules::friction_factor: (1 - f), times (20 / speed) when speed > 20.
-    // The square-root/divide unit is the bottleneck of the whole step, so both are
-    // skipped when no lane can be above the limit: sqrt is correctly rounded and
-    // monotonic with sqrt(400) = 20, so vx^2 + vy^2 <= 400 gives speed <= 20
-    // exactly. The other lanes keep 1 - f either way.
-    const V speed2 = O::add(O::mul(vx, vx), O::mul(vy, vy));
-    const V one_minus_f = O::load(s.mass_keep.data() + i); // rules::friction_factor
-    V factor = one_minus_f;
-    if (O::any(O::gt(speed2, syrup2))) {
-      const V speed = O::sqrt(speed2);
-      factor = O::select(O::gt(speed, syrup), O::mul(one_minus_f, O::div(syrup, speed)), one_minus_f);
+  const double* imp = s.imp.data();
+  const std::uint32_t* sl = s.slots.data();
+  const int groups = s.nm_pad / kGatherGroup;
+  for (int g = 0; g < groups; ++g) {
+    __m128d acc[kGatherGroup];
+    for (int l = 0; l < kGatherGroup; ++l) acc[l] = _mm_load_pd(vel + 2 * (g * kGatherGroup + l));
+    for (int r = s.block_rounds[g]; r > 0; --r, sl += kGatherGroup) {
+      // Two offsets per 64-bit load: the loads, not the additions, limit this loop.
+      for (int l = 0; l < kGatherGroup; l += 2) {
+        std::uint64_t two;
+        std::memcpy(&two, sl + l, sizeof two);
+        acc[l] = _mm_add_pd(acc[l], _mm_load_pd(imp + static_cast<std::uint32_t>(two)));
+        acc[l + 1] = _mm_add_pd(acc[l + 1], _mm_load_pd(imp + (two >> 32)));
+      }
     }
-    vx = O::mul(factor, vx);
-    vy = O::mul(factor, vy);
-    // rules::is_at_rest
-    const M rest = O::m_and(O::lt(O::abs(vx), rest_limit), O::lt(O::abs(vy), rest_limit));
-    V x = O::add(x0, vx), y = O::add(y0, vy);
-    V cvx = vx, cvy = vy;
-    // rules::collide_with_container, without the walls no mass can reach.
-    M fc = O::m_none();
-    const V fs = O::load(s.mass_fs.data() + i), rs = O::load(s.mass_rs.data() + i);
-    if constexpr (Floor) {
-      const M below = O::lt(y, zero);
-      y = O::select(below, zero, y);
-      fc = below;
+#pragma GCC unroll 4
+    for (int j = 0; j < kGatherGroup; j += O::W) {
+      const int i = g * kGatherGroup + j;
+      V vx, vy, x0, y0;
+      O::pairs_to_xy(acc + j, vx, vy);
+      O::load_pairs(pos + 2 * i, x0, y0);
+      if (!s.bar_a.empty()) O::store_pairs(s.old_pos.data() + 2 * i, x0, y0);
+      if constexpr (Gravity) vy = O::sub(vy, O::load(s.mass_gd.data() + i)); // rules::apply_gravity
+      // rules::friction_factor: (1 - f), times (20 / speed) when speed > 20.
+      // The square-root/divide unit is the bottleneck of the whole step, so both are
+      // skipped when no lane can be above the limit: sqrt is correctly rounded and
+      // monotonic with sqrt(400) = 20, so vx^2 + vy^2 <= 400 gives speed <= 20
+      // exactly. The other lanes keep 1 - f either way.
+      const V speed2 = O::add(O::mul(vx, vx), O::mul(vy, vy));
+      const V one_minus_f = O::load(s.mass_keep.data() + i); // rules::friction_factor
+      V factor = one_minus_f;
+      if (O::any(O::gt(speed2, syrup2))) {
+        const V speed = O::sqrt(speed2);
+        factor = O::select(O::gt(speed, syrup), O::mul(one_minus_f, O::div(syrup, speed)), one_minus_f);
+      }
+      vx = O::mul(factor, vx);
+      vy = O::mul(factor, vy);
+      // rules::is_at_rest
+      const M rest = O::m_and(O::lt(O::abs(vx), rest_limit), O::lt(O::abs(vy), rest_limit));
+      V x = O::add(x0, vx), y = O::add(y0, vy);
+      V cvx = vx, cvy = vy;
+      // rules::collide_with_container, without the walls no mass can reach.
+      M fc = O::m_none();
+      const V fs = O::load(s.mass_fs.data() + i), rs = O::load(s.mass_rs.data() + i);
+      if constexpr (Floor) {
+        const M below = O::lt(y, zero);
+        y = O::select(below, zero, y);
+        fc = below;
+      }
+      if constexpr (Ceiling) {
+        const V height = O::load(s.mass_height.data() + i);
+        const M above = O::gt(y, height); // after the floor clamp: the "else if"
+        y = O::select(above, height, y);
+        fc = O::m_or(fc, above);
+      }
+      if constexpr (Floor || Ceiling) {
+        cvy = O::select(fc, O::mul(cvy, rs), cvy);
+        cvx = O::select(fc, O::mul(cvx, fs), cvx);
+      }
+      if constexpr (Sides) {
+        const M lw = O::lt(x, zero);
+        x = O::select(lw, zero, x);
+        const V width = O::load(s.mass_width.data() + i);
+        const M rw = O::gt(x, width);
+        x = O::select(rw, width, x);
+        const M respond = O::m_andnot(O::m_or(lw, rw), fc); // the corner rule
+        cvx = O::select(respond, O::mul(cvx, rs), cvx);
+        cvy = O::select(respond, O::mul(cvy, fs), cvy);
+        const M hit = O::m_andnot(respond, rest);
+        const V h = O::select(O::m_and(hit, lw), left, O::select(hit, right, zero));
+        O::store_pairs(s.side.data() + 2 * i, h, h);
+        any_side = O::m_or(any_side, hit);
+      }
+      // A mass at rest keeps its position and its damped velocity (no collision).
+      O::store_pairs(pos + 2 * i, O::select(rest, x0, x), O::select(rest, y0, y));
+      O::store_pairs(vel + 2 * i, O::select(rest, vx, cvx), O::select(rest, vy, cvy));
     }
-    if constexpr (Ceiling) {
-      const V height = O::load(s.mass_height.data() + i);
-      const M above = O::gt(y, height); // after the floor clamp: the "else if"
-      y = O::select(above, height, y);
-      fc = O::m_or(fc, above);
-    }
-    if constexpr (Floor || Ceiling) {
-      cvy = O::select(fc, O::mul(cvy, rs), cvy);
-      cvx = O::select(fc, O::mul(cvx, fs), cvx);
-    }
-    if constexpr (Sides) {
-      const M lw = O::lt(x, zero);
-      x = O::select(lw, zero, x);
-      const V width = O::load(s.mass_width.data() + i);
-      const M rw = O::gt(x, width);
-      x = O::select(rw, width, x);
-      const M respond = O::m_andnot(O::m_or(lw, rw), fc); // the corner rule
-      cvx = O::select(respond, O::mul(cvx, rs), cvx);
-      cvy = O::select(respond, O::mul(cvy, fs), cvy);
-      const M hit = O::m_andnot(respond, rest);
-      const V h = O::select(O::m_and(hit, lw), left, O::select(hit, right, zero));
-      O::store_pairs(s.side.data() + 2 * i, h, h);
-      any_side = O::m_or(any_side, hit);
-    }
-    // A mass at rest keeps its position and its damped velocity (no collision).
-    O::store_pairs(pos + 2 * i, O::select(rest, x0, x), O::select(rest, y0, y));
-    O::store_pairs(vel + 2 * i, O::select(rest, vx, cvx), O::select(rest, vy, cvy));
   }
   return O::any(any_side);
 }
@@ -866,7 +868,6 @@ struct KernelTable {
 };
 
 #define SODA_KERNELS(O)                                                                                   \
-  template void gather_impulses<O>(Impl&);                                                                 \
   template bool mass_kernel<O, false, false, false, false>(Impl&);                                        \
   template bool mass_kernel<O, false, false, false, true>(Impl&);                                         \
   template bool mass_kernel<O, false, false, true, false>(Impl&);                                         \
