@@ -16,12 +16,18 @@
 //    speed 0);
 //  - links: impulses of all links computed in SIMD (SSE2, AVX2 or AVX-512, chosen
 //    at run time; all bit-exact, no FMA) from positions only - positions do not
-//    change while links act. The square root and division per link are the cost
-//    that matters, and their cost per instruction does not depend on the width;
-//  - masses: each mass sums its impulses in file order of the links (the order of
-//    the additions into one velocity is the only order that matters), then
-//    gravity, friction, rest test, move and walls, in SIMD over masses, with the
-//    frame loop inside the specialised function;
+//    change while links act. Their order and which end is "A" are free (swapping
+//    the ends negates dx, dy and the impulse exactly), so links are arranged in
+//    blocks whose A ends are one block of consecutive masses (one vector load);
+//    scenes of at most 16 points keep every point in registers (AVX-512). The
+//    square root and division per link cost the same per instruction whatever the
+//    width;
+//  - masses: numbered by decreasing degree within each creature; each sums its
+//    impulses in file order of the links (the order of the additions into one
+//    velocity is the only order that matters), in groups of 8 consecutive masses
+//    whose sums stay in registers for the rest of the mass step: gravity,
+//    friction, rest test, move and walls, in SIMD over masses, with the frame
+//    loop inside the specialised function;
 //  - autoreverse hits are replayed in mass order, fixed-bar tests run per mass in
 //    order after the container (exactly as the reference does per mass); with a
 //    bar that has a free-mass end, masses go one by one in file order.
