@@ -1086,8 +1086,8 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   nm_pad = (nm + kMaxWidth - 1) / kMaxWidth * kMaxWidth;
   // A creature's masses get working indices [mass_base, mass_base + mass_count)
   // in order of decreasing degree (acting links), so that the impulse sums go
-  // over consecutive masses of similar degree (gather_impulses: few padding
-  // rounds, results stored as whole vectors). The file order stays in
+  // over consecutive masses of similar degree (mass_kernel: few padding
+  // rounds, sums kept in registers for the mass step). The file order stays in
   // work_of_point for what runs in mass order.
   for (Creature& cr : creatures) {
     const Model& m = *cr.model;
