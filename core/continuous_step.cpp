@@ -65,9 +65,7 @@ void ContinuousStepper::smooth_acceleration(const double* x, const double* y, do
     const double dy = y[b] - y[a];
     const double length = std::sqrt(dx * dx + dy * dy);
     if (length == 0.0) continue;
-    const double target = m.link_muscle[i] ? rules::muscle_target_length(m.link_rest[i], m.wave_amplitude,
-                                                                         m.link_amplitude[i], m.link_phase[i], phase)
-                                           : m.link_rest[i];
+    const double target = rules::link_target_length(m, i, phase);
     const double c = rules::link_impulse_factor(m.springyness, length, target);
     ax[a] += c * dx;
     ay[a] += c * dy;

@@ -30,9 +30,7 @@ double kinetic_energy(const Model& m, const State& s) {
 }
 
 double link_target(const Model& m, const State& s, int i) {
-  return m.link_muscle[i] ? rules::muscle_target_length(m.link_rest[i], m.wave_amplitude, m.link_amplitude[i],
-                                                        m.link_phase[i], s.wave_phase)
-                          : m.link_rest[i];
+  return rules::link_target_length(m, i, s.wave_phase);
 }
 
 double link_length(const Model& m, const State& s, int i) {

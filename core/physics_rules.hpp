@@ -24,6 +24,14 @@ inline double muscle_target_length(double rest, double wave_amplitude, double mu
   return rest * (1.0 + power);
 }
 
+/// Desired length of link i of a model at wave phase `wave_phase`: its rest length,
+/// or for a muscle muscle_target_length.
+inline double link_target_length(const Model& m, int i, double wave_phase) {
+  return m.link_muscle[i] ? muscle_target_length(m.link_rest[i], m.wave_amplitude, m.link_amplitude[i],
+                                                 m.link_phase[i], wave_phase)
+                          : m.link_rest[i];
+}
+
 /// Velocity impulse factor of a link of current length L > 0 and desired length D:
 /// c = k*(L - D)/L; end A gets +c*(dx, dy), end B gets -c*(dx, dy), (dx, dy) = B - A.
 inline double link_impulse_factor(double springyness, double length, double target) {

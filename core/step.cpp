@@ -21,10 +21,7 @@ namespace {
     const double dy = s.y[b] - s.y[a];
     const double length = std::sqrt(dx * dx + dy * dy);
     if (length == 0.0) continue; // coincident ends: no direction, no force
-    const double target =
-        m.link_muscle[i] ? rules::muscle_target_length(m.link_rest[i], m.wave_amplitude, m.link_amplitude[i],
-                                                       m.link_phase[i], s.wave_phase)
-                         : m.link_rest[i];
+    const double target = rules::link_target_length(m, i, s.wave_phase);
     const double c = rules::link_impulse_factor(m.springyness, length, target) * dt;
     if (m.is_mass(a)) {
       s.vx[a] += c * dx;
