@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "bench/analytic_scenes.hpp"
+#include "bench/median.hpp"
 #include "core/divergence.hpp"
 #include "core/model.hpp"
 #include "core/model_file.hpp"
@@ -78,13 +79,6 @@ double centroid_x(const std::vector<double>& p) {
 
 double relative_error(double value, double reference) {
   return std::fabs(value - reference) / std::max(std::fabs(reference), 1.0);
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 void say(const AccuracyOptions& o, const std::string& line) {

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "bench/baselines.hpp"
+#include "bench/median.hpp"
 #include "bench/synthetic.hpp"
 #include "core/batch_step.hpp"
 #include "core/fast_step.hpp"
@@ -24,12 +25,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
-
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const std::size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 // Keeps results observable so the optimiser cannot drop a run.
 volatile double g_sink = 0.0;
