@@ -1325,6 +1325,7 @@ void FusedScene::Data::arrange_links(std::vector<Acting>& acting) {
     }
     for (int m = 0; m < nm; ++m) left[m] = static_cast<int>(incident[m].size());
     std::vector<char> placed(pool.size(), 0);
+    std::vector<std::size_t> first(static_cast<std::size_t>(nm_pad), 0); // before it: all placed
     const int dummies_allowed = W == 8 ? 1 : 0;
     for (bool progress = true; progress;) {
       progress = false;
@@ -1334,10 +1335,16 @@ void FusedScene::Data::arrange_links(std::vector<Acting>& acting) {
         if (ready < W - dummies_allowed) continue;
         for (int t = 0; t < W; ++t) {
           const int m = W * blk + t;
-          // Of the mass's links, the one whose other end has the most links left
-          // (an end that is not a mass cannot be an A end: taken first).
+          // Of the mass's next links (a bounded look, so that a mass of huge
+          // degree costs linear time), the one whose other end has the most links
+          // left (an end that is not a mass cannot be an A end: taken first).
+          constexpr std::size_t kLook = 32;
+          const auto& list = incident[m];
+          std::size_t& from = first[m];
+          while (from < list.size() && placed[list[from]]) ++from;
           int best = -1, best_left = -1;
-          for (int g : incident[m]) {
+          for (std::size_t q = from; q < list.size() && q < from + kLook; ++q) {
+            const int g = list[q];
             if (placed[g]) continue;
             const int a = end_of(pool[g], false), b = end_of(pool[g], true);
             const int other = a == m ? b : a;

@@ -293,6 +293,20 @@ TEST_CASE("fast step: synthetic stress cases, each kernel specialisation", "[fas
         }
       }
 
+      SECTION("masses of high degree whose other ends are fixed nodes (links arranged 32 at a time)") {
+        soda::ModelDef def;
+        for (int h = 0; h < 9; ++h) def.nodes.push_back(mass(200.0 + 20.0 * h, 150.0, 0.3 * h, -0.2));
+        for (int f = 0; f < 60; ++f) def.nodes.push_back(node(10.0 * f, 40.0 + (f % 7) * 30.0));
+        for (int f = 0; f < 60; ++f) {
+          for (int h = 0; h < 9; ++h) {
+            const bool as_muscle = (f + h) % 5 == 0;
+            const double rest = 40.0 + f + 3.0 * h;
+            def.links.push_back(as_muscle ? muscle(9 + f, h, rest, 0.3, 0.1 * h) : spring(h, 9 + f, rest));
+          }
+        }
+        check(def, 1500, opt);
+      }
+
       SECTION("no muscles: no wave kernel") {
         soda::ModelDef def = lattice(3, 3, 400, 10);
         for (auto& l : def.links) l.kind = soda::LinkKind::Spring;
