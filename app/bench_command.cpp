@@ -53,7 +53,8 @@ std::string human(double v) { return format_tick(v); }
 std::string markdown(const bench::SpeedReport& r, const std::string& command) {
   std::ostringstream o;
   o << "Measured with `" << command << "` (fast = " << r.simd
-    << "; medians of the runs; ratios within this one invocation).\n\n";
+    << "; rates: medians of the runs; ratios: the median over the rounds of runs of the ratio within each "
+       "round, all within this one invocation).\n\n";
   o << "\"fast\" steps one creature alone. \"fast-batch\" steps " << bench::kBenchBatch
     << " different creatures (copies with their muscle phases shifted, no sine shared) on one core "
        "(soda::BatchStepper: packed into fused scenes of at most "
