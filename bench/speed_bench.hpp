@@ -15,8 +15,9 @@
 // Method: every figure is the median of `runs` timed runs; a run steps the engine
 // from the model's initial state for a frame count calibrated so that one run takes
 // about `target_seconds`. The engines' runs are interleaved (run 1 of every engine,
-// then run 2, ...) so that a slow phase of the machine hits all of them, and the
-// ratios are formed from the medians of the same invocation.
+// then run 2, ...) so that a slow phase of the machine hits all of them, and a
+// ratio is the median over the rounds of the ratio within each round (11 rounds,
+// 3 with --quick).
 #pragma once
 
 #include <functional>
