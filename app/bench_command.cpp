@@ -100,26 +100,22 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
     o << ' ' << (seed > 0 ? fixed(fast / seed, 1) : "-") << "x | " << (plain > 0 ? fixed(fast / plain, 2) : "-")
       << "x |\n";
   }
-  if (!has("population")) {
-    if (!sweep.empty()) {
-      o << "\nBest single-thread rate: " << human(r.best_link_updates_per_second) << " link updates/s.\n";
+  if (has("population")) {
+    o << "\nPopulation throughput (every creature stepped from scratch, results by index; fast = a "
+         "FastStepper per creature, fast-batch = batches of at most "
+      << bench::kBenchBatch << " creatures fused on one core, cut where a new fused scene starts; "
+         "no two creatures share a sine):\n\n";
+    o << "| engine | threads | creatures x frames | creature-frames/s | link updates/s |\n|---|---:|---|---:|---:|\n";
+    for (const bench::SpeedRow& row : r.rows) {
+      if (row.section != "population") continue;
+      o << "| " << row.engine << " | " << row.threads << " | " << row.creature << " x " << row.frames << " | "
+        << human(row.frames_per_second) << " | " << human(row.link_updates_per_second) << " |\n";
     }
-    return o.str();
+    o << "\n" << r.population_threads << "-thread / 1-thread population throughput: " << fixed(r.population_speedup, 2)
+      << "x (fast), " << fixed(r.population_batch_speedup, 2) << "x (fast-batch).\n";
   }
-  o << "\nPopulation throughput (every creature stepped from scratch, results by index; fast = a "
-       "FastStepper per creature, fast-batch = batches of at most "
-    << bench::kBenchBatch << " creatures fused on one core, cut where a new fused scene starts; "
-       "no two creatures share a sine):\n\n";
-  o << "| engine | threads | creatures x frames | creature-frames/s | link updates/s |\n|---|---:|---|---:|---:|\n";
-  for (const bench::SpeedRow& row : r.rows) {
-    if (row.section != "population") continue;
-    o << "| " << row.engine << " | " << row.threads << " | " << row.creature << " x " << row.frames << " | "
-      << human(row.frames_per_second) << " | " << human(row.link_updates_per_second) << " |\n";
-  }
-  o << "\n" << r.population_threads << "-thread / 1-thread population throughput: " << fixed(r.population_speedup, 2)
-    << "x (fast), " << fixed(r.population_batch_speedup, 2) << "x (fast-batch).\n";
   if (!sweep.empty()) {
-    o << "Best single-thread rate: " << human(r.best_link_updates_per_second) << " link updates/s (" << r.best_links
+    o << "\nBest single-thread rate: " << human(r.best_link_updates_per_second) << " link updates/s (" << r.best_links
       << " links), " << fixed(100.0 * r.best_link_updates_per_second / bench::kPhysicalLimitLinkUpdatesPerSecond, 0)
       << " % of 1e9/s, the upper end of the 0.5-1e9/s physical limit per core.\n";
   }

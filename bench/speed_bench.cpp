@@ -157,11 +157,12 @@ std::vector<SpeedRow> time_engines(const std::string& section, const std::string
   // runs of a round are a second apart at most), so that a slow phase of the
   // machine, which can last from seconds to minutes here, hits both sides of a
   // ratio instead of one median.
-  auto ratio_to = [&](const std::string& base, std::size_t i) {
-    std::size_t b = engines.size();
-    for (std::size_t j = 0; j < engines.size(); ++j) {
-      if (engines[j].name == base) b = j;
-    }
+  auto index_of = [&](const std::string& name) {
+    std::size_t j = 0;
+    while (j < engines.size() && engines[j].name != name) ++j;
+    return j; // engines.size(): none
+  };
+  auto ratio_to = [&](std::size_t b, std::size_t i) {
     if (b == engines.size()) return 0.0;
     std::vector<double> per_round;
     for (int r = 0; r < runs; ++r) {
@@ -171,9 +172,10 @@ std::vector<SpeedRow> time_engines(const std::string& section, const std::string
     }
     return median(per_round);
   };
+  const std::size_t seed = index_of("seed"), plain = index_of("plain");
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    rows[i].speedup_vs_seed = ratio_to("seed", i);
-    rows[i].speedup_vs_plain = ratio_to("plain", i);
+    rows[i].speedup_vs_seed = ratio_to(seed, i);
+    rows[i].speedup_vs_plain = ratio_to(plain, i);
   }
   return rows;
 }
@@ -197,7 +199,7 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     creatures.emplace_back(name, soda::build_model(soda::read_model_file(path).def));
   }
   for (const auto& [name, model] : creatures) {
-    if (!options.creature_section) break;
+    if (!options.creature_section) break; // the models are still read: the population needs them
     say("creature " + name + " (" + std::to_string(model.mass_count) + " masses, " +
         std::to_string(model.link_count()) + " links)");
     for (SpeedRow& r : time_engines("creature", name, model, make_engines(model, true, true), runs, target)) {

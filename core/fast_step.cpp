@@ -124,8 +124,6 @@ struct Sse2Ops {
     _mm_store_pd(pairs, _mm_unpacklo_pd(x, y));
     _mm_store_pd(pairs + 2, _mm_unpackhi_pd(x, y));
   }
-  // Eight pairs in the stores the mass kernel's loads read (W pairs per store:
-  // a load then takes its data from one store, which the CPU can forward).
   // W pairs held in registers -> x and y vectors, lanes as load_pairs puts them.
   static void pairs_to_xy(const __m128d* p, V& x, V& y) {
     x = _mm_unpacklo_pd(p[0], p[1]);
@@ -577,15 +575,15 @@ struct FusedScene::Data {
   // masses [W*b, W*b + W) in slot order, loaded as two whole vectors.
   std::vector<std::int32_t> a_block;
   bool points_in_registers = false;  ///< the link pass keeps the points in registers (Avx512Ops)
-  AVec<std::int64_t> la_point, lb_point; ///< [nl_pad] working index of the ends, in lane order
+  AVec<std::int64_t> la_point, lb_point; ///< [nl_pad] working index of the ends, lane order (registers only)
   // Impulses as (x, y) pairs: pair k = end A of acting link k (+c*d), pair
   // nl_pad + k = end B (-c*d), pair 2*nl_pad = (-0, -0), the identity of +.
   AVec<double> imp; ///< [4*nl_pad + 2]
   std::int32_t identity_pair = 0;
   // Impulse pairs per mass in file order of its model's links, by groups of
   // kGatherGroup consecutive masses (masses are numbered by degree): group b,
-  // round r, lane l at the next slots; lists shorter than the group's longest are padded with identity_pair
-  // (fixed trip counts: no branch mispredictions).
+  // round r, lane l at the next slots; lists shorter than the group's longest
+  // are padded with identity_pair (fixed trip counts: no branch mispredictions).
   std::vector<std::uint32_t> slots;      ///< double offsets into imp (2 * pair)
   std::vector<std::int32_t> block_rounds; ///< per gather group
   std::vector<std::int32_t> slot_of_mass; ///< [nm] first slot of mass i; its rounds stride kGatherGroup
@@ -857,14 +855,13 @@ void run_chunk(Impl& s, State* const* st, long long frames) {
   const bool wave = s.nwm > 0;
   for (long long f = 0; f < frames; ++f) {
     if (wave) s.update_targets(st);
-    if constexpr (O::kPointRegisters) {
-      if (s.nl > 0 && s.points_in_registers) {
-        link_kernel<O, true>(s);
-      } else if (s.nl > 0) {
+    if (s.nl > 0) {
+      // points_in_registers is only ever set where O::kPointRegisters holds.
+      if (s.points_in_registers) {
+        link_kernel<O, O::kPointRegisters>(s);
+      } else {
         link_kernel<O, false>(s);
       }
-    } else if (s.nl > 0) {
-      link_kernel<O, false>(s);
     }
     if (mass_kernel<O, Gravity, Floor, Ceiling, Sides>(s)) s.replay_side_hits(st);
     if (!s.bar_a.empty()) s.bars_pass();
@@ -1105,8 +1102,8 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
     nf += m.point_count - m.mass_count;
   }
   sink = nm_pad + nf;
-  // (At least 16 points: Avx512Ops::load_points reads that many.)
-  pos.assign(2 * static_cast<std::size_t>(std::max(sink + 1, 16)), 0.0);
+  // (Avx512Ops::load_points reads kRegisterPoints points whatever the scene's size.)
+  pos.assign(2 * static_cast<std::size_t>(std::max(sink + 1, Avx512Ops::kRegisterPoints)), 0.0);
   vel.assign(2 * static_cast<std::size_t>(sink + 1), 0.0);
   old_pos.assign(2 * static_cast<std::size_t>(nm_pad), 0.0);
   side.assign(2 * static_cast<std::size_t>(nm_pad), 0.0);
@@ -1207,11 +1204,15 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
     for (int l = 0; l < W; ++l) slot_of_link[b + kLaneLink(W, l)] = b + l;
   }
   points_in_registers = simd == SimdLevel::Avx512 && nm_pad + nf <= Avx512Ops::kRegisterPoints;
-  la_point.assign(static_cast<std::size_t>(nl_pad), 0);
-  lb_point.assign(static_cast<std::size_t>(nl_pad), 0);
-  for (int k = 0; k < nl_pad; ++k) {
-    la_point[slot_of_link[k]] = la[k] / 2;
-    lb_point[slot_of_link[k]] = lb[k] / 2;
+  la_point.clear();
+  lb_point.clear();
+  if (points_in_registers) {
+    la_point.assign(static_cast<std::size_t>(nl_pad), 0);
+    lb_point.assign(static_cast<std::size_t>(nl_pad), 0);
+    for (int k = 0; k < nl_pad; ++k) {
+      la_point[slot_of_link[k]] = la[k] / 2;
+      lb_point[slot_of_link[k]] = lb[k] / 2;
+    }
   }
   tm_rest.assign(static_cast<std::size_t>(nwm_pad), 0.0);
   tm_power.assign(static_cast<std::size_t>(nwm_pad), 0.0);
