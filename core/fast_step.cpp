@@ -598,6 +598,10 @@ struct FusedScene::Data {
   int nwm = 0, nwm_pad = 0;
   std::vector<double> tm_rest, tm_power; ///< [nwm_pad] rest length, Aw*Am
   std::vector<std::int32_t> tm_group;    ///< [nwm_pad] index into a row of sines
+  // Rows of at most kRegisterPoints sines (Avx512Ops) sit in two registers while
+  // the targets are formed: a muscle's sine is then one permute, not a gather.
+  bool sines_in_registers = false;
+  AVec<std::int64_t> tm_group_lane;      ///< [nwm_pad] tm_group as permute indices
   std::vector<double> group_phase;       ///< distinct muscle phases, per creature
   int groups = 0;                        ///< all creatures'
   // Sines for this frame and the next rows - 1, computed for the phases each
@@ -842,6 +846,16 @@ template <class O>
 void targets_kernel(Impl& s, const double* sine) {
   using V = typename O::V;
   const V one = O::set1(1.0);
+  if constexpr (O::kPointRegisters) {
+    if (s.sines_in_registers) {
+      const V row[2] = {O::loadu(sine), O::loadu(sine + O::W)}; // the row is padded to kRegisterPoints
+      for (int q = 0; q < s.nwm_pad; q += O::W) {
+        const V power = O::mul(O::loadu(s.tm_power.data() + q), O::point(row, s.tm_group_lane.data() + q));
+        O::store(s.target.data() + q, O::mul(O::loadu(s.tm_rest.data() + q), O::add(one, power)));
+      }
+      return;
+    }
+  }
   for (int q = 0; q < s.nwm_pad; q += O::W) {
     const V power = O::mul(O::loadu(s.tm_power.data() + q), O::gather(sine, s.tm_group.data() + q));
     O::store(s.target.data() + q, O::mul(O::loadu(s.tm_rest.data() + q), O::add(one, power)));
@@ -1262,7 +1276,10 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   row_phase_bits.assign(creatures.size() * static_cast<std::size_t>(rows), 0);
   row_phase_after.assign(creatures.size() * static_cast<std::size_t>(rows), 0.0);
   row_arg.assign(row_values, 1.0); // padding lanes: an argument the tables take
-  row_sin.assign(row_values, 0.0);
+  row_sin.assign(row_values + Avx512Ops::kRegisterPoints, 0.0); // any row loads as two registers
+  sines_in_registers = simd == SimdLevel::Avx512 && groups <= Avx512Ops::kRegisterPoints;
+  tm_group_lane.assign(static_cast<std::size_t>(nwm_pad), 0);
+  for (int q = 0; q < nwm_pad; ++q) tm_group_lane[q] = tm_group[q];
   dist_arg.assign(row_values, 1.0);
   dist_sin.assign(row_values, 0.0);
   std::map<std::uint64_t, int> u_of_phase;
