@@ -59,6 +59,9 @@ struct SpeedReport {
   int population_threads = 1;
   double population_speedup = 0.0; ///< all threads / 1 thread: median of the ratios of alternating runs
   double population_batch_speedup = 0.0; ///< the same for the batch path
+  /// The same ratio for work items of arithmetic alone that share nothing, timed in
+  /// the same rounds: what the machine gave a second busy thread at the time.
+  double host_speedup = 0.0;
   double best_link_updates_per_second = 0.0; ///< fast, one thread, any size
   int best_links = 0;
 };
