@@ -7,6 +7,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -169,5 +170,45 @@ TEST_CASE("bench evolve compares the three search methods at equal evaluations",
   CHECK(per_method == std::map<std::string, int>{{"ga", 2}, {"hill", 2}, {"random", 2}});
   CHECK(soda::read_whole_file(out / "evolve.svg").find("<svg") != std::string::npos);
   CHECK(soda::read_whole_file(out / "evolve.md").find("Dainty Walker under the same fitness settings") != std::string::npos);
+  fs::remove_all(out);
+}
+
+TEST_CASE("bench speed --quick writes every engine's row, the population ratios and the files", "[cli]") {
+  const fs::path out = fresh_temp_dir("cli_bench_speed");
+  const fs::path root = fs::path(SODAEVO_MODELS_DIR).parent_path();
+  const ShellResult r = run_sodaevo("bench speed --quick --threads 2 --models " + (root / "models").string() +
+                                    " --out " + out.string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  std::istringstream csv(soda::read_whole_file(out / "speed.csv"));
+  std::string line;
+  std::getline(csv, line);
+  CHECK(line.rfind("section,creature,engine,threads,", 0) == 0);
+  std::map<std::string, int> rows_per_section;
+  std::map<std::string, int> creature_engines;
+  while (std::getline(csv, line)) {
+    std::vector<std::string> f;
+    std::istringstream cells(line);
+    for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+    REQUIRE(f.size() == 14);
+    rows_per_section[f[0]]++;
+    CHECK(std::stod(f[9]) > 0.0); // frames per second
+    if (f[0] != "creature") continue;
+    creature_engines[f[2]]++;
+    if (f[2] == "seed") CHECK(f[11] == "1.00"); // a ratio to itself
+    if (f[2] == "plain") CHECK(f[12] == "1.00");
+  }
+  // The three bundled creatures under every engine, a size sweep, 1 and 2 threads twice.
+  const std::map<std::string, int> three_each{{"fast", 3},      {"fast-batch", 3}, {"fast-batch-same", 3},
+                                              {"fast-sse2", 3}, {"plain", 3},      {"reference", 3},
+                                              {"seed", 3}};
+  CHECK(creature_engines == three_each);
+  CHECK(rows_per_section["size"] > 0);
+  CHECK(rows_per_section["population"] == 4);
+  const std::string md = soda::read_whole_file(out / "speed.md");
+  CHECK(md.find("2-thread / 1-thread population throughput") != std::string::npos);
+  CHECK(md.find("of arithmetic alone") != std::string::npos);
+  CHECK(soda::read_whole_file(out / "speed.svg").find("<svg") != std::string::npos);
+  CHECK(soda::read_whole_file(out / "speed_creatures.svg").find("<svg") != std::string::npos);
   fs::remove_all(out);
 }
