@@ -13,12 +13,10 @@
 #include <stdexcept>
 #include <vector>
 
+#include "exact_sines.hpp"
 #include "fused_scene.hpp"
 #include "physics_rules.hpp"
-
-// GCC 12's AVX-512 headers trip -Wmaybe-uninitialized inside their own intrinsics
-// (the "undefined" source operand idiom); nothing in this file is uninitialised.
-#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include "simd_ops.hpp"
 
 namespace soda {
 
@@ -47,291 +45,10 @@ std::uint64_t bits_of(double v) {
   return b;
 }
 
-// ---------------------------------------------------------------------------
-// SIMD operations. Each is one IEEE operation per lane (add, sub, mul, div, sqrt
-// are correctly rounded in every instruction set, so all levels give the same
-// bits); comparisons are the ordered ones, false for NaN, as C++'s < and >. No
-// fused multiply-add in the physics (the build has -ffp-contract=off and the
-// kernels only use separate mul and add intrinsics); the one fused operation,
-// Avx512Ops::fms, finds the exact error of a product in the sine, where Dekker's
-// split gives the same exact value on the other levels.
-// ---------------------------------------------------------------------------
-
-struct Sse2Ops {
-  static constexpr int W = 2;
-  static constexpr bool kPointRegisters = false; // see Avx512Ops
-  using V = __m128d;
-  using M = __m128d;
-  static V load(const double* p) { return _mm_load_pd(p); }
-  static void store(double* p, V v) { _mm_store_pd(p, v); }
-  static V set1(double v) { return _mm_set1_pd(v); }
-  static V add(V a, V b) { return _mm_add_pd(a, b); }
-  static V sub(V a, V b) { return _mm_sub_pd(a, b); }
-  static V mul(V a, V b) { return _mm_mul_pd(a, b); }
-  static V div(V a, V b) { return _mm_div_pd(a, b); }
-  static V sqrt(V a) { return _mm_sqrt_pd(a); }
-  static M lt(V a, V b) { return _mm_cmplt_pd(a, b); }
-  static M gt(V a, V b) { return _mm_cmpgt_pd(a, b); }
-  static M eq(V a, V b) { return _mm_cmpeq_pd(a, b); }
-  static M m_or(M a, M b) { return _mm_or_pd(a, b); }
-  static M m_and(M a, M b) { return _mm_and_pd(a, b); }
-  static M m_andnot(M a, M b) { return _mm_andnot_pd(b, a); } // a & !b
-  static M m_none() { return _mm_setzero_pd(); }
-  static bool any(M m) { return _mm_movemask_pd(m) != 0; }
-  static V select(M m, V if_true, V if_false) {
-    return _mm_or_pd(_mm_and_pd(m, if_true), _mm_andnot_pd(m, if_false));
-  }
-  static V neg(V a) { return _mm_xor_pd(a, _mm_set1_pd(-0.0)); }
-  static V abs(V a) { return _mm_andnot_pd(_mm_set1_pd(-0.0), a); }
-  static V bits_and(V a, V b) { return _mm_and_pd(a, b); }
-  static V bits_xor(V a, V b) { return _mm_xor_pd(a, b); }
-  static M le(V a, V b) { return _mm_cmple_pd(a, b); }
-  static M ge(V a, V b) { return _mm_cmpge_pd(a, b); }
-  static M ne(V a, V b) { return _mm_cmpneq_pd(a, b); }
-  static unsigned lanes(M m) { return static_cast<unsigned>(_mm_movemask_pd(m)); }
-  static V loadu(const double* p) { return _mm_loadu_pd(p); }
-  static void storeu(double* p, V v) { _mm_storeu_pd(p, v); }
-  // Truncation of values in [0, 2^31) to int32, and back.
-  static void to_i32(V v, std::int32_t* out) { _mm_storel_epi64(reinterpret_cast<__m128i*>(out), _mm_cvttpd_epi32(v)); }
-  static V from_i32(const std::int32_t* in) {
-    return _mm_cvtepi32_pd(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(in)));
-  }
-  static V gather(const double* base, const std::int32_t* idx) { return _mm_set_pd(base[idx[1]], base[idx[0]]); }
-  /// Rows idx[l] of a table of 4-double rows, transposed: column c of lane l's row in lane l of v[c].
-  static void gather_rows4(const double* rows, const std::int32_t* idx, V (&v)[4]) {
-    const double* r0 = rows + 4 * idx[0];
-    const double* r1 = rows + 4 * idx[1];
-    for (int c = 0; c < 4; c += 2) {
-      const V a = _mm_load_pd(r0 + c), b = _mm_load_pd(r1 + c);
-      v[c] = _mm_unpacklo_pd(a, b);
-      v[c + 1] = _mm_unpackhi_pd(a, b);
-    }
-  }
-  // W (x, y) pairs -> x and y vectors, lanes in the order sigma (see kLaneLink).
-  // off: offsets in doubles (2 * pair index), unsigned so that no sign extension is needed.
-  static void load_pairs_at(const double* pairs, const std::uint32_t* off, V& x, V& y) {
-    const V p0 = _mm_load_pd(pairs + off[0]), p1 = _mm_load_pd(pairs + off[1]);
-    x = _mm_unpacklo_pd(p0, p1);
-    y = _mm_unpackhi_pd(p0, p1);
-  }
-  static void load_pairs(const double* pairs, V& x, V& y) {
-    const V p0 = _mm_load_pd(pairs), p1 = _mm_load_pd(pairs + 2);
-    x = _mm_unpacklo_pd(p0, p1);
-    y = _mm_unpackhi_pd(p0, p1);
-  }
-  // The inverse: lanes in sigma order -> W pairs in natural order.
-  static void store_pairs(double* pairs, V x, V y) {
-    _mm_store_pd(pairs, _mm_unpacklo_pd(x, y));
-    _mm_store_pd(pairs + 2, _mm_unpackhi_pd(x, y));
-  }
-  // W pairs held in registers -> x and y vectors, lanes as load_pairs puts them.
-  static void pairs_to_xy(const __m128d* p, V& x, V& y) {
-    x = _mm_unpacklo_pd(p[0], p[1]);
-    y = _mm_unpackhi_pd(p[0], p[1]);
-  }
-};
-
-#pragma GCC push_options
-#pragma GCC target("avx2")
-struct Avx2Ops {
-  static constexpr int W = 4;
-  static constexpr bool kPointRegisters = false;
-  using V = __m256d;
-  using M = __m256d;
-  static V load(const double* p) { return _mm256_load_pd(p); }
-  static void store(double* p, V v) { _mm256_store_pd(p, v); }
-  static V set1(double v) { return _mm256_set1_pd(v); }
-  static V add(V a, V b) { return _mm256_add_pd(a, b); }
-  static V sub(V a, V b) { return _mm256_sub_pd(a, b); }
-  static V mul(V a, V b) { return _mm256_mul_pd(a, b); }
-  static V div(V a, V b) { return _mm256_div_pd(a, b); }
-  static V sqrt(V a) { return _mm256_sqrt_pd(a); }
-  static M lt(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
-  static M gt(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_GT_OQ); }
-  static M eq(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
-  static M m_or(M a, M b) { return _mm256_or_pd(a, b); }
-  static M m_and(M a, M b) { return _mm256_and_pd(a, b); }
-  static M m_andnot(M a, M b) { return _mm256_andnot_pd(b, a); }
-  static M m_none() { return _mm256_setzero_pd(); }
-  static bool any(M m) { return _mm256_movemask_pd(m) != 0; }
-  static V select(M m, V if_true, V if_false) { return _mm256_blendv_pd(if_false, if_true, m); }
-  static V neg(V a) { return _mm256_xor_pd(a, _mm256_set1_pd(-0.0)); }
-  static V abs(V a) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), a); }
-  static V bits_and(V a, V b) { return _mm256_and_pd(a, b); }
-  static V bits_xor(V a, V b) { return _mm256_xor_pd(a, b); }
-  static M le(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_LE_OQ); }
-  static M ge(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_GE_OQ); }
-  static M ne(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_NEQ_UQ); }
-  static unsigned lanes(M m) { return static_cast<unsigned>(_mm256_movemask_pd(m)); }
-  static V loadu(const double* p) { return _mm256_loadu_pd(p); }
-  static void storeu(double* p, V v) { _mm256_storeu_pd(p, v); }
-  static void to_i32(V v, std::int32_t* out) {
-    _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm256_cvttpd_epi32(v));
-  }
-  static V from_i32(const std::int32_t* in) {
-    return _mm256_cvtepi32_pd(_mm_loadu_si128(reinterpret_cast<const __m128i*>(in)));
-  }
-  static V gather(const double* base, const std::int32_t* idx) {
-    return _mm256_set_pd(base[idx[3]], base[idx[2]], base[idx[1]], base[idx[0]]);
-  }
-  static void gather_rows4(const double* rows, const std::int32_t* idx, V (&v)[4]) {
-    const V r0 = _mm256_load_pd(rows + 4 * idx[0]), r1 = _mm256_load_pd(rows + 4 * idx[1]);
-    const V r2 = _mm256_load_pd(rows + 4 * idx[2]), r3 = _mm256_load_pd(rows + 4 * idx[3]);
-    const V lo01 = _mm256_unpacklo_pd(r0, r1), hi01 = _mm256_unpackhi_pd(r0, r1); // c0 c0 c2 c2 / c1 c1 c3 c3
-    const V lo23 = _mm256_unpacklo_pd(r2, r3), hi23 = _mm256_unpackhi_pd(r2, r3);
-    v[0] = _mm256_permute2f128_pd(lo01, lo23, 0x20);
-    v[1] = _mm256_permute2f128_pd(hi01, hi23, 0x20);
-    v[2] = _mm256_permute2f128_pd(lo01, lo23, 0x31);
-    v[3] = _mm256_permute2f128_pd(hi01, hi23, 0x31);
-  }
-  static V pair2(const double* pairs, std::uint32_t i, std::uint32_t j) {
-    return _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_load_pd(pairs + i)), _mm_load_pd(pairs + j), 1);
-  }
-  static void load_pairs_at(const double* pairs, const std::uint32_t* off, V& x, V& y) {
-    const V p0 = pair2(pairs, off[0], off[1]), p1 = pair2(pairs, off[2], off[3]);
-    x = _mm256_unpacklo_pd(p0, p1);
-    y = _mm256_unpackhi_pd(p0, p1);
-  }
-  static void load_pairs(const double* pairs, V& x, V& y) {
-    const V p0 = _mm256_load_pd(pairs), p1 = _mm256_load_pd(pairs + 4);
-    x = _mm256_unpacklo_pd(p0, p1);
-    y = _mm256_unpackhi_pd(p0, p1);
-  }
-  static void store_pairs(double* pairs, V x, V y) {
-    _mm256_store_pd(pairs, _mm256_unpacklo_pd(x, y));
-    _mm256_store_pd(pairs + 4, _mm256_unpackhi_pd(x, y));
-  }
-  static void pairs_to_xy(const __m128d* p, V& x, V& y) {
-    const V p0 = _mm256_set_m128d(p[1], p[0]), p1 = _mm256_set_m128d(p[3], p[2]);
-    x = _mm256_unpacklo_pd(p0, p1);
-    y = _mm256_unpackhi_pd(p0, p1);
-  }
-};
-#pragma GCC pop_options
-
-#pragma GCC push_options
-#pragma GCC target("avx512f")
-struct Avx512Ops {
-  static constexpr int W = 8;
-  using V = __m512d;
-  using M = __mmask8;
-  // Scenes of at most kRegisterPoints points keep x and y of every point in two
-  // registers each during the link pass; an end's coordinate is then one
-  // two-register permute instead of a pair load with its offset load and inserts.
-  static constexpr bool kPointRegisters = true;
-  static constexpr int kRegisterPoints = 16;
-  static void load_points(const double* pairs, V (&x)[2], V (&y)[2]) {
-    const __m512i even = _mm512_setr_epi64(0, 2, 4, 6, 8, 10, 12, 14);
-    const __m512i odd = _mm512_setr_epi64(1, 3, 5, 7, 9, 11, 13, 15);
-    for (int r = 0; r < 2; ++r) {
-      const V p0 = _mm512_load_pd(pairs + 16 * r), p1 = _mm512_load_pd(pairs + 16 * r + 8);
-      x[r] = _mm512_permutex2var_pd(p0, even, p1);
-      y[r] = _mm512_permutex2var_pd(p0, odd, p1);
-    }
-  }
-  static V point(const V (&c)[2], const std::int64_t* idx) {
-    return _mm512_permutex2var_pd(c[0], _mm512_load_si512(idx), c[1]);
-  }
-  static V load(const double* p) { return _mm512_load_pd(p); }
-  static void store(double* p, V v) { _mm512_store_pd(p, v); }
-  static V set1(double v) { return _mm512_set1_pd(v); }
-  static V add(V a, V b) { return _mm512_add_pd(a, b); }
-  static V sub(V a, V b) { return _mm512_sub_pd(a, b); }
-  static V mul(V a, V b) { return _mm512_mul_pd(a, b); }
-  static V div(V a, V b) { return _mm512_div_pd(a, b); }
-  static V sqrt(V a) { return _mm512_sqrt_pd(a); }
-  static M lt(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
-  static M gt(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GT_OQ); }
-  static M eq(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ); }
-  static M m_or(M a, M b) { return static_cast<M>(a | b); }
-  static M m_and(M a, M b) { return static_cast<M>(a & b); }
-  static M m_andnot(M a, M b) { return static_cast<M>(a & ~b); }
-  static M m_none() { return 0; }
-  static bool any(M m) { return m != 0; }
-  static V select(M m, V if_true, V if_false) { return _mm512_mask_blend_pd(m, if_false, if_true); }
-  static V neg(V a) {
-    return _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(a), _mm512_set1_epi64(INT64_MIN)));
-  }
-  static V abs(V a) {
-    return _mm512_castsi512_pd(_mm512_and_si512(_mm512_castpd_si512(a), _mm512_set1_epi64(INT64_MAX)));
-  }
-  static V bits_and(V a, V b) {
-    return _mm512_castsi512_pd(_mm512_and_si512(_mm512_castpd_si512(a), _mm512_castpd_si512(b)));
-  }
-  static V bits_xor(V a, V b) {
-    return _mm512_castsi512_pd(_mm512_xor_si512(_mm512_castpd_si512(a), _mm512_castpd_si512(b)));
-  }
-  /// a*b - c with one rounding (AVX-512F has it; used only for exact product errors).
-  static V fms(V a, V b, V c) { return _mm512_fmsub_pd(a, b, c); }
-  static M le(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LE_OQ); }
-  static M ge(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
-  static M ne(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_NEQ_UQ); }
-  static unsigned lanes(M m) { return m; }
-  static V loadu(const double* p) { return _mm512_loadu_pd(p); }
-  static void storeu(double* p, V v) { _mm512_storeu_pd(p, v); }
-  static void to_i32(V v, std::int32_t* out) {
-    _mm256_storeu_si256(reinterpret_cast<__m256i*>(out), _mm512_cvttpd_epi32(v));
-  }
-  static V from_i32(const std::int32_t* in) {
-    return _mm512_cvtepi32_pd(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(in)));
-  }
-  static V gather(const double* base, const std::int32_t* idx) {
-    return _mm512_set_pd(base[idx[7]], base[idx[6]], base[idx[5]], base[idx[4]], base[idx[3]], base[idx[2]],
-                         base[idx[1]], base[idx[0]]);
-  }
-  // One 256-bit load per row and a transpose: a quarter of the loads of four gathers.
-  static void gather_rows4(const double* rows, const std::int32_t* idx, V (&v)[4]) {
-    auto two = [&](int l) { // rows of lanes l and l + 1 in one register
-      return _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_load_pd(rows + 4 * idx[l])),
-                                _mm256_load_pd(rows + 4 * idx[l + 1]), 1);
-    };
-    const V z01 = two(0), z23 = two(2), z45 = two(4), z67 = two(6);
-    // lo: c0 of rows (0,2) | c2 of (0,2) | c0 of (1,3) | c2 of (1,3); hi: c1, c3 likewise.
-    const V lo0 = _mm512_unpacklo_pd(z01, z23), hi0 = _mm512_unpackhi_pd(z01, z23);
-    const V lo4 = _mm512_unpacklo_pd(z45, z67), hi4 = _mm512_unpackhi_pd(z45, z67);
-    // Lane l takes element k[l] of (first, second): rows 0 1 2 3 from the first, 4 5 6 7 from the second.
-    const __m512i even = _mm512_setr_epi64(0, 4, 1, 5, 8, 12, 9, 13);
-    const __m512i odd = _mm512_setr_epi64(2, 6, 3, 7, 10, 14, 11, 15);
-    v[0] = _mm512_permutex2var_pd(lo0, even, lo4);
-    v[1] = _mm512_permutex2var_pd(hi0, even, hi4);
-    v[2] = _mm512_permutex2var_pd(lo0, odd, lo4);
-    v[3] = _mm512_permutex2var_pd(hi0, odd, hi4);
-  }
-  // Pair loads and inserts: about 2.5x faster than vgatherdpd on the CPUs measured.
-  static V pair4(const double* pairs, const std::uint32_t* off) {
-    const __m256d lo = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_load_pd(pairs + off[0])),
-                                            _mm_load_pd(pairs + off[1]), 1);
-    const __m256d hi = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_load_pd(pairs + off[2])),
-                                            _mm_load_pd(pairs + off[3]), 1);
-    return _mm512_insertf64x4(_mm512_zextpd256_pd512(lo), hi, 1);
-  }
-  static void load_pairs_at(const double* pairs, const std::uint32_t* off, V& x, V& y) {
-    const V p0 = pair4(pairs, off), p1 = pair4(pairs, off + 4);
-    x = _mm512_unpacklo_pd(p0, p1);
-    y = _mm512_unpackhi_pd(p0, p1);
-  }
-  static void load_pairs(const double* pairs, V& x, V& y) {
-    const V p0 = _mm512_load_pd(pairs), p1 = _mm512_load_pd(pairs + 8);
-    x = _mm512_unpacklo_pd(p0, p1);
-    y = _mm512_unpackhi_pd(p0, p1);
-  }
-  static void store_pairs(double* pairs, V x, V y) {
-    _mm512_store_pd(pairs, _mm512_unpacklo_pd(x, y));
-    _mm512_store_pd(pairs + 8, _mm512_unpackhi_pd(x, y));
-  }
-  static void pairs_to_xy(const __m128d* p, V& x, V& y) {
-    const V p0 = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_set_m128d(p[1], p[0])),
-                                    _mm256_set_m128d(p[3], p[2]), 1);
-    const V p1 = _mm512_insertf64x4(_mm512_castpd256_pd512(_mm256_set_m128d(p[5], p[4])),
-                                    _mm256_set_m128d(p[7], p[6]), 1);
-    x = _mm512_unpacklo_pd(p0, p1);
-    y = _mm512_unpackhi_pd(p0, p1);
-  }
-};
-#pragma GCC pop_options
-
-// Widest SIMD width; every array is padded to a multiple of it.
-constexpr int kMaxWidth = 8;
+using simd::Avx2Ops;
+using simd::Avx512Ops;
+using simd::kMaxWidth;
+using simd::Sse2Ops;
 
 // Loading W pairs and unpacking them puts item kLaneLink(W, l) of the W items in
 // lane l (W = 8: 0 4 1 5 2 6 3 7); store_pairs undoes it. Per-lane constants
@@ -347,177 +64,6 @@ int width_of(SimdLevel level) {
     case SimdLevel::Avx2: return 4;
     default: return 2;
   }
-}
-
-} // namespace
-
-// ---------------------------------------------------------------------------
-// Exact sine, several at a time.
-//
-// The muscle rule needs glibc's sin(x) bit for bit (the reference calls std::sin).
-// glibc's sin is not correctly rounded, but its source states an error bound for
-// each of its branches: 0.548 ulp for |x| < 0.85546875, 0.51 ulp up to 2.4262...,
-// 0.518 ulp above (0.515 ulp is the largest we measured on muscle arguments). So
-// wherever the true value lies within 1 - bound of a double r (0.45, 0.488, 0.48
-// ulp with a margin), r is the only double within the bound of it and glibc
-// returns r. We compute sin(x) to about 2^-62 with a table and a short
-// polynomial, in SIMD, and accept r only when that test passes with our own error
-// added; the other lanes (about 5.4 % of uniform arguments in (-2pi, 2pi), 11 %
-// with the single bound 0.548: true values near a rounding midpoint, results
-// below 2^-8, arguments outside (2^-5, 6.28)) call std::sin.
-// A self-check against std::sin at first use switches the shortcut off if the C
-// library disagrees (a libm with a larger error), so the result is always the
-// reference's.
-//
-// sin(T + d) = S + (C*d + (S*(cos d - 1) + C*(sin d - d))) with T = j/128 the
-// table point nearest to |x| (d = |x| - T is exact, |d| <= 1/256), S = sin T and
-// C = cos T as double-double (from long double sinl/cosl, error ~2^-63), C*d an
-// exact product (product_error), and the small terms in plain double.
-// ---------------------------------------------------------------------------
-
-namespace {
-
-constexpr int kSinTableSize = 806; // j/128 up to 6.29 > 2*pi
-struct SinTable {
-  /// Row j: sin(j/128) as high + low double, cos(j/128) likewise (one row per load).
-  alignas(64) double row[kSinTableSize][4];
-  bool usable = false;
-};
-
-// Where glibc's sin changes branch (stated in its s_sin.c; bounds above), and the
-// distance to a double accepted in each: 1 - bound - a margin for our own error.
-constexpr double kSinBranch1 = 0x1.b6p-1;     // 0.85546875
-constexpr double kSinBranch2 = 0x1.368fdp+1;  // 2.4262647...
-constexpr double kSinAcceptUlps1 = 0.45;      // 1 - 0.548 - margin
-constexpr double kSinAcceptUlps2 = 0.488;     // 1 - 0.51 - margin
-constexpr double kSinAcceptUlps3 = 0.48;      // 1 - 0.518 - margin
-constexpr double kSinMinArgument = 0x1p-5;  // below: std::sin
-constexpr double kSinMaxArgument = 6.28;    // above: std::sin (table ends at 6.29)
-constexpr double kSinMinResult = 0x1p-8;    // smaller |sin|: std::sin (keeps the final sum exact)
-
-SinTable build_sin_table();
-
-const SinTable& sin_table() {
-  static const SinTable table = build_sin_table();
-  return table;
-}
-
-/// e with a*b = p + e exactly, where p = a*b rounded: a fused multiply-subtract
-/// where the level has one, Dekker's split product elsewhere (both exact, so the
-/// same e).
-template <class O>
-typename O::V product_error(typename O::V a, typename O::V b, typename O::V p) {
-  if constexpr (requires { O::fms(a, b, p); }) {
-    return O::fms(a, b, p);
-  } else {
-    using V = typename O::V;
-    const V split = O::set1(134217729.0); // 2^27 + 1
-    const V at = O::mul(split, a), bt = O::mul(split, b);
-    const V ah = O::sub(at, O::sub(at, a)), al = O::sub(a, ah);
-    const V bh = O::sub(bt, O::sub(bt, b)), bl = O::sub(b, bh);
-    return O::add(O::add(O::add(O::sub(O::mul(ah, bh), p), O::mul(ah, bl)), O::mul(al, bh)), O::mul(al, bl));
-  }
-}
-
-/// Lanes of `a` whose sine is known exactly go to out; the returned bit set marks
-/// the lanes that must call std::sin.
-template <class O>
-unsigned table_sin(const SinTable& t, const double* a, double* out) {
-  using V = typename O::V;
-  using M = typename O::M;
-  const V arg = O::loadu(a);
-  V x = O::abs(arg);
-  const M in_range = O::m_and(O::ge(x, O::set1(kSinMinArgument)), O::lt(x, O::set1(kSinMaxArgument)));
-  x = O::select(in_range, x, O::set1(1.0)); // keep the table index valid
-  alignas(64) std::int32_t j[kMaxWidth];
-  O::to_i32(O::add(O::mul(x, O::set1(128.0)), O::set1(0.5)), j);
-  const V d = O::sub(x, O::mul(O::from_i32(j), O::set1(0.0078125))); // exact
-  V cols[4];
-  O::gather_rows4(&t.row[0][0], j, cols);
-  const V sh = cols[0], sl = cols[1], ch = cols[2], cl = cols[3];
-  // p + e = ch*d exactly.
-  const V p = O::mul(ch, d);
-  const V e = product_error<O>(ch, d, p);
-  const V d2 = O::mul(d, d);
-  // sin d - d and cos d - 1 (|d| <= 1/256: the next terms are below 2^-79).
-  const V sdm_poly =
-      O::add(O::set1(-1.0 / 6.0), O::mul(d2, O::sub(O::set1(1.0 / 120.0), O::mul(d2, O::set1(1.0 / 5040.0)))));
-  const V sdm = O::mul(O::mul(d, d2), sdm_poly);
-  const V cdm_poly = O::add(O::set1(-0.5), O::mul(d2, O::sub(O::set1(1.0 / 24.0), O::mul(d2, O::set1(1.0 / 720.0)))));
-  const V cdm = O::mul(d2, cdm_poly);
-  // h + e1 = sh + p exactly (Knuth's two-sum).
-  const V h = O::add(sh, p);
-  const V hb = O::sub(h, sh);
-  const V e1 = O::add(O::sub(sh, O::sub(h, hb)), O::sub(p, hb));
-  const V tail = O::add(e1, O::add(sl, O::add(e, O::add(O::mul(cl, d), O::add(O::mul(sh, cdm), O::mul(ch, sdm))))));
-  const V r = O::add(h, tail);
-  const V err = O::sub(tail, O::sub(r, h)); // exact: |h| >> |tail|
-  const V abs_r = O::abs(r);
-  const V pow2 = O::bits_and(abs_r, O::set1(std::numeric_limits<double>::infinity())); // 2^exponent
-  const V mantissa = O::bits_and(abs_r, O::set1(0x1.fffffffffffffp-1022));         // fraction bits
-  const V ulp = O::mul(pow2, O::set1(0x1p-52));
-  const V bound = O::add(O::mul(O::set1(0x1p-62), O::add(O::abs(sh), O::set1(0x1p-8))), O::set1(0x1p-66));
-  const V accept = O::select(O::lt(x, O::set1(kSinBranch1)), O::set1(kSinAcceptUlps1),
-                             O::select(O::lt(x, O::set1(kSinBranch2)), O::set1(kSinAcceptUlps2),
-                                       O::set1(kSinAcceptUlps3)));
-  M ok = O::m_and(in_range, O::le(O::add(O::abs(err), bound), O::mul(accept, ulp)));
-  ok = O::m_and(ok, O::ne(mantissa, O::set1(0.0))); // not a power of two: neighbours 1 ulp away
-  ok = O::m_and(ok, O::ge(abs_r, O::set1(kSinMinResult)));
-  O::storeu(out, O::bits_xor(r, O::bits_and(arg, O::set1(-0.0)))); // sin(-x) = -sin(x)
-  const unsigned all = (1u << O::W) - 1u;
-  return all & ~O::lanes(ok);
-}
-
-/// sin of n arguments, each equal to std::sin's value; a and out padded to kMaxWidth.
-using SinFn = void (*)(const double* a, double* out, int n);
-
-template <class O>
-void sines(const double* a, double* out, int n) {
-  const SinTable& t = sin_table();
-  // Vector pass first, then the std::sin calls (a call inside the vector loop
-  // would spill every vector register around it).
-  constexpr int kChunk = 256;
-  unsigned rest[kChunk / O::W];
-  for (int base = 0; base < n; base += kChunk) {
-    const int end = std::min(n, base + kChunk);
-    for (int i = base; i < end; i += O::W) {
-      rest[(i - base) / O::W] = t.usable ? table_sin<O>(t, a + i, out + i) : (1u << O::W) - 1u;
-    }
-    for (int i = base; i < end; i += O::W) {
-      for (unsigned r = rest[(i - base) / O::W]; r != 0; r &= r - 1) {
-        const int l = __builtin_ctz(r);
-        if (i + l < n) out[i + l] = std::sin(a[i + l]);
-      }
-    }
-  }
-}
-
-SinTable build_sin_table() {
-  SinTable t;
-  for (int j = 0; j < kSinTableSize; ++j) {
-    const long double x = static_cast<long double>(j) / 128.0L;
-    const long double s = sinl(x), c = cosl(x);
-    double* r = t.row[j];
-    r[0] = static_cast<double>(s);
-    r[1] = static_cast<double>(s - static_cast<long double>(r[0])); // exact: fewer than 53 bits
-    r[2] = static_cast<double>(c);
-    r[3] = static_cast<double>(c - static_cast<long double>(r[2]));
-  }
-  // Self-check on the portable level: every accepted value must be std::sin's.
-  t.usable = true;
-  std::uint64_t seed = 0x5eed;
-  alignas(64) double a[2], out[2];
-  for (int k = 0; k < 4096 && t.usable; ++k) {
-    for (double& v : a) {
-      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-      v = kTwoPi * (static_cast<double>(seed >> 11) * 0x1p-53 - 0.5) * 2.0;
-    }
-    const unsigned rest = table_sin<Sse2Ops>(t, a, out);
-    for (int l = 0; l < 2; ++l) {
-      if (!(rest & (1u << l)) && bits_of(out[l]) != bits_of(std::sin(a[l]))) t.usable = false;
-    }
-  }
-  return t;
 }
 
 } // namespace
@@ -891,7 +437,6 @@ template <class O>
 struct KernelTable {
   static LinkFn link();
   static ChunkFn chunk(bool g, bool f, bool c, bool sides);
-  static SinFn sin();
   static TargetFn targets();
 };
 
@@ -929,17 +474,10 @@ struct KernelTable {
   template void run_chunk<O, true, true, false, true>(Impl&, State* const*, long long);                          \
   template void run_chunk<O, true, true, true, false>(Impl&, State* const*, long long);                          \
   template void run_chunk<O, true, true, true, true>(Impl&, State* const*, long long);                           \
-  template typename O::V product_error<O>(typename O::V, typename O::V, typename O::V);                  \
-  template unsigned table_sin<O>(const SinTable&, const double*, double*);                                \
-  template void sines<O>(const double*, double*, int);                                                     \
   template void targets_kernel<O>(Impl&, const double*);                                                   \
   template <>                                                                                              \
   TargetFn KernelTable<O>::targets() {                                                                     \
     return &targets_kernel<O>;                                                                             \
-  }                                                                                                        \
-  template <>                                                                                              \
-  SinFn KernelTable<O>::sin() {                                                                            \
-    return &sines<O>;                                                                                      \
   }                                                                                                        \
   template <>                                                                                              \
   LinkFn KernelTable<O>::link() {                                                                          \
@@ -964,7 +502,7 @@ SODA_KERNELS(Sse2Ops)
 // Instantiated under the target pragma so that they are compiled for that
 // instruction set (they are only called when the CPU has it).
 #pragma GCC push_options
-#pragma GCC target("avx2")
+#pragma GCC target("avx2,fma")
 SODA_KERNELS(Avx2Ops)
 #pragma GCC pop_options
 
@@ -992,14 +530,6 @@ TargetFn targets_fn(SimdLevel level) {
   }
 }
 
-SinFn sin_fn(SimdLevel level) {
-  switch (level) {
-    case SimdLevel::Avx512: return KernelTable<Avx512Ops>::sin();
-    case SimdLevel::Avx2: return KernelTable<Avx2Ops>::sin();
-    default: return KernelTable<Sse2Ops>::sin();
-  }
-}
-
 ChunkFn chunk_fn(SimdLevel level, bool g, const WallNeeds& w) {
   switch (level) {
     case SimdLevel::Avx512: return KernelTable<Avx512Ops>::chunk(g, w.floor, w.ceiling, w.sides);
@@ -1014,32 +544,6 @@ ChunkFn chunk_fn(SimdLevel level, bool g, const WallNeeds& w) {
 // ---------------------------------------------------------------------------
 // CPU levels.
 // ---------------------------------------------------------------------------
-
-bool simd_level_supported(SimdLevel level) {
-  switch (level) {
-    case SimdLevel::Auto:
-    case SimdLevel::Sse2: return true;
-    case SimdLevel::Avx2: return __builtin_cpu_supports("avx2");
-    case SimdLevel::Avx512: return __builtin_cpu_supports("avx512f");
-  }
-  return false;
-}
-
-SimdLevel best_simd_level() {
-  if (simd_level_supported(SimdLevel::Avx512)) return SimdLevel::Avx512;
-  if (simd_level_supported(SimdLevel::Avx2)) return SimdLevel::Avx2;
-  return SimdLevel::Sse2;
-}
-
-const char* simd_level_name(SimdLevel level) {
-  switch (level) {
-    case SimdLevel::Auto: return "auto";
-    case SimdLevel::Sse2: return "sse2";
-    case SimdLevel::Avx2: return "avx2";
-    case SimdLevel::Avx512: return "avx512";
-  }
-  return "?";
-}
 
 std::string KernelChoice::describe() const {
   std::string s = simd_level_name(simd);
@@ -1546,9 +1050,8 @@ void FusedScene::Data::fill_rows(State* const* st) {
     }
   }
   const int n = filled * distinct;
-  // Two lanes (SSE2) do not pay for the table work: std::sin is as fast there.
-  if (options.table_sines && W >= 4) {
-    sin_fn(simd)(arg_rows, sin_rows, n);
+  if (options.vector_sines) {
+    exact_sin_fn(simd)(arg_rows, sin_rows, n);
   } else {
     for (int g = 0; g < n; ++g) sin_rows[g] = std::sin(arg_rows[g]);
   }
@@ -1767,24 +1270,10 @@ bool FastStepper::used(const KernelChoice& k) const { return scene_->used(k); }
 const KernelChoice& FastStepper::last_kernel() const { return scene_->last_kernel(); }
 long long FastStepper::sines_evaluated() const { return scene_->sines_evaluated(); }
 bool FastStepper::points_in_registers() const { return scene_->points_in_registers(); }
-bool FastStepper::table_sines_usable() { return sin_table().usable; }
 
 void FastStepper::run(State& state, long long frames) {
   State* const st[1] = {&state};
   scene_->run(st, frames);
-}
-
-void exact_sines(const double* args, double* out, int n, SimdLevel level) {
-  if (level == SimdLevel::Auto || !simd_level_supported(level)) level = best_simd_level();
-  const SinFn fn = sin_fn(level);
-  alignas(64) double a[kMaxWidth * 16], r[kMaxWidth * 16];
-  for (int i = 0; i < n; i += kMaxWidth * 16) {
-    const int k = std::min(n - i, kMaxWidth * 16);
-    std::fill(a, a + kMaxWidth * 16, 1.0);
-    std::copy(args + i, args + i + k, a);
-    fn(a, r, k);
-    std::copy(r, r + k, out + i);
-  }
 }
 
 } // namespace soda

@@ -10,13 +10,12 @@
 //    bars, no wall test for walls no mass can reach in the next chunk of frames;
 //  - muscle targets: one sin per distinct muscle phase per frame (shared), computed
 //    for the next frames in one SIMD batch (the phases the wave will have if its
-//    direction holds; a row is used only when the phase matches bit for bit), from
-//    tables where the result provably equals std::sin's, std::sin otherwise; the
-//    target update is skipped while the wave phase does not change (manual mode,
-//    speed 0);
+//    direction holds; a row is used only when the phase matches bit for bit), with
+//    glibc's sin repeated in SIMD (exact_sines.hpp); the target update is skipped
+//    while the wave phase does not change (manual mode, speed 0);
 //  - links: impulses of all links computed in SIMD (SSE2, AVX2 or AVX-512, chosen
-//    at run time; all bit-exact, no FMA) from positions only - positions do not
-//    change while links act. Their order and which end is "A" are free (swapping
+//    at run time; all bit-exact, no FMA in the physics) from positions only -
+//    positions do not change while links act. Their order and which end is "A" are free (swapping
 //    the ends negates dx, dy and the impulse exactly), so links are arranged in
 //    blocks whose A ends are one block of consecutive masses (one vector load);
 //    scenes of at most 16 points keep every point in registers (AVX-512). The
@@ -45,22 +44,11 @@
 
 #include "model.hpp"
 #include "scene_analysis.hpp"
+#include "simd_level.hpp"
 
 namespace soda {
 
 class FusedScene;
-
-/// Instruction set of the SIMD kernels. All give identical results.
-enum class SimdLevel { Auto, Sse2, Avx2, Avx512 };
-
-/// The best level this CPU runs.
-SimdLevel best_simd_level();
-const char* simd_level_name(SimdLevel level);
-bool simd_level_supported(SimdLevel level);
-
-/// sin of n arguments, each equal bit for bit to std::sin's: table and SIMD where
-/// the result is provably the same (fast_step.cpp explains), std::sin elsewhere.
-void exact_sines(const double* args, double* out, int n, SimdLevel level = SimdLevel::Auto);
 
 struct FastStepOptions {
   SimdLevel simd = SimdLevel::Auto;
@@ -68,10 +56,9 @@ struct FastStepOptions {
   bool adaptive_walls = true;
   /// Force the per-mass ordered kernel (the one used with moving bars); for tests.
   bool force_ordered = false;
-  /// Muscle sines from tables in SIMD where the result is provably std::sin's
-  /// (fast_step.cpp explains), std::sin elsewhere. Off: std::sin everywhere. Both
-  /// give the same bits.
-  bool table_sines = true;
+  /// Muscle sines in SIMD, glibc's sin repeated operation for operation
+  /// (exact_sines.hpp). Off: std::sin everywhere. Both give the same bits.
+  bool vector_sines = true;
 };
 
 /// The kernel a chunk of frames ran with, for tests and diagnostics.
@@ -108,8 +95,6 @@ class FastStepper {
   /// Whether kernel `k` has run since construction; for tests.
   [[nodiscard]] bool used(const KernelChoice& k) const;
   [[nodiscard]] const KernelChoice& last_kernel() const;
-  /// Whether the table sines passed their self-check against this C library.
-  static bool table_sines_usable();
   /// Sines evaluated since construction (shared per phase, skipped when the wave
   /// phase did not move).
   [[nodiscard]] long long sines_evaluated() const;

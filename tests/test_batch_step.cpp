@@ -165,7 +165,7 @@ TEST_CASE("batch: table sines off and fixed walls give the same bits", "[batch_s
   std::vector<std::pair<std::string, soda::Model>> models;
   add_random_creatures(8, 5, models);
   soda::FastStepOptions opt;
-  opt.table_sines = false;
+  opt.vector_sines = false;
   opt.adaptive_walls = false;
   CHECK(run_batch_and_reference(models, all_indices(models.size()), 2000, opt).empty());
 }

@@ -6,11 +6,13 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "bench/baselines.hpp"
 #include "bench/synthetic.hpp"
+#include "core/exact_sines.hpp"
 #include "core/fast_step.hpp"
 #include "core/model_file.hpp"
 #include "core/scene_analysis.hpp"
@@ -402,7 +404,10 @@ TEST_CASE("fast step: random creatures stay bit-exact", "[fast_step]") {
 }
 
 TEST_CASE("exact sines equal std::sin bit for bit", "[fast_step]") {
-  REQUIRE(soda::FastStepper::table_sines_usable()); // the self-check passed on this C library
+  // The self-check passed on this C library at every level that has vector sines.
+  for (soda::SimdLevel level : {soda::SimdLevel::Avx2, soda::SimdLevel::Avx512}) {
+    if (soda::simd_level_supported(level)) REQUIRE(soda::vector_sines_usable(level));
+  }
   std::uint64_t seed = 7;
   auto uniform = [&seed]() {
     seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
@@ -419,20 +424,31 @@ TEST_CASE("exact sines equal std::sin bit for bit", "[fast_step]") {
     }
   }
   for (int i = 0; i < 400000; ++i) args.push_back(soda::kTwoPi * (uniform() - uniform()));
-  for (double v : {0.0, -0.0, 1e-300, 0x1p-5, -0x1p-5, 3.141592653589793, 6.28, 6.2831853071795862, -6.283185307179586,
-                   1.5707963267948966, 100.0, -1e6}) {
+  for (int i = 0; i < 100000; ++i) args.push_back(2e8 * (uniform() - 0.5)); // reduced by pi/2, and beyond
+  for (double v : {0.0, -0.0, 1e-300, 4.9e-324, 3.141592653589793, 6.28, 6.2831853071795862, -6.283185307179586,
+                   1.5707963267948966, 100.0, -1e6, 105414350.0, 1e300, HUGE_VAL, -HUGE_VAL,
+                   std::numeric_limits<double>::quiet_NaN()}) {
     args.push_back(v);
   }
-  // Around the ends of glibc's branches (0.85546875, 0x1.368fdp+1), where the
-  // accepted error changes: 2,000 neighbours on each side, both signs.
-  for (double edge : {0x1.b6p-1, 0x1.368fdp+1}) {
+  // Around the ends of glibc's branches (2^-26, the Taylor polynomial's 0.126,
+  // 0.85546875, 0x1.368fdp+1, 105414350) and of the reduction's quadrants (k pi/4):
+  // 400 neighbours on each side, both signs.
+  std::vector<double> edges = {0x1p-26, 0.126, 0x1.b6p-1, 0x1.368fdp+1, 0x1.921fbp+26};
+  for (int k = 1; k <= 8; ++k) edges.push_back(k * 0.7853981633974483);
+  // glibc's table points i/128 and the midpoints between them (ties in its
+  // rounding to the nearest point).
+  for (int i = 1; i <= 110; ++i) {
+    edges.push_back(i / 128.0);
+    edges.push_back((i - 0.5) / 128.0);
+  }
+  for (double edge : edges) {
     double up = edge, down = edge;
-    for (int k = 0; k < 1000; ++k) {
+    for (int k = 0; k < 200; ++k) {
       for (double v : {up, down}) {
         args.push_back(v);
         args.push_back(-v);
       }
-      up = std::nextafter(up, 10.0);
+      up = std::nextafter(up, 1e9);
       down = std::nextafter(down, 0.0);
     }
   }
@@ -449,7 +465,7 @@ TEST_CASE("exact sines equal std::sin bit for bit", "[fast_step]") {
 TEST_CASE("table sines on and off give the same trajectory", "[fast_step]") {
   const Scene cs = load_scene(data_dir() / "soda" / "KeniF_SodaSumo" / "carefulslug.xml");
   soda::FastStepOptions on, off;
-  off.table_sines = false;
+  off.vector_sines = false;
   soda::State a = soda::make_state(cs.model), b = soda::make_state(cs.model);
   soda::FastStepper(cs.model, 3000, on).run(a, 3000);
   soda::FastStepper(cs.model, 3000, off).run(b, 3000);

@@ -1,0 +1,31 @@
+#include "simd_level.hpp"
+
+namespace soda {
+
+bool simd_level_supported(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::Auto:
+    case SimdLevel::Sse2: return true;
+    case SimdLevel::Avx2: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    case SimdLevel::Avx512: return __builtin_cpu_supports("avx512f");
+  }
+  return false;
+}
+
+SimdLevel best_simd_level() {
+  if (simd_level_supported(SimdLevel::Avx512)) return SimdLevel::Avx512;
+  if (simd_level_supported(SimdLevel::Avx2)) return SimdLevel::Avx2;
+  return SimdLevel::Sse2;
+}
+
+const char* simd_level_name(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::Auto: return "auto";
+    case SimdLevel::Sse2: return "sse2";
+    case SimdLevel::Avx2: return "avx2";
+    case SimdLevel::Avx512: return "avx512";
+  }
+  return "?";
+}
+
+} // namespace soda
