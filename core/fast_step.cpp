@@ -162,6 +162,7 @@ struct FusedScene::Data {
   std::vector<double> row_phase_after;        ///< [creatures * rows] rules::advance_wave_phase of the row's phase
   AVec<double> row_arg, row_sin;             ///< [rows * groups, padded]
   long long sines = 0;
+  SinFn sine_fn = nullptr; ///< exact_sin_fn of the level (std::sin alone without vector_sines), chosen at build
   // Sharing sines between creatures (fill_rows): creatures whose waves are in the
   // same state (phase bits, direction, speed bits) have the same rows of phases,
   // and a muscle phase they share then gives bit-identical sine arguments.
@@ -584,6 +585,7 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   simd = opt.simd == SimdLevel::Auto ? best_simd_level() : opt.simd;
   if (!simd_level_supported(simd)) simd = best_simd_level();
   W = width_of(simd);
+  sine_fn = exact_sin_fn(opt.vector_sines ? simd : SimdLevel::Sse2);
 
   creatures.assign(models.size(), {});
   nm = 0;
@@ -1050,11 +1052,7 @@ void FusedScene::Data::fill_rows(State* const* st) {
     }
   }
   const int n = filled * distinct;
-  if (options.vector_sines) {
-    exact_sin_fn(simd)(arg_rows, sin_rows, n);
-  } else {
-    for (int g = 0; g < n; ++g) sin_rows[g] = std::sin(arg_rows[g]);
-  }
+  sine_fn(arg_rows, sin_rows, n);
   if (remap) {
     for (int r = 0; r < filled; ++r) {
       const double* from = dist_sin.data() + static_cast<std::size_t>(r) * distinct;

@@ -18,6 +18,23 @@
 using namespace sodaevo::test;
 namespace fs = std::filesystem;
 
+namespace {
+
+/// A CSV file as its header line and its data lines.
+struct CsvLines {
+  std::string header;
+  std::vector<std::string> rows;
+};
+CsvLines read_csv_lines(const fs::path& path) {
+  std::istringstream csv(soda::read_whole_file(path));
+  CsvLines lines;
+  std::getline(csv, lines.header);
+  for (std::string line; std::getline(csv, line);) lines.rows.push_back(line);
+  return lines;
+}
+
+} // namespace
+
 TEST_CASE("simulate --json reports the summary keys and the walk", "[cli]") {
   const fs::path model = golden_dir() / "dw_v1_wide100000_noautorev.xml";
   const ShellResult r = run_sodaevo("simulate " + model.string() + " --frames 10000 --json");
@@ -155,18 +172,14 @@ TEST_CASE("bench evolve compares the three search methods at equal evaluations",
   REQUIRE(r.exit_code == 0);
   // One row per method and seed, all at the same evaluation count: the GA's two
   // generations of 24 minus the 2 elites it does not re-evaluate.
-  std::istringstream csv(soda::read_whole_file(out / "evolve.csv"));
-  std::string line;
-  std::getline(csv, line);
-  CHECK(line.rfind("method,seed,evaluations,", 0) == 0);
-  int rows = 0;
+  const CsvLines csv = read_csv_lines(out / "evolve.csv");
+  CHECK(csv.header.rfind("method,seed,evaluations,", 0) == 0);
   std::map<std::string, int> per_method;
-  while (std::getline(csv, line)) {
-    ++rows;
+  for (const std::string& line : csv.rows) {
     per_method[line.substr(0, line.find(','))]++;
     CHECK(line.find(",46,") != std::string::npos);
   }
-  CHECK(rows == 6);
+  CHECK(csv.rows.size() == 6);
   CHECK(per_method == std::map<std::string, int>{{"ga", 2}, {"hill", 2}, {"random", 2}});
   CHECK(soda::read_whole_file(out / "evolve.svg").find("<svg") != std::string::npos);
   CHECK(soda::read_whole_file(out / "evolve.md").find("Dainty Walker under the same fitness settings") != std::string::npos);
@@ -180,13 +193,11 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
                                     " --out " + out.string());
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
-  std::istringstream csv(soda::read_whole_file(out / "speed.csv"));
-  std::string line;
-  std::getline(csv, line);
-  CHECK(line.rfind("section,creature,engine,threads,", 0) == 0);
+  const CsvLines csv = read_csv_lines(out / "speed.csv");
+  CHECK(csv.header.rfind("section,creature,engine,threads,", 0) == 0);
   std::map<std::string, int> rows_per_section;
   std::map<std::string, int> creature_engines;
-  while (std::getline(csv, line)) {
+  for (const std::string& line : csv.rows) {
     std::vector<std::string> f;
     std::istringstream cells(line);
     for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
