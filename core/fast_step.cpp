@@ -45,6 +45,11 @@ std::uint64_t bits_of(double v) {
   return b;
 }
 
+// move_mass_block is instantiated implicitly with the default target and always
+// inlined into the kernels of each level: no call ever crosses the vector ABI that
+// this warning is about.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 using simd::Avx2Ops;
 using simd::Avx512Ops;
 using simd::kMaxWidth;
@@ -134,6 +139,19 @@ struct FusedScene::Data {
   std::vector<std::int32_t> block_rounds; ///< per gather group
   std::vector<std::int32_t> slot_of_mass; ///< [nm] first slot of mass i; its rounds stride kGatherGroup
   std::vector<std::int32_t> rounds_of_mass;
+  // The whole frame in registers (AVX-512; at most 16 points and 32 link slots,
+  // no bars): register_chunk. Points sit as load_pairs puts them (lane l of block
+  // r: working point 8r + kLaneLink(8, l)), impulses as the link pass computes them.
+  bool frame_in_registers = false;
+  AVec<std::int64_t> rf_end_a, rf_end_b; ///< [nl_pad] lane order: register lane of each end
+  // Per mass block and round of its sums: which impulse each lane adds (a lane of
+  // the link blocks 0-1 by a two-register permute, of block 2-3 where the bit of
+  // rf_upper is set), with which sign (-0.0: an end B), or nothing (rf_valid clear).
+  AVec<std::int64_t> rf_index; ///< [8 per round]
+  AVec<double> rf_sign;        ///< [8 per round]
+  std::vector<std::uint8_t> rf_upper, rf_valid;
+  std::vector<int> rf_rounds; ///< [mass blocks]
+  std::vector<std::uint8_t> rf_real; ///< [link blocks] lanes of real links (not dummies, not padding)
   AVec<double> target;    ///< [nl_pad] desired length D, per block in kLaneLink order
   AVec<double> link_k;    ///< [nl_pad] springyness of the link's model, same order
 
@@ -282,12 +300,85 @@ void link_kernel(Impl& s) {
   }
 }
 
+/// The mass step of one block of W masses starting at working index i (spec 5.3),
+/// after their impulses: gravity, friction with the syrup limit, rest test, move,
+/// container walls, each mass with its own creature's parameters. (x, y) are the
+/// positions before the move and (vx, vy) the velocities after the impulses; all
+/// four are replaced by the stored results. Side-wall hits go to s.side and
+/// any_side.
+template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
+[[gnu::always_inline]] inline void move_mass_block(Impl& s, int i, typename O::V& x, typename O::V& y, typename O::V& vx,
+                            typename O::V& vy, typename O::M& any_side) {
+  using V = typename O::V;
+  using M = typename O::M;
+  const V syrup = O::set1(kSyrupThreshold);
+  const V syrup2 = O::set1(kSyrupThreshold * kSyrupThreshold); // 400, exact
+  const V rest_limit = O::set1(kZeroVelocity);
+  const V zero = O::set1(0.0);
+  const V x0 = x, y0 = y;
+  if constexpr (Gravity) vy = O::sub(vy, O::load(s.mass_gd.data() + i)); // rules::apply_gravity
+  // rules::friction_factor: (1 - f), times (20 / speed) when speed > 20.
+  // The square-root/divide unit is the bottleneck of the whole step, so both are
+  // skipped when no lane can be above the limit: sqrt is correctly rounded and
+  // monotonic with sqrt(400) = 20, so vx^2 + vy^2 <= 400 gives speed <= 20
+  // exactly. The other lanes keep 1 - f either way.
+  const V speed2 = O::add(O::mul(vx, vx), O::mul(vy, vy));
+  const V one_minus_f = O::load(s.mass_keep.data() + i); // rules::friction_factor
+  V factor = one_minus_f;
+  if (O::any(O::gt(speed2, syrup2))) {
+    const V speed = O::sqrt(speed2);
+    factor = O::select(O::gt(speed, syrup), O::mul(one_minus_f, O::div(syrup, speed)), one_minus_f);
+  }
+  vx = O::mul(factor, vx);
+  vy = O::mul(factor, vy);
+  // rules::is_at_rest
+  const M rest = O::m_and(O::lt(O::abs(vx), rest_limit), O::lt(O::abs(vy), rest_limit));
+  V nx = O::add(x0, vx), ny = O::add(y0, vy);
+  V cvx = vx, cvy = vy;
+  // rules::collide_with_container, without the walls no mass can reach.
+  M fc = O::m_none();
+  const V fs = O::load(s.mass_fs.data() + i), rs = O::load(s.mass_rs.data() + i);
+  if constexpr (Floor) {
+    const M below = O::lt(ny, zero);
+    ny = O::select(below, zero, ny);
+    fc = below;
+  }
+  if constexpr (Ceiling) {
+    const V height = O::load(s.mass_height.data() + i);
+    const M above = O::gt(ny, height); // after the floor clamp: the "else if"
+    ny = O::select(above, height, ny);
+    fc = O::m_or(fc, above);
+  }
+  if constexpr (Floor || Ceiling) {
+    cvy = O::select(fc, O::mul(cvy, rs), cvy);
+    cvx = O::select(fc, O::mul(cvx, fs), cvx);
+  }
+  if constexpr (Sides) {
+    const V left = O::set1(-1.0), right = O::set1(1.0);
+    const M lw = O::lt(nx, zero);
+    nx = O::select(lw, zero, nx);
+    const V width = O::load(s.mass_width.data() + i);
+    const M rw = O::gt(nx, width);
+    nx = O::select(rw, width, nx);
+    const M respond = O::m_andnot(O::m_or(lw, rw), fc); // the corner rule
+    cvx = O::select(respond, O::mul(cvx, rs), cvx);
+    cvy = O::select(respond, O::mul(cvy, fs), cvy);
+    const M hit = O::m_andnot(respond, rest);
+    const V h = O::select(O::m_and(hit, lw), left, O::select(hit, right, zero));
+    O::store_pairs(s.side.data() + 2 * i, h, h);
+    any_side = O::m_or(any_side, hit);
+  }
+  // A mass at rest keeps its position and its damped velocity (no collision).
+  x = O::select(rest, x0, nx);
+  y = O::select(rest, y0, ny);
+  vx = O::select(rest, vx, cvx);
+  vy = O::select(rest, vy, cvy);
+}
+
 /// The masses (spec 5.3) in SIMD over masses: first each mass's impulses added to
 /// its velocity in file order of the links (the order of the additions into one
-/// velocity is the reference's), then gravity, friction with the syrup limit,
-/// rest test, move, container walls, each mass with its own creature's
-/// parameters. Returns whether some mass responded to a side wall (autoreverse is
-/// then replayed in mass order).
+/// velocity is the reference's), then move_mass_block. Returns whether some mass
+/// responded to a side wall (autoreverse is then replayed in mass order).
 ///
 /// The sums go by groups of kGatherGroup consecutive masses (numbered by degree at
 /// build), one round per impulse; slots hold double offsets (2 * pair index), so
@@ -300,11 +391,6 @@ bool mass_kernel(Impl& s) {
   using M = typename O::M;
   double* pos = s.pos.data();
   double* vel = s.vel.data();
-  const V syrup = O::set1(kSyrupThreshold);
-  const V syrup2 = O::set1(kSyrupThreshold * kSyrupThreshold); // 400, exact
-  const V rest_limit = O::set1(kZeroVelocity);
-  const V zero = O::set1(0.0);
-  const V left = O::set1(-1.0), right = O::set1(1.0);
   M any_side = O::m_none();
   const double* imp = s.imp.data();
   const std::uint32_t* sl = s.slots.data();
@@ -324,64 +410,13 @@ bool mass_kernel(Impl& s) {
 #pragma GCC unroll 4
     for (int j = 0; j < kGatherGroup; j += O::W) {
       const int i = g * kGatherGroup + j;
-      V vx, vy, x0, y0;
+      V vx, vy, x, y;
       O::pairs_to_xy(acc + j, vx, vy);
-      O::load_pairs(pos + 2 * i, x0, y0);
-      if (!s.bar_a.empty()) O::store_pairs(s.old_pos.data() + 2 * i, x0, y0);
-      if constexpr (Gravity) vy = O::sub(vy, O::load(s.mass_gd.data() + i)); // rules::apply_gravity
-      // rules::friction_factor: (1 - f), times (20 / speed) when speed > 20.
-      // The square-root/divide unit is the bottleneck of the whole step, so both are
-      // skipped when no lane can be above the limit: sqrt is correctly rounded and
-      // monotonic with sqrt(400) = 20, so vx^2 + vy^2 <= 400 gives speed <= 20
-      // exactly. The other lanes keep 1 - f either way.
-      const V speed2 = O::add(O::mul(vx, vx), O::mul(vy, vy));
-      const V one_minus_f = O::load(s.mass_keep.data() + i); // rules::friction_factor
-      V factor = one_minus_f;
-      if (O::any(O::gt(speed2, syrup2))) {
-        const V speed = O::sqrt(speed2);
-        factor = O::select(O::gt(speed, syrup), O::mul(one_minus_f, O::div(syrup, speed)), one_minus_f);
-      }
-      vx = O::mul(factor, vx);
-      vy = O::mul(factor, vy);
-      // rules::is_at_rest
-      const M rest = O::m_and(O::lt(O::abs(vx), rest_limit), O::lt(O::abs(vy), rest_limit));
-      V x = O::add(x0, vx), y = O::add(y0, vy);
-      V cvx = vx, cvy = vy;
-      // rules::collide_with_container, without the walls no mass can reach.
-      M fc = O::m_none();
-      const V fs = O::load(s.mass_fs.data() + i), rs = O::load(s.mass_rs.data() + i);
-      if constexpr (Floor) {
-        const M below = O::lt(y, zero);
-        y = O::select(below, zero, y);
-        fc = below;
-      }
-      if constexpr (Ceiling) {
-        const V height = O::load(s.mass_height.data() + i);
-        const M above = O::gt(y, height); // after the floor clamp: the "else if"
-        y = O::select(above, height, y);
-        fc = O::m_or(fc, above);
-      }
-      if constexpr (Floor || Ceiling) {
-        cvy = O::select(fc, O::mul(cvy, rs), cvy);
-        cvx = O::select(fc, O::mul(cvx, fs), cvx);
-      }
-      if constexpr (Sides) {
-        const M lw = O::lt(x, zero);
-        x = O::select(lw, zero, x);
-        const V width = O::load(s.mass_width.data() + i);
-        const M rw = O::gt(x, width);
-        x = O::select(rw, width, x);
-        const M respond = O::m_andnot(O::m_or(lw, rw), fc); // the corner rule
-        cvx = O::select(respond, O::mul(cvx, rs), cvx);
-        cvy = O::select(respond, O::mul(cvy, fs), cvy);
-        const M hit = O::m_andnot(respond, rest);
-        const V h = O::select(O::m_and(hit, lw), left, O::select(hit, right, zero));
-        O::store_pairs(s.side.data() + 2 * i, h, h);
-        any_side = O::m_or(any_side, hit);
-      }
-      // A mass at rest keeps its position and its damped velocity (no collision).
-      O::store_pairs(pos + 2 * i, O::select(rest, x0, x), O::select(rest, y0, y));
-      O::store_pairs(vel + 2 * i, O::select(rest, vx, cvx), O::select(rest, vy, cvy));
+      O::load_pairs(pos + 2 * i, x, y);
+      if (!s.bar_a.empty()) O::store_pairs(s.old_pos.data() + 2 * i, x, y);
+      move_mass_block<O, Gravity, Floor, Ceiling, Sides>(s, i, x, y, vx, vy, any_side);
+      O::store_pairs(pos + 2 * i, x, y);
+      O::store_pairs(vel + 2 * i, vx, vy);
     }
   }
   return O::any(any_side);
@@ -408,6 +443,165 @@ void targets_kernel(Impl& s, const double* sine) {
     O::store(s.target.data() + q, O::mul(O::loadu(s.tm_rest.data() + q), O::add(one, power)));
   }
 }
+
+/// Frames of a scene of at most 16 points and 32 link slots (AVX-512), with every
+/// point's position and velocity and every impulse in registers from frame to
+/// frame: the link pass takes each end by one permute, the sums take each impulse
+/// by one or two permutes and a sign, and nothing goes through memory but the
+/// muscle targets and the side-wall hits. The same rules in the same order as
+/// link_kernel and mass_kernel (each mass still adds its impulses in file order,
+/// from its velocity; a lane without an impulse in a round is left as it is, which
+/// is what adding the identity -0.0 gives). A frame with a zero-length link (both
+/// ends must add -0.0, not +-0.0) runs through link_kernel and mass_kernel.
+// GCC 12 takes the undefined pass-through of _mm512_unpacklo_pd (inside the
+// always-inlined lambdas below) for an uninitialised variable: a false positive.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+template <bool Gravity, bool Floor, bool Ceiling, bool Sides>
+void register_chunk(Impl& s, State* const* st, long long frames) {
+  using O = Avx512Ops;
+  using V = O::V;
+  using M = O::M;
+  constexpr int W = O::W;
+  const int mass_blocks = s.nm_pad / W;
+  const int link_blocks = s.nl_pad / W;
+  const bool wave = s.nwm > 0;
+  double* pos = s.pos.data();
+  double* vel = s.vel.data();
+  V x[2], y[2], vx[2], vy[2];
+  // Loops over blocks have constant trip counts and test the block count inside,
+  // so that they unroll and every array index is a constant: the arrays are then
+  // registers, not stack memory.
+  const auto load = [&]() __attribute__((always_inline)) {
+#pragma GCC unroll 2
+    for (int r = 0; r < 2; ++r) {
+      O::load_pairs(pos + 2 * W * r, x[r], y[r]); // pos holds 16 points at least
+      if (r < mass_blocks) O::load_pairs(vel + 2 * W * r, vx[r], vy[r]);
+    }
+  };
+  const auto store = [&]() __attribute__((always_inline)) {
+#pragma GCC unroll 2
+    for (int r = 0; r < 2; ++r) {
+      if (r >= mass_blocks) break;
+      O::store_pairs(pos + 2 * W * r, x[r], y[r]);
+      O::store_pairs(vel + 2 * W * r, vx[r], vy[r]);
+    }
+  };
+  vx[1] = vy[1] = O::set1(0.0);
+  load();
+  const V zero = O::set1(0.0);
+  // Link targets in registers too. With one wave creature whose sines fit in two
+  // registers (sines_in_registers), the muscle targets of a frame whose row of sines
+  // is ready are formed here as targets_kernel forms them; update_targets (a call,
+  // which spills every register) runs only to refill the rows.
+  V target[4];
+  const int target_blocks = s.nwm_pad / W;
+  const auto load_targets = [&]() __attribute__((always_inline)) {
+#pragma GCC unroll 4
+    for (int b = 0; b < 4; ++b) target[b] = b < link_blocks ? O::load(s.target.data() + W * b) : zero;
+  };
+  const auto store_targets = [&]() __attribute__((always_inline)) {
+#pragma GCC unroll 4
+    for (int b = 0; b < 4; ++b) {
+      if (b < target_blocks) O::store(s.target.data() + W * b, target[b]);
+    }
+  };
+  load_targets();
+  const bool targets_here = wave && s.sines_in_registers && s.wave_creatures.size() == 1;
+  const int wave_creature = targets_here ? s.wave_creatures[0] : 0;
+  const V one = O::set1(1.0);
+  const auto targets_from_sines = [&](const V(&row)[2]) __attribute__((always_inline)) {
+#pragma GCC unroll 4
+    for (int b = 0; b < 4; ++b) {
+      if (b >= target_blocks) break;
+      // targets_kernel: rest * (1 + (Aw*Am) * sine)
+      const V power = O::mul(O::loadu(s.tm_power.data() + W * b), O::point(row, s.tm_group_lane.data() + W * b));
+      target[b] = O::mul(O::loadu(s.tm_rest.data() + W * b), O::add(one, power));
+    }
+  };
+  for (long long f = 0; f < frames; ++f) {
+    if (targets_here) {
+      Impl::Creature& cr = s.creatures[static_cast<std::size_t>(wave_creature)];
+      const std::uint64_t phase = bits_of(st[wave_creature]->wave_phase);
+      if (!s.targets_valid || phase != cr.targets_phase_bits) {
+        const std::size_t at = static_cast<std::size_t>(wave_creature) * static_cast<std::size_t>(s.rows);
+        if (s.targets_valid && s.row_next < s.row_count && phase == s.row_phase_bits[at + s.row_next]) {
+          s.current_row = s.row_next++;
+          cr.targets_phase_bits = phase;
+          const double* sine = s.row_sin.data() + static_cast<std::size_t>(s.current_row) * s.groups;
+          const V row[2] = {O::loadu(sine), O::loadu(sine + W)}; // the row is padded to kRegisterPoints
+          targets_from_sines(row);
+        } else {
+          s.update_targets(st);
+          load_targets();
+        }
+      }
+    } else if (wave) {
+      s.update_targets(st);
+      load_targets();
+    }
+    // The links (link_kernel).
+    V px[4], py[4];
+    px[2] = py[2] = px[3] = py[3] = zero;
+    M zero_length = 0;
+#pragma GCC unroll 4
+    for (int b = 0; b < 4; ++b) {
+      if (b >= link_blocks) break;
+      const __m512i ia = _mm512_load_si512(s.rf_end_a.data() + W * b);
+      const __m512i ib = _mm512_load_si512(s.rf_end_b.data() + W * b);
+      const V dx = O::sub(_mm512_permutex2var_pd(x[0], ib, x[1]), _mm512_permutex2var_pd(x[0], ia, x[1]));
+      const V dy = O::sub(_mm512_permutex2var_pd(y[0], ib, y[1]), _mm512_permutex2var_pd(y[0], ia, y[1]));
+      const V length = O::sqrt(O::add(O::mul(dx, dx), O::mul(dy, dy)));
+      // rules::link_impulse_factor: springyness * (length - target) / length
+      const V c = O::div(O::mul(O::load(s.link_k.data() + W * b), O::sub(length, target[b])), length);
+      px[b] = O::mul(c, dx);
+      py[b] = O::mul(c, dy);
+      zero_length = O::m_or(zero_length, O::m_and(O::eq(length, zero), s.rf_real[b]));
+    }
+    M any_side = O::m_none();
+    if (O::any(zero_length)) [[unlikely]] {
+      store();
+      store_targets();
+      link_kernel<O, true>(s);
+      if (mass_kernel<O, Gravity, Floor, Ceiling, Sides>(s)) any_side = 1;
+      load();
+    } else {
+      // The masses (mass_kernel): the sums, then move_mass_block.
+      const std::int64_t* index = s.rf_index.data();
+      const double* sign = s.rf_sign.data();
+      const std::uint8_t* upper = s.rf_upper.data();
+      const std::uint8_t* valid = s.rf_valid.data();
+#pragma GCC unroll 2
+      for (int m = 0; m < 2; ++m) {
+        if (m >= mass_blocks) break;
+        V sx = vx[m], sy = vy[m];
+        for (int r = s.rf_rounds[m]; r > 0; --r, index += W, sign += W, ++upper, ++valid) {
+          const __m512i idx = _mm512_load_si512(index);
+          V ix = _mm512_permutex2var_pd(px[0], idx, px[1]);
+          V iy = _mm512_permutex2var_pd(py[0], idx, py[1]);
+          if (link_blocks == 3) {
+            ix = _mm512_mask_permutexvar_pd(ix, *upper, idx, px[2]);
+            iy = _mm512_mask_permutexvar_pd(iy, *upper, idx, py[2]);
+          } else if (link_blocks == 4) {
+            ix = O::select(*upper, _mm512_permutex2var_pd(px[2], idx, px[3]), ix);
+            iy = O::select(*upper, _mm512_permutex2var_pd(py[2], idx, py[3]), iy);
+          }
+          const V sg = O::load(sign);
+          // End B: v -= p is v + (-p) exactly.
+          sx = _mm512_mask_add_pd(sx, *valid, sx, O::bits_xor(ix, sg));
+          sy = _mm512_mask_add_pd(sy, *valid, sy, O::bits_xor(iy, sg));
+        }
+        vx[m] = sx;
+        vy[m] = sy;
+        move_mass_block<O, Gravity, Floor, Ceiling, Sides>(s, W * m, x[m], y[m], vx[m], vy[m], any_side);
+      }
+    }
+    if (O::any(any_side)) s.replay_side_hits(st);
+    s.advance_waves(st);
+  }
+  store();
+}
+#pragma GCC diagnostic pop
 
 /// Frames with the SIMD kernels for one wall/gravity specialisation: the frame
 /// loop is inside the specialised function, so nothing is looked up per frame.
@@ -511,6 +705,35 @@ SODA_KERNELS(Avx2Ops)
 #pragma GCC target("avx512f")
 SODA_KERNELS(Avx512Ops)
 template void link_kernel<Avx512Ops, true>(Impl&);
+template void register_chunk<false, false, false, false>(Impl&, State* const*, long long);
+template void register_chunk<false, false, false, true>(Impl&, State* const*, long long);
+template void register_chunk<false, false, true, false>(Impl&, State* const*, long long);
+template void register_chunk<false, false, true, true>(Impl&, State* const*, long long);
+template void register_chunk<false, true, false, false>(Impl&, State* const*, long long);
+template void register_chunk<false, true, false, true>(Impl&, State* const*, long long);
+template void register_chunk<false, true, true, false>(Impl&, State* const*, long long);
+template void register_chunk<false, true, true, true>(Impl&, State* const*, long long);
+template void register_chunk<true, false, false, false>(Impl&, State* const*, long long);
+template void register_chunk<true, false, false, true>(Impl&, State* const*, long long);
+template void register_chunk<true, false, true, false>(Impl&, State* const*, long long);
+template void register_chunk<true, false, true, true>(Impl&, State* const*, long long);
+template void register_chunk<true, true, false, false>(Impl&, State* const*, long long);
+template void register_chunk<true, true, false, true>(Impl&, State* const*, long long);
+template void register_chunk<true, true, true, false>(Impl&, State* const*, long long);
+template void register_chunk<true, true, true, true>(Impl&, State* const*, long long);
+
+ChunkFn register_chunk_fn(bool g, const WallNeeds& w) {
+  constexpr ChunkFn table[16] = {
+      &register_chunk<false, false, false, false>, &register_chunk<false, false, false, true>,
+      &register_chunk<false, false, true, false>,  &register_chunk<false, false, true, true>,
+      &register_chunk<false, true, false, false>,  &register_chunk<false, true, false, true>,
+      &register_chunk<false, true, true, false>,   &register_chunk<false, true, true, true>,
+      &register_chunk<true, false, false, false>,  &register_chunk<true, false, false, true>,
+      &register_chunk<true, false, true, false>,   &register_chunk<true, false, true, true>,
+      &register_chunk<true, true, false, false>,   &register_chunk<true, true, false, true>,
+      &register_chunk<true, true, true, false>,    &register_chunk<true, true, true, true>};
+  return table[(g ? 8 : 0) + (w.floor ? 4 : 0) + (w.ceiling ? 2 : 0) + (w.sides ? 1 : 0)];
+}
 #pragma GCC pop_options
 
 #undef SODA_KERNELS
@@ -811,6 +1034,53 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
     for (int b = 0; b < m.bar_count(); ++b) {
       bar_a.push_back(2 * creatures[0].work_of_point[m.bar_a[b]]);
       bar_b.push_back(2 * creatures[0].work_of_point[m.bar_b[b]]);
+    }
+  }
+
+  // The frame in registers: the register lane of working point (or link slot) p.
+  frame_in_registers = opt.register_frames && points_in_registers && nl_pad <= 4 * kMaxWidth && bar_a.empty() &&
+                       bars == BarKind::None && !opt.force_ordered;
+  rf_end_a.clear();
+  rf_end_b.clear();
+  rf_index.clear();
+  rf_sign.clear();
+  rf_upper.clear();
+  rf_valid.clear();
+  rf_rounds.clear();
+  rf_real.clear();
+  if (frame_in_registers) {
+    const auto lane_of = [](int p) {
+      const int j = p % kMaxWidth;
+      return p - j + (j < kMaxWidth / 2 ? 2 * j : 2 * (j - kMaxWidth / 2) + 1); // kLaneLink inverted
+    };
+    rf_real.assign(static_cast<std::size_t>(nl_pad / kMaxWidth), 0);
+    for (int k = 0; k < nl; ++k) {
+      if (acting[k].creature >= 0) rf_real[k / kMaxWidth] |= static_cast<std::uint8_t>(1u << (slot_of_link[k] % kMaxWidth));
+    }
+    rf_end_a.assign(static_cast<std::size_t>(nl_pad), 0);
+    rf_end_b.assign(static_cast<std::size_t>(nl_pad), 0);
+    for (int k = 0; k < nl_pad; ++k) {
+      rf_end_a[slot_of_link[k]] = lane_of(static_cast<int>(la[k] / 2));
+      rf_end_b[slot_of_link[k]] = lane_of(static_cast<int>(lb[k] / 2));
+    }
+    for (int blk = 0; blk < nm_pad / kMaxWidth; ++blk) {
+      std::size_t rounds = 0;
+      for (int l = 0; l < kMaxWidth; ++l) rounds = std::max(rounds, per_mass[blk * kMaxWidth + kLaneLink(kMaxWidth, l)].size());
+      rf_rounds.push_back(static_cast<int>(rounds));
+      for (std::size_t r = 0; r < rounds; ++r) {
+        std::uint8_t upper = 0, valid = 0;
+        for (int l = 0; l < kMaxWidth; ++l) {
+          const auto& list = per_mass[blk * kMaxWidth + kLaneLink(kMaxWidth, l)];
+          const bool b_end = r < list.size() && list[r] >= nl_pad;
+          const int lane = r < list.size() ? lane_of(b_end ? list[r] - nl_pad : list[r]) : 0;
+          rf_index.push_back(lane % (2 * kMaxWidth));
+          rf_sign.push_back(b_end ? -0.0 : 0.0);
+          if (lane >= 2 * kMaxWidth) upper = static_cast<std::uint8_t>(upper | (1u << l));
+          if (r < list.size()) valid = static_cast<std::uint8_t>(valid | (1u << l));
+        }
+        rf_upper.push_back(upper);
+        rf_valid.push_back(valid);
+      }
     }
   }
 }
@@ -1200,6 +1470,7 @@ bool FusedScene::used(const KernelChoice& k) const {
 const KernelChoice& FusedScene::last_kernel() const { return d_->last; }
 long long FusedScene::sines_evaluated() const { return d_->sines; }
 bool FusedScene::points_in_registers() const { return d_->points_in_registers; }
+bool FusedScene::frame_in_registers() const { return d_->frame_in_registers; }
 
 void FusedScene::run(State* const* states, long long frames) {
   if (frames <= 0) return;
@@ -1244,7 +1515,8 @@ void FusedScene::run(State* const* states, long long frames) {
     if (k.ordered) {
       for (long long f = 0; f < chunk; ++f) s.ordered_frame(*states[0]);
     } else {
-      chunk_fn(s.simd, k.gravity, k.walls)(s, states, chunk);
+      (s.frame_in_registers ? register_chunk_fn(k.gravity, k.walls) : chunk_fn(s.simd, k.gravity, k.walls))(
+          s, states, chunk);
     }
     done += chunk;
   }
@@ -1268,6 +1540,7 @@ bool FastStepper::used(const KernelChoice& k) const { return scene_->used(k); }
 const KernelChoice& FastStepper::last_kernel() const { return scene_->last_kernel(); }
 long long FastStepper::sines_evaluated() const { return scene_->sines_evaluated(); }
 bool FastStepper::points_in_registers() const { return scene_->points_in_registers(); }
+bool FastStepper::frame_in_registers() const { return scene_->frame_in_registers(); }
 
 void FastStepper::run(State& state, long long frames) {
   State* const st[1] = {&state};

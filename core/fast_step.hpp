@@ -59,6 +59,10 @@ struct FastStepOptions {
   /// Muscle sines in SIMD, glibc's sin repeated operation for operation
   /// (exact_sines.hpp). Off: std::sin everywhere. Both give the same bits.
   bool vector_sines = true;
+  /// Scenes of at most 16 points and 32 links (AVX-512) keep the whole frame in
+  /// registers (positions, velocities, impulses). Off: the general kernels. Both
+  /// give the same bits.
+  bool register_frames = true;
 };
 
 /// The kernel a chunk of frames ran with, for tests and diagnostics.
@@ -101,6 +105,9 @@ class FastStepper {
   /// Whether the link pass keeps every point in registers (AVX-512, at most 16
   /// points with the padding masses); for tests.
   [[nodiscard]] bool points_in_registers() const;
+  /// Whether whole frames run in registers (FastStepOptions::register_frames:
+  /// AVX-512, at most 16 points and 32 link slots, no bars); for tests.
+  [[nodiscard]] bool frame_in_registers() const;
 
  private:
   std::unique_ptr<FusedScene> scene_; ///< a scene of this one model (fused_scene.hpp)

@@ -62,6 +62,7 @@ class FusedScene {
   [[nodiscard]] const KernelChoice& last_kernel() const;
   [[nodiscard]] long long sines_evaluated() const;
   [[nodiscard]] bool points_in_registers() const;
+  [[nodiscard]] bool frame_in_registers() const;
 
   struct Data;
 

@@ -14,6 +14,7 @@
 #include "bench/synthetic.hpp"
 #include "core/exact_sines.hpp"
 #include "core/fast_step.hpp"
+#include "core/fused_scene.hpp"
 #include "core/model_file.hpp"
 #include "core/scene_analysis.hpp"
 #include "core/step.hpp"
@@ -292,6 +293,63 @@ TEST_CASE("fast step: synthetic stress cases, each kernel specialisation", "[fas
           CHECK(run_both(model, 1500, opt, &s).empty());
           const bool fits = 8 + (model.point_count - model.mass_count) <= 16;
           CHECK(s.points_in_registers() == (level == soda::SimdLevel::Avx512 && fits));
+        }
+      }
+
+      SECTION("whole frames in registers (AVX-512): 1-2 mass blocks, 1-4 link blocks, fallback frames") {
+        // Masses in a ring near the left wall, moving left (side hits replay
+        // autoreverse); masses 0 and 1 start on the same point (a zero-length link:
+        // frames through the general kernels); links every which way, every third a
+        // muscle. With 17 phases the targets come from update_targets instead.
+        for (const int masses : {3, 8, 9, 14}) {
+          for (const int links : {4, 12, 20, 30}) {
+            for (const int phases : {5, 17}) {
+              soda::ModelDef def;
+              def.width = 500;
+              def.height = 400;
+              def.wave = {0.6, 0.1, 0.013};
+              def.settings.autoreverse = true;
+              for (int i = 0; i < masses; ++i) {
+                const double angle = 2.0 * 3.14159 * (i == 1 ? 0 : i) / masses;
+                def.nodes.push_back(mass(45.0 + 35.0 * std::cos(angle), 60.0 + 35.0 * std::sin(angle), -2.5, 0.4));
+              }
+              for (int j = 0; j < links; ++j) {
+                const int a = j % masses;
+                int b = (j * 7 + 1) % masses;
+                if (b == a) b = (a + 1) % masses;
+                const double rest = 20.0 + (j % 6) * 9.0;
+                def.links.push_back(j % 3 == 0 ? muscle(a, b, rest, 0.4, (j / 3 % phases) / double(phases))
+                                               : spring(a, b, rest));
+              }
+              const soda::Model model = build(def);
+              soda::FastStepper s(model, 1500, opt);
+              INFO(masses << " masses, " << links << " links, " << phases << " phases");
+              CHECK(run_both(model, 1500, opt, &s).empty());
+              if (links <= 20) CHECK(s.frame_in_registers() == (level == soda::SimdLevel::Avx512));
+              soda::FastStepOptions general = opt;
+              general.register_frames = false;
+              soda::FastStepper g(model, 1500, general);
+              CHECK(run_both(model, 1500, general, &g).empty());
+              CHECK_FALSE(g.frame_in_registers());
+            }
+          }
+        }
+        // Two small creatures fused in one scene: two waves, targets from update_targets.
+        soda::ModelDef one = lattice(2, 2, 100, 40);
+        soda::ModelDef two = lattice(3, 2, 300, 80);
+        two.wave = {0.5, 0.3, 0.021};
+        const soda::Model m1 = build(one), m2 = build(two);
+        soda::FusedScene scene({&m1, &m2}, 2000, opt);
+        CHECK(scene.frame_in_registers() == (level == soda::SimdLevel::Avx512));
+        soda::State f1 = soda::make_state(m1), f2 = soda::make_state(m2);
+        soda::State r1 = soda::make_state(m1), r2 = soda::make_state(m2);
+        soda::State* const both[2] = {&f1, &f2};
+        for (const long long n : {1LL, 13LL, 500LL, 1486LL}) {
+          scene.run(both, n);
+          soda::run(m1, r1, n);
+          soda::run(m2, r2, n);
+          CHECK(compare_states(m1, r1, f1).empty());
+          CHECK(compare_states(m2, r2, f2).empty());
         }
       }
 
