@@ -27,6 +27,12 @@
 //    whose sums stay in registers for the rest of the mass step: gravity,
 //    friction, rest test, move and walls, in SIMD over masses, with the frame
 //    loop inside the specialised function;
+//  - scenes of at most 16 points and 32 links (AVX-512; the Dainty Walker) run
+//    whole frames in registers: positions, velocities, impulses and targets stay
+//    in vector registers from frame to frame, each mass's impulses come by
+//    permutes from the link registers (still added in file order), and nothing
+//    is called per frame while a row of sines is ready (a call spills every
+//    vector register);
 //  - autoreverse hits are replayed in mass order, fixed-bar tests run per mass in
 //    order after the container (exactly as the reference does per mass); with a
 //    bar that has a free-mass end, masses go one by one in file order.
