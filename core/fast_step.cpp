@@ -364,9 +364,13 @@ template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
     cvx = O::select(respond, O::mul(cvx, rs), cvx);
     cvy = O::select(respond, O::mul(cvy, fs), cvy);
     const M hit = O::m_andnot(respond, rest);
-    const V h = O::select(O::m_and(hit, lw), left, O::select(hit, right, zero));
-    O::store_pairs(s.side.data() + 2 * i, h, h);
-    any_side = O::m_or(any_side, hit);
+    // s.side is all zero between frames (replay_side_hits clears what it reads):
+    // only a block with a hit writes it.
+    if (O::any(hit)) [[unlikely]] {
+      const V h = O::select(O::m_and(hit, lw), left, O::select(hit, right, zero));
+      O::store_pairs(s.side.data() + 2 * i, h, h);
+      any_side = O::m_or(any_side, hit);
+    }
   }
   // A mass at rest keeps its position and its damped velocity (no collision).
   x = O::select(rest, x0, nx);
@@ -1414,7 +1418,10 @@ void FusedScene::Data::replay_side_hits(State* const* st) {
   for (std::size_t c = 0; c < creatures.size(); ++c) {
     const Creature& cr = creatures[c];
     for (int p = 0; p < cr.model->mass_count; ++p) {
-      const double h = side[2 * static_cast<std::size_t>(cr.work_of_point[p])];
+      double& side_of_mass = side[2 * static_cast<std::size_t>(cr.work_of_point[p])];
+      const double h = side_of_mass;
+      side_of_mass = 0.0;
+      side[2 * static_cast<std::size_t>(cr.work_of_point[p]) + 1] = 0.0;
       if (h != 0.0) {
         rules::autoreverse_on_wall_hit(h < 0.0 ? SideWall::Left : SideWall::Right, cr.model->autoreverse,
                                        st[c]->wave_mode, st[c]->last_side_wall);
