@@ -25,17 +25,6 @@ BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long fr
       alone_index_.push_back(i);
       continue;
     }
-    // A creature whose whole frame fits in registers (FastStepOptions::
-    // register_frames: at most 16 points and 32 links on AVX-512) steps faster
-    // alone than fused with others (the Dainty Walker 1.2x), so it runs alone.
-    if (models[i]->point_count <= 16 && models[i]->link_count() <= 32) {
-      FastStepper small(*models[i], frame_budget, options);
-      if (small.frame_in_registers()) {
-        alone_.push_back(std::move(small));
-        alone_index_.push_back(i);
-        continue;
-      }
-    }
     const int links = models[i]->link_count();
     if (!pack.empty() && starts_new_scene(pack_links, links)) close_pack();
     pack.push_back(models[i]);

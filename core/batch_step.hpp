@@ -20,10 +20,7 @@
 // model alone (fused_scene.hpp explains why; tests/test_batch_step.cpp checks it).
 // Models with fixed bars cannot share a scene (a bar test needs the masses in
 // file order against each other's new positions); each of those runs alone on its
-// own FastStepper, in the same call. So does a creature whose whole frame fits in
-// registers on its own (FastStepOptions::register_frames: at most 16 points and
-// 32 links, AVX-512): with nothing in memory from frame to frame it runs faster
-// alone than its links shared with others (the Dainty Walker: 1.2x).
+// own FastStepper, in the same call.
 //
 // The Models must outlive the stepper; one stepper is used by one thread at a time.
 #pragma once
@@ -80,7 +77,7 @@ class BatchStepper {
   };
   int count_ = 0;
   std::vector<Scene> scenes_;         ///< the fusable models, packed by kMaxFusedLinks
-  std::vector<FastStepper> alone_;    ///< models with fixed bars, and frames in registers
+  std::vector<FastStepper> alone_;    ///< models with fixed bars
   std::vector<int> alone_index_;
   std::vector<State*> scratch_;
 };

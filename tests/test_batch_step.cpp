@@ -135,30 +135,15 @@ TEST_CASE("batch of every model, random creatures and duplicates equals separate
     picks.push_back(d);
   }
   for (soda::SimdLevel level : supported_levels()) {
-    for (const bool registers : {false, true}) {
-      soda::FastStepOptions opt;
-      opt.simd = level;
-      opt.register_frames = registers;
-      int fused = 0, scenes = 0;
-      const std::string diff = run_batch_and_reference(models, picks, 3000, opt, &fused, &scenes);
-      INFO(soda::simd_level_name(level) << (registers ? ", frames in registers" : "") << ": " << diff);
-      CHECK(diff.empty());
-      if (!registers) {
-        CHECK(fused > static_cast<int>(picks.size()) / 2); // most models are fused
-        CHECK(scenes > 1);                                 // packed into several scenes of <= kMaxFusedLinks
-        CHECK(scenes < fused / 2);                         // most scenes hold several models
-      } else {
-        // The models whose frame fits in registers alone run alone, the others fused.
-        int in_registers = 0, with_bars = 0;
-        for (int p : picks) {
-          const soda::Model& m = models[static_cast<std::size_t>(p)].second;
-          with_bars += m.bar_count() > 0 ? 1 : 0;
-          in_registers += soda::FastStepper(m, 3000, opt).frame_in_registers() ? 1 : 0;
-        }
-        CHECK(fused == static_cast<int>(picks.size()) - in_registers - with_bars);
-        if (level == soda::SimdLevel::Avx512) CHECK(in_registers > 10);
-      }
-    }
+    soda::FastStepOptions opt;
+    opt.simd = level;
+    int fused = 0, scenes = 0;
+    const std::string diff = run_batch_and_reference(models, picks, 3000, opt, &fused, &scenes);
+    INFO(soda::simd_level_name(level) << ": " << diff);
+    CHECK(diff.empty());
+    CHECK(fused > static_cast<int>(picks.size()) / 2); // most models are fused
+    CHECK(scenes > 1);                                 // packed into several scenes of <= kMaxFusedLinks
+    CHECK(scenes < fused / 2);                         // most scenes hold several models
   }
 }
 
@@ -203,9 +188,7 @@ TEST_CASE("batch: models with fixed bars run alone, in the same call", "[batch_s
   }
   for (std::size_t i = models.size() - 4; i < models.size(); ++i) picks.push_back(static_cast<int>(i));
   int fused = 0;
-  soda::FastStepOptions fuse_small; // small creatures would run alone in registers
-  fuse_small.register_frames = false;
-  CHECK(run_batch_and_reference(models, picks, 2000, fuse_small, &fused).empty());
+  CHECK(run_batch_and_reference(models, picks, 2000, {}, &fused).empty());
   CHECK(fused == static_cast<int>(picks.size()) - with_bars);
   std::vector<const soda::Model*> both = {&models[picks[0]].second, &models.back().second};
   CHECK_THROWS_AS(soda::FusedScene(both, 100), std::invalid_argument);
