@@ -210,6 +210,31 @@ struct FusedScene::Data {
   void arrange_links(std::vector<Acting>& acting);
   void load_state(State* const* st);
   void store_state(State* const* st);
+  // Muscle targets: rules::muscle_target_length split in two so that the sine is
+  // shared, sine = sin(2pi*(phi_m - phi_w)) once per distinct phase per creature,
+  // then per muscle rest * (1 + (Aw*Am) * sine) with the same operations in the same
+  // order (targets_kernel). row_for_frame returns this frame's row of sines, filling
+  // the rows when the waves left them, or nullptr when no wave moved (the targets
+  // stand). Inline, so that the frame in registers (register_chunk) calls nothing
+  // but fill_rows: a call spills every vector register.
+  const double* row_for_frame(State* const* st) {
+    bool changed = !targets_valid;
+    for (std::size_t k = 0; k < wave_creatures.size() && !changed; ++k) {
+      const int c = wave_creatures[k];
+      changed = bits_of(st[c]->wave_phase) != creatures[c].targets_phase_bits;
+    }
+    if (!changed) return nullptr;
+    bool row_usable = row_next < row_count;
+    for (std::size_t k = 0; k < wave_creatures.size() && row_usable; ++k) {
+      const int c = wave_creatures[k];
+      row_usable = bits_of(st[c]->wave_phase) == row_phase_bits[static_cast<std::size_t>(c) * rows + row_next];
+    }
+    if (!row_usable) fill_rows(st);
+    current_row = row_next++;
+    for (int c : wave_creatures) creatures[c].targets_phase_bits = bits_of(st[c]->wave_phase);
+    targets_valid = true;
+    return row_sin.data() + static_cast<std::size_t>(current_row) * groups;
+  }
   void update_targets(State* const* st);
   void fill_rows(State* const* st);
   // The wave advance of this frame: already computed for the current row (same
@@ -428,6 +453,14 @@ bool mass_kernel(Impl& s) {
 
 /// Muscle targets from this frame's sines: rest * (1 + (Aw*Am) * sine), the second
 /// half of rules::muscle_target_length, for target slots [0, nwm_pad).
+/// The same for the W target slots from q, the row of sines held in two registers
+/// (sines_in_registers: one permute per muscle, not a gather).
+template <class O>
+[[gnu::always_inline]] inline typename O::V muscle_targets(const Impl& s, const typename O::V (&row)[2], int q) {
+  const typename O::V power = O::mul(O::loadu(s.tm_power.data() + q), O::point(row, s.tm_group_lane.data() + q));
+  return O::mul(O::loadu(s.tm_rest.data() + q), O::add(O::set1(1.0), power));
+}
+
 template <class O>
 void targets_kernel(Impl& s, const double* sine) {
   using V = typename O::V;
@@ -435,10 +468,7 @@ void targets_kernel(Impl& s, const double* sine) {
   if constexpr (O::kPointRegisters) {
     if (s.sines_in_registers) {
       const V row[2] = {O::loadu(sine), O::loadu(sine + O::W)}; // the row is padded to kRegisterPoints
-      for (int q = 0; q < s.nwm_pad; q += O::W) {
-        const V power = O::mul(O::loadu(s.tm_power.data() + q), O::point(row, s.tm_group_lane.data() + q));
-        O::store(s.target.data() + q, O::mul(O::loadu(s.tm_rest.data() + q), O::add(one, power)));
-      }
+      for (int q = 0; q < s.nwm_pad; q += O::W) O::store(s.target.data() + q, muscle_targets<O>(s, row, q));
       return;
     }
   }
@@ -494,10 +524,10 @@ void register_chunk(Impl& s, State* const* st, long long frames) {
   vx[1] = vy[1] = O::set1(0.0);
   load();
   const V zero = O::set1(0.0);
-  // Link targets in registers too. With one wave creature whose sines fit in two
-  // registers (sines_in_registers), the muscle targets of a frame whose row of sines
-  // is ready are formed here as targets_kernel forms them; update_targets (a call,
-  // which spills every register) runs only to refill the rows.
+  // Link targets in registers too. Where the sines fit in two registers
+  // (sines_in_registers) the muscle targets are formed here (muscle_targets, as
+  // targets_kernel forms them), and nothing is called but fill_rows when the rows
+  // run out (row_for_frame): a call spills every vector register.
   V target[4];
   const int target_blocks = s.nwm_pad / W;
   const auto load_targets = [&]() __attribute__((always_inline)) {
@@ -511,38 +541,21 @@ void register_chunk(Impl& s, State* const* st, long long frames) {
     }
   };
   load_targets();
-  const bool targets_here = wave && s.sines_in_registers && s.wave_creatures.size() == 1;
-  const int wave_creature = targets_here ? s.wave_creatures[0] : 0;
-  const V one = O::set1(1.0);
-  const auto targets_from_sines = [&](const V(&row)[2]) __attribute__((always_inline)) {
-#pragma GCC unroll 4
-    for (int b = 0; b < 4; ++b) {
-      if (b >= target_blocks) break;
-      // targets_kernel: rest * (1 + (Aw*Am) * sine)
-      const V power = O::mul(O::loadu(s.tm_power.data() + W * b), O::point(row, s.tm_group_lane.data() + W * b));
-      target[b] = O::mul(O::loadu(s.tm_rest.data() + W * b), O::add(one, power));
-    }
-  };
   for (long long f = 0; f < frames; ++f) {
-    if (targets_here) {
-      Impl::Creature& cr = s.creatures[static_cast<std::size_t>(wave_creature)];
-      const std::uint64_t phase = bits_of(st[wave_creature]->wave_phase);
-      if (!s.targets_valid || phase != cr.targets_phase_bits) {
-        const std::size_t at = static_cast<std::size_t>(wave_creature) * static_cast<std::size_t>(s.rows);
-        if (s.targets_valid && s.row_next < s.row_count && phase == s.row_phase_bits[at + s.row_next]) {
-          s.current_row = s.row_next++;
-          cr.targets_phase_bits = phase;
-          const double* sine = s.row_sin.data() + static_cast<std::size_t>(s.current_row) * s.groups;
+    if (wave) {
+      if (const double* sine = s.row_for_frame(st)) {
+        if (s.sines_in_registers) {
           const V row[2] = {O::loadu(sine), O::loadu(sine + W)}; // the row is padded to kRegisterPoints
-          targets_from_sines(row);
+#pragma GCC unroll 4
+          for (int b = 0; b < 4; ++b) {
+            if (b >= target_blocks) break;
+            target[b] = muscle_targets<O>(s, row, W * b);
+          }
         } else {
-          s.update_targets(st);
+          targets_kernel<O>(s, sine);
           load_targets();
         }
       }
-    } else if (wave) {
-      s.update_targets(st);
-      load_targets();
     }
     // The links (link_kernel).
     V px[4], py[4];
@@ -604,6 +617,7 @@ void register_chunk(Impl& s, State* const* st, long long frames) {
     s.advance_waves(st);
   }
   store();
+  store_targets(); // the next chunk starts from s.target
 }
 #pragma GCC diagnostic pop
 
@@ -1042,7 +1056,7 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   }
 
   // The frame in registers: the register lane of working point (or link slot) p.
-  frame_in_registers = opt.register_frames && points_in_registers && nl_pad <= 4 * kMaxWidth && bar_a.empty() &&
+  frame_in_registers = opt.register_frames && points_in_registers && nl_pad <= 4 * kMaxWidth &&
                        bars == BarKind::None && !opt.force_ordered;
   rf_end_a.clear();
   rf_end_b.clear();
@@ -1340,27 +1354,8 @@ void FusedScene::Data::fill_rows(State* const* st) {
   row_next = 0;
 }
 
-// Muscle targets: rules::muscle_target_length split in two so that the sine is
-// shared, sine = sin(2pi*(phi_m - phi_w)) once per distinct phase per creature,
-// then per muscle rest * (1 + (Aw*Am) * sine) with the same operations in the same
-// order. Nothing is recomputed while no creature's wave phase changes.
 void FusedScene::Data::update_targets(State* const* st) {
-  bool changed = !targets_valid;
-  for (std::size_t k = 0; k < wave_creatures.size() && !changed; ++k) {
-    const int c = wave_creatures[k];
-    changed = bits_of(st[c]->wave_phase) != creatures[c].targets_phase_bits;
-  }
-  if (!changed) return;
-  bool row_usable = row_next < row_count;
-  for (std::size_t k = 0; k < wave_creatures.size() && row_usable; ++k) {
-    const int c = wave_creatures[k];
-    row_usable = bits_of(st[c]->wave_phase) == row_phase_bits[static_cast<std::size_t>(c) * rows + row_next];
-  }
-  if (!row_usable) fill_rows(st);
-  current_row = row_next++;
-  for (int c : wave_creatures) creatures[c].targets_phase_bits = bits_of(st[c]->wave_phase);
-  targets_valid = true;
-  targets_fn(simd)(*this, row_sin.data() + static_cast<std::size_t>(current_row) * groups);
+  if (const double* sine = row_for_frame(st)) targets_fn(simd)(*this, sine);
 }
 
 // Fixed bars (single-model scenes): rules::collide_with_bars on the pair arrays
@@ -1418,10 +1413,9 @@ void FusedScene::Data::replay_side_hits(State* const* st) {
   for (std::size_t c = 0; c < creatures.size(); ++c) {
     const Creature& cr = creatures[c];
     for (int p = 0; p < cr.model->mass_count; ++p) {
-      double& side_of_mass = side[2 * static_cast<std::size_t>(cr.work_of_point[p])];
-      const double h = side_of_mass;
-      side_of_mass = 0.0;
-      side[2 * static_cast<std::size_t>(cr.work_of_point[p]) + 1] = 0.0;
+      double* hit = side.data() + 2 * static_cast<std::size_t>(cr.work_of_point[p]); // twice the same value
+      const double h = hit[0];
+      hit[0] = hit[1] = 0.0;
       if (h != 0.0) {
         rules::autoreverse_on_wall_hit(h < 0.0 ? SideWall::Left : SideWall::Right, cr.model->autoreverse,
                                        st[c]->wave_mode, st[c]->last_side_wall);
