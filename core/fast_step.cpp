@@ -195,6 +195,16 @@ struct FusedScene::Data {
   std::vector<int> dist_state, dist_u; ///< [groups] its wave state and phase
   std::vector<int> group_arg;        ///< [groups] distinct argument of each group
   AVec<double> dist_arg, dist_sin;   ///< [rows * groups, padded] distinct arguments, their sines
+  // Where the targets read their sines: the row of a frame starts at sine_rows +
+  // row * sine_stride and muscle slot q's sine is at tm_sine[q] in it. Either
+  // row_sin by group (tm_sine = tm_group), or, after a fill that shared arguments
+  // between creatures, the distinct sines themselves (tm_sine[q] = group_arg of
+  // tm_group[q], set per fill): copying them out per group and row cost more than
+  // the targets (a GA scene: 13 rows of 74 groups from 56 distinct sines). Scenes
+  // with their sines in registers keep row_sin (muscle_targets permutes by group).
+  const double* sine_rows = nullptr;
+  int sine_stride = 0;
+  std::vector<std::int32_t> tm_sine; ///< [nwm_pad]
 
   std::vector<int> bar_a, bar_b; ///< 2 * working index (offset of x in pos), file order
 
@@ -233,7 +243,7 @@ struct FusedScene::Data {
     current_row = row_next++;
     for (int c : wave_creatures) creatures[c].targets_phase_bits = bits_of(st[c]->wave_phase);
     targets_valid = true;
-    return row_sin.data() + static_cast<std::size_t>(current_row) * groups;
+    return sine_rows + static_cast<std::size_t>(current_row) * sine_stride;
   }
   void update_targets(State* const* st);
   void fill_rows(State* const* st);
@@ -473,7 +483,7 @@ void targets_kernel(Impl& s, const double* sine) {
     }
   }
   for (int q = 0; q < s.nwm_pad; q += O::W) {
-    const V power = O::mul(O::loadu(s.tm_power.data() + q), O::gather(sine, s.tm_group.data() + q));
+    const V power = O::mul(O::loadu(s.tm_power.data() + q), O::gather(sine, s.tm_sine.data() + q));
     O::store(s.target.data() + q, O::mul(O::loadu(s.tm_rest.data() + q), O::add(one, power)));
   }
 }
@@ -1029,6 +1039,9 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   for (int q = 0; q < nwm_pad; ++q) tm_group_lane[q] = tm_group[q];
   dist_arg.assign(row_values, 1.0);
   dist_sin.assign(row_values, 0.0);
+  tm_sine = tm_group;
+  sine_rows = row_sin.data();
+  sine_stride = groups;
   std::map<std::uint64_t, int> u_of_phase;
   uphase.clear();
   group_u.assign(static_cast<std::size_t>(groups), 0);
@@ -1331,24 +1344,38 @@ void FusedScene::Data::fill_rows(State* const* st) {
   // Every wave stands still (manual mode, speed 0): one row of sines serves all.
   const int filled = all_standing ? 1 : rows;
   if (shared) {
-    for (int r = 0; r < filled; ++r) {
-      double* arg = arg_rows + static_cast<std::size_t>(r) * distinct;
-      for (int d = 0; d < distinct; ++d) {
+    for (int d = 0; d < distinct; ++d) {
+      const double muscle_phase = uphase[dist_u[d]];
+      const double* wave_phase = slot_phase.data() + static_cast<std::size_t>(dist_state[d]) * rows;
+      double* arg = arg_rows + d;
+      for (int r = 0; r < filled; ++r) {
         // The argument rules::muscle_target_length forms.
-        arg[d] = kTwoPi * (uphase[dist_u[d]] - slot_phase[static_cast<std::size_t>(dist_state[d]) * rows + r]);
+        arg[static_cast<std::size_t>(r) * distinct] = kTwoPi * (muscle_phase - wave_phase[r]);
       }
     }
   }
   const int n = filled * distinct;
   sine_fn(arg_rows, sin_rows, n);
-  if (remap) {
-    for (int r = 0; r < filled; ++r) {
-      const double* from = dist_sin.data() + static_cast<std::size_t>(r) * distinct;
-      double* to = row_sin.data() + static_cast<std::size_t>(r) * groups;
-      for (int g = 0; g < groups; ++g) to[g] = from[group_arg[g]];
+  // Where the targets read (see sine_rows).
+  double* out_rows = row_sin.data();
+  int stride = groups;
+  if (remap && !sines_in_registers) {
+    for (int q = 0; q < nwm_pad; ++q) tm_sine[q] = group_arg[tm_group[q]];
+    out_rows = dist_sin.data();
+    stride = distinct;
+  } else {
+    if (remap) {
+      for (int r = 0; r < filled; ++r) {
+        const double* from = dist_sin.data() + static_cast<std::size_t>(r) * distinct;
+        double* to = row_sin.data() + static_cast<std::size_t>(r) * groups;
+        for (int g = 0; g < groups; ++g) to[g] = from[group_arg[g]];
+      }
     }
+    if (sine_rows != row_sin.data()) tm_sine = tm_group;
   }
-  for (int r = filled; r < rows; ++r) std::copy(row_sin.data(), row_sin.data() + groups, row_sin.data() + r * groups);
+  sine_rows = out_rows;
+  sine_stride = stride;
+  for (int r = filled; r < rows; ++r) std::copy(out_rows, out_rows + stride, out_rows + static_cast<std::size_t>(r) * stride);
   sines += n;
   row_count = rows;
   row_next = 0;

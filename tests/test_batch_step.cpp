@@ -269,3 +269,25 @@ TEST_CASE("batch: creatures sharing wave and muscle phases share sines and stay 
   CHECK(copies.sines_evaluated() == alone.sines_evaluated());
   for (const soda::State& c : states) CHECK(compare_states(base, s, c).empty());
 }
+
+TEST_CASE("batch: standing waves shared between creatures stay exact", "[batch_step]") {
+  // Every wave manual: fill_rows computes one row of sines for all. With more than
+  // 16 groups, some shared between creatures, the targets read the distinct sines
+  // directly (fast_step.cpp, sine_rows), not a copy by group.
+  soda::Model base = load_scene(models_dir() / "dainty_walker.xml").model;
+  base.wave_direction0 = soda::WaveDirection::Manual;
+  soda::Model shifted = base;
+  for (std::size_t i = 0; i < shifted.link_phase.size(); ++i) {
+    if (shifted.link_muscle[i]) shifted.link_phase[i] = soda::wrap_phase(shifted.link_phase[i] + 0.001 * (i + 1));
+  }
+  std::vector<std::pair<std::string, soda::Model>> models;
+  for (int k = 0; k < 3; ++k) models.emplace_back("manual copy", base);
+  for (int k = 0; k < 3; ++k) models.emplace_back("manual, shifted phases", shifted);
+  for (soda::SimdLevel level : supported_levels()) {
+    soda::FastStepOptions opt;
+    opt.simd = level;
+    const std::string diff = run_batch_and_reference(models, all_indices(models.size()), 3000, opt);
+    INFO(soda::simd_level_name(level) << ": " << diff);
+    CHECK(diff.empty());
+  }
+}
