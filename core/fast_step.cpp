@@ -146,7 +146,8 @@ struct FusedScene::Data {
   AVec<std::int64_t> rf_end_a, rf_end_b; ///< [nl_pad] lane order: register lane of each end
   // Per mass block and round of its sums: which impulse each lane adds (a lane of
   // the link blocks 0-1 by a two-register permute, of block 2-3 where the bit of
-  // rf_upper is set), with which sign (-0.0: an end B), or nothing (rf_valid clear).
+  // rf_upper is set), with which sign (-0.0: an end B), or nothing (rf_valid clear:
+  // the lane adds -0.0, sign -0.0).
   AVec<std::int64_t> rf_index; ///< [8 per round]
   AVec<double> rf_sign;        ///< [8 per round]
   std::vector<std::uint8_t> rf_upper, rf_valid;
@@ -373,16 +374,18 @@ template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
   // rules::collide_with_container, without the walls no mass can reach.
   M fc = O::m_none();
   const V fs = O::load(s.mass_fs.data() + i), rs = O::load(s.mass_rs.data() + i);
+  // The clamps are max and min, not a compare and a blend: the same bits
+  // (max(0, y) is y < 0 ? 0 : y, NaN and -0.0 included) on the position's chain
+  // from frame to frame at a quarter of the latency; the masks only steer the
+  // velocities.
   if constexpr (Floor) {
-    const M below = O::lt(ny, zero);
-    ny = O::select(below, zero, ny);
-    fc = below;
+    fc = O::lt(ny, zero);
+    ny = O::max(zero, ny);
   }
   if constexpr (Ceiling) {
     const V height = O::load(s.mass_height.data() + i);
-    const M above = O::gt(ny, height); // after the floor clamp: the "else if"
-    ny = O::select(above, height, ny);
-    fc = O::m_or(fc, above);
+    fc = O::m_or(fc, O::gt(ny, height)); // after the floor clamp: the "else if"
+    ny = O::min(height, ny);
   }
   if constexpr (Floor || Ceiling) {
     cvy = O::select(fc, O::mul(cvy, rs), cvy);
@@ -391,10 +394,10 @@ template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
   if constexpr (Sides) {
     const V left = O::set1(-1.0), right = O::set1(1.0);
     const M lw = O::lt(nx, zero);
-    nx = O::select(lw, zero, nx);
+    nx = O::max(zero, nx);
     const V width = O::load(s.mass_width.data() + i);
     const M rw = O::gt(nx, width);
-    nx = O::select(rw, width, nx);
+    nx = O::min(width, nx);
     const M respond = O::m_andnot(O::m_or(lw, rw), fc); // the corner rule
     cvx = O::select(respond, O::mul(cvx, rs), cvx);
     cvy = O::select(respond, O::mul(cvy, fs), cvy);
@@ -603,9 +606,12 @@ void register_chunk(Impl& s, State* const* st, long long frames) {
         if (m >= mass_blocks) break;
         V sx = vx[m], sy = vy[m];
         for (int r = s.rf_rounds[m]; r > 0; --r, index += W, sign += W, ++upper, ++valid) {
+          // A lane without an impulse this round takes +0.0 (zero-masked), which
+          // its sign -0.0 turns into -0.0, the identity of +: so every addition
+          // is a plain one (a masked add is a cycle longer on the sums' chain).
           const __m512i idx = _mm512_load_si512(index);
-          V ix = _mm512_permutex2var_pd(px[0], idx, px[1]);
-          V iy = _mm512_permutex2var_pd(py[0], idx, py[1]);
+          V ix = _mm512_maskz_permutex2var_pd(*valid, px[0], idx, px[1]);
+          V iy = _mm512_maskz_permutex2var_pd(*valid, py[0], idx, py[1]);
           if (link_blocks == 3) {
             ix = _mm512_mask_permutexvar_pd(ix, *upper, idx, px[2]);
             iy = _mm512_mask_permutexvar_pd(iy, *upper, idx, py[2]);
@@ -615,8 +621,8 @@ void register_chunk(Impl& s, State* const* st, long long frames) {
           }
           const V sg = O::load(sign);
           // End B: v -= p is v + (-p) exactly.
-          sx = _mm512_mask_add_pd(sx, *valid, sx, O::bits_xor(ix, sg));
-          sy = _mm512_mask_add_pd(sy, *valid, sy, O::bits_xor(iy, sg));
+          sx = O::add(sx, O::bits_xor(ix, sg));
+          sy = O::add(sy, O::bits_xor(iy, sg));
         }
         vx[m] = sx;
         vy[m] = sy;
@@ -1105,8 +1111,8 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
           const bool b_end = r < list.size() && list[r] >= nl_pad;
           const int lane = r < list.size() ? lane_of(b_end ? list[r] - nl_pad : list[r]) : 0;
           rf_index.push_back(lane % (2 * kMaxWidth));
-          rf_sign.push_back(b_end ? -0.0 : 0.0);
-          if (lane >= 2 * kMaxWidth) upper = static_cast<std::uint8_t>(upper | (1u << l));
+          rf_sign.push_back(b_end || r >= list.size() ? -0.0 : 0.0); // no impulse: +0.0 ^ sign = -0.0
+          if (r < list.size() && lane >= 2 * kMaxWidth) upper = static_cast<std::uint8_t>(upper | (1u << l));
           if (r < list.size()) valid = static_cast<std::uint8_t>(valid | (1u << l));
         }
         rf_upper.push_back(upper);

@@ -39,6 +39,9 @@ struct Sse2Ops {
   static V mul(V a, V b) { return _mm_mul_pd(a, b); }
   static V div(V a, V b) { return _mm_div_pd(a, b); }
   static V sqrt(V a) { return _mm_sqrt_pd(a); }
+  // x86 max/min: a where a > b (a < b), else b (ties of +-0 and NaN give b).
+  static V max(V a, V b) { return _mm_max_pd(a, b); }
+  static V min(V a, V b) { return _mm_min_pd(a, b); }
   static M lt(V a, V b) { return _mm_cmplt_pd(a, b); }
   static M gt(V a, V b) { return _mm_cmpgt_pd(a, b); }
   static M eq(V a, V b) { return _mm_cmpeq_pd(a, b); }
@@ -115,6 +118,9 @@ struct Avx2Ops {
   static V mul(V a, V b) { return _mm256_mul_pd(a, b); }
   static V div(V a, V b) { return _mm256_div_pd(a, b); }
   static V sqrt(V a) { return _mm256_sqrt_pd(a); }
+  // x86 max/min: a where a > b (a < b), else b (ties of +-0 and NaN give b).
+  static V max(V a, V b) { return _mm256_max_pd(a, b); }
+  static V min(V a, V b) { return _mm256_min_pd(a, b); }
   static M lt(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
   static M gt(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_GT_OQ); }
   static M eq(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_EQ_OQ); }
@@ -218,6 +224,9 @@ struct Avx512Ops {
   static V mul(V a, V b) { return _mm512_mul_pd(a, b); }
   static V div(V a, V b) { return _mm512_div_pd(a, b); }
   static V sqrt(V a) { return _mm512_sqrt_pd(a); }
+  // x86 max/min: a where a > b (a < b), else b (ties of +-0 and NaN give b).
+  static V max(V a, V b) { return _mm512_max_pd(a, b); }
+  static V min(V a, V b) { return _mm512_min_pd(a, b); }
   static M lt(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
   static M gt(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GT_OQ); }
   static M eq(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_EQ_OQ); }
