@@ -114,7 +114,11 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
     o << "\n" << r.population_threads << "-thread / 1-thread population throughput: " << fixed(r.population_speedup, 2)
       << "x (fast), " << fixed(r.population_batch_speedup, 2) << "x (fast-batch). The same ratio for work items "
       << "of arithmetic alone that share nothing, timed in the same rounds (what this machine gave a second "
-      << "busy thread at the time): " << fixed(r.host_speedup, 2) << "x.\n";
+      << "busy thread at the time): " << fixed(r.host_speedup, 2) << "x for chains bound by their own latency, "
+      << fixed(r.host_divider_speedup, 2) << "x for items bound by the square-root/divide unit as the step is "
+      << "(below " << fixed(bench::kSharedCoreBelow, 1) << "x in " << r.shared_core_rounds << " of "
+      << r.population_rounds << " rounds: the host ran both virtual cores on one physical core, whose unit they "
+      << "then share, while the latency-bound chains still get 2x).\n";
   }
   if (!sweep.empty()) {
     o << "\nBest single-thread rate: " << human(r.best_link_updates_per_second) << " link updates/s (" << r.best_links

@@ -53,6 +53,10 @@ struct SpeedRow {
   double speedup_vs_plain = 0.0; ///< this engine / plain
 };
 
+/// A divider-bound control item's 2-thread speed-up below this: the two virtual
+/// cores shared one physical core in that round (it is 2x on two cores, 1x on one).
+inline constexpr double kSharedCoreBelow = 1.5;
+
 struct SpeedReport {
   std::vector<SpeedRow> rows;
   std::string simd;          ///< level of "fast"
@@ -62,6 +66,11 @@ struct SpeedReport {
   /// The same ratio for work items of arithmetic alone that share nothing, timed in
   /// the same rounds: what the machine gave a second busy thread at the time.
   double host_speedup = 0.0;
+  /// The same for work items bound by the square-root/divide unit (like the step):
+  /// about 1x where the host runs both virtual cores on one physical core.
+  double host_divider_speedup = 0.0;
+  int population_rounds = 0;
+  int shared_core_rounds = 0; ///< rounds whose divider-bound items got below kSharedCoreBelow
   double best_link_updates_per_second = 0.0; ///< fast, one thread, any size
   int best_links = 0;
 };

@@ -219,6 +219,7 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
   const std::string md = soda::read_whole_file(out / "speed.md");
   CHECK(md.find("2-thread / 1-thread population throughput") != std::string::npos);
   CHECK(md.find("of arithmetic alone") != std::string::npos);
+  CHECK(md.find("for items bound by the square-root/divide unit as the step is") != std::string::npos);
   CHECK(soda::read_whole_file(out / "speed.svg").find("<svg") != std::string::npos);
   CHECK(soda::read_whole_file(out / "speed_creatures.svg").find("<svg") != std::string::npos);
   fs::remove_all(out);
