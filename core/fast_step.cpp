@@ -171,8 +171,10 @@ struct FusedScene::Data {
   int groups = 0;                        ///< all creatures'
   // Sines for this frame and the next rows - 1, computed for the phases each
   // creature's wave will have if its direction does not change: row r holds the
-  // sines of every group at row_sin[r * groups]. A row is used only while every
-  // creature's phase is the row's, bit for bit; else all rows are refilled.
+  // sines of every group at row_sin[r * groups] (or, after a fill that shared
+  // sines, of every distinct argument at dist_sin[r * distinct]: see sine_rows).
+  // A row is used only while every creature's phase is the row's, bit for bit;
+  // else all rows are refilled.
   int rows = 1, row_count = 0, row_next = 0;
   int current_row = -1;                       ///< the row the targets were computed from
   bool targets_valid = false;
