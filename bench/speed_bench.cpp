@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <map>
 #include <memory>
 #include <stdexcept>
@@ -26,10 +27,10 @@ namespace sodaevo::bench {
 namespace {
 
 /// A work item that shares nothing with the others: products and sums on 16
-/// independent chains (vectorised; no memory traffic), about a millisecond. It keeps
-/// the arithmetic units busy as the step does, so its thread speed-up shows what the
-/// machine gives a second busy thread at the moment: a host may place the two
-/// virtual cores on one physical core, shared with other guests, at times.
+/// independent chains (no memory traffic), about a millisecond. Each chain waits on
+/// its own latency, so its thread speed-up shows whether a second thread runs at
+/// all (a host may time-slice both virtual cores on one hardware thread), not
+/// whether the two share one physical core's units: divider_item below shows that.
 double arithmetic_item(std::size_t i) {
   double acc[16];
   for (int k = 0; k < 16; ++k) acc[k] = 1.0 + static_cast<double>((i + k) % 7);
@@ -362,30 +363,25 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     // ratios of neighbouring runs, so that a slow phase of the machine (another
     // process on the second core) hits both sides of a ratio.
     std::vector<double> t1, tn, ratio, b1, bn, batch_ratio, host_ratio;
-    std::vector<double> arithmetic(count);
-    auto evaluate_arithmetic = [&](int threads) {
-      const auto t0 = Clock::now();
-      parallel_for_index(count, threads, [&](std::size_t i) { arithmetic[i] = arithmetic_item(i); });
-      return seconds_since(t0);
-    };
-    // Square-root/divide-bound items in each round too (about 25 ms on one thread).
-    const std::size_t divider_count = std::max<std::size_t>(count / 4, 2);
-    std::vector<double> divider(divider_count), divider_ratio;
-    const soda::SimdLevel level = soda::best_simd_level();
-    auto divider_speedup = [&] {
+    // Control items timed in the same rounds: 1-thread time / all-thread time of
+    // items that share nothing; their values stay observable in `out`.
+    auto control_speedup = [&](std::vector<double>& out, const std::function<double(std::size_t)>& item) {
       auto timed = [&](int threads) {
         const auto t0 = Clock::now();
-        parallel_for_index(divider_count, threads, [&](std::size_t i) { divider[i] = divider_item(i, level); });
+        parallel_for_index(out.size(), threads, [&](std::size_t i) { out[i] = item(i); });
         return seconds_since(t0);
       };
-      const double d1 = timed(1);
-      return d1 / timed(all);
+      const double one = timed(1);
+      return one / timed(all);
     };
+    std::vector<double> arithmetic(count), divider_ratio;
+    // Square-root/divide-bound items: about 25 ms on one thread.
+    std::vector<double> divider(std::max<std::size_t>(count / 4, 2));
+    const soda::SimdLevel level = soda::best_simd_level();
     const int population_runs = options.quick ? runs : 9;
     for (int r = 0; r < population_runs; ++r) {
-      const double h1 = evaluate_arithmetic(1);
-      host_ratio.push_back(h1 / evaluate_arithmetic(all));
-      divider_ratio.push_back(divider_speedup());
+      host_ratio.push_back(control_speedup(arithmetic, arithmetic_item));
+      divider_ratio.push_back(control_speedup(divider, [level](std::size_t i) { return divider_item(i, level); }));
       t1.push_back(evaluate(1));
       tn.push_back(evaluate(all));
       ratio.push_back(t1.back() / tn.back());

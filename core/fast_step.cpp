@@ -199,15 +199,17 @@ struct FusedScene::Data {
   std::vector<int> group_arg;        ///< [groups] distinct argument of each group
   AVec<double> dist_arg, dist_sin;   ///< [rows * groups, padded] distinct arguments, their sines
   // Where the targets read their sines: the row of a frame starts at sine_rows +
-  // row * sine_stride and muscle slot q's sine is at tm_sine[q] in it. Either
-  // row_sin by group (tm_sine = tm_group), or, after a fill that shared arguments
-  // between creatures, the distinct sines themselves (tm_sine[q] = group_arg of
-  // tm_group[q], set per fill): copying them out per group and row cost more than
-  // the targets (a GA scene: 13 rows of 74 groups from 56 distinct sines). Scenes
-  // with their sines in registers keep row_sin (muscle_targets permutes by group).
+  // row * sine_stride and muscle slot q's sine is at sine_index[q] in it. Either
+  // row_sin by group (sine_index = tm_group), or, after a fill that shared
+  // arguments between creatures, the distinct sines themselves (sine_index =
+  // tm_dist, group_arg of tm_group[q], set per fill): copying them out per group
+  // and row cost more than the targets (a GA scene: 13 rows of 74 groups from 56
+  // distinct sines). Scenes with their sines in registers keep row_sin
+  // (muscle_targets permutes by group).
   const double* sine_rows = nullptr;
   int sine_stride = 0;
-  std::vector<std::int32_t> tm_sine; ///< [nwm_pad]
+  const std::int32_t* sine_index = nullptr;
+  std::vector<std::int32_t> tm_dist; ///< [nwm_pad]
 
   std::vector<int> bar_a, bar_b; ///< 2 * working index (offset of x in pos), file order
 
@@ -488,7 +490,7 @@ void targets_kernel(Impl& s, const double* sine) {
     }
   }
   for (int q = 0; q < s.nwm_pad; q += O::W) {
-    const V power = O::mul(O::loadu(s.tm_power.data() + q), O::gather(sine, s.tm_sine.data() + q));
+    const V power = O::mul(O::loadu(s.tm_power.data() + q), O::gather(sine, s.sine_index + q));
     O::store(s.target.data() + q, O::mul(O::loadu(s.tm_rest.data() + q), O::add(one, power)));
   }
 }
@@ -1047,9 +1049,10 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   for (int q = 0; q < nwm_pad; ++q) tm_group_lane[q] = tm_group[q];
   dist_arg.assign(row_values, 1.0);
   dist_sin.assign(row_values, 0.0);
-  tm_sine = tm_group;
+  tm_dist.assign(static_cast<std::size_t>(nwm_pad), 0);
   sine_rows = row_sin.data();
   sine_stride = groups;
+  sine_index = tm_group.data();
   std::map<std::uint64_t, int> u_of_phase;
   uphase.clear();
   group_u.assign(static_cast<std::size_t>(groups), 0);
@@ -1114,7 +1117,7 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
           const int lane = r < list.size() ? lane_of(b_end ? list[r] - nl_pad : list[r]) : 0;
           rf_index.push_back(lane % (2 * kMaxWidth));
           rf_sign.push_back(b_end || r >= list.size() ? -0.0 : 0.0); // no impulse: +0.0 ^ sign = -0.0
-          if (r < list.size() && lane >= 2 * kMaxWidth) upper = static_cast<std::uint8_t>(upper | (1u << l));
+          if (lane >= 2 * kMaxWidth) upper = static_cast<std::uint8_t>(upper | (1u << l));
           if (r < list.size()) valid = static_cast<std::uint8_t>(valid | (1u << l));
         }
         rf_upper.push_back(upper);
@@ -1365,25 +1368,23 @@ void FusedScene::Data::fill_rows(State* const* st) {
   const int n = filled * distinct;
   sine_fn(arg_rows, sin_rows, n);
   // Where the targets read (see sine_rows).
-  double* out_rows = row_sin.data();
-  int stride = groups;
-  if (remap && !sines_in_registers) {
-    for (int q = 0; q < nwm_pad; ++q) tm_sine[q] = group_arg[tm_group[q]];
-    out_rows = dist_sin.data();
-    stride = distinct;
-  } else {
-    if (remap) {
-      for (int r = 0; r < filled; ++r) {
-        const double* from = dist_sin.data() + static_cast<std::size_t>(r) * distinct;
-        double* to = row_sin.data() + static_cast<std::size_t>(r) * groups;
-        for (int g = 0; g < groups; ++g) to[g] = from[group_arg[g]];
-      }
+  const bool read_distinct = remap && !sines_in_registers;
+  if (read_distinct) {
+    for (int q = 0; q < nwm_pad; ++q) tm_dist[q] = group_arg[tm_group[q]];
+  } else if (remap) {
+    for (int r = 0; r < filled; ++r) {
+      const double* from = dist_sin.data() + static_cast<std::size_t>(r) * distinct;
+      double* to = row_sin.data() + static_cast<std::size_t>(r) * groups;
+      for (int g = 0; g < groups; ++g) to[g] = from[group_arg[g]];
     }
-    if (sine_rows != row_sin.data()) tm_sine = tm_group;
   }
+  double* out_rows = read_distinct ? dist_sin.data() : row_sin.data();
   sine_rows = out_rows;
-  sine_stride = stride;
-  for (int r = filled; r < rows; ++r) std::copy(out_rows, out_rows + stride, out_rows + static_cast<std::size_t>(r) * stride);
+  sine_stride = read_distinct ? distinct : groups;
+  sine_index = read_distinct ? tm_dist.data() : tm_group.data();
+  for (int r = filled; r < rows; ++r) {
+    std::copy(out_rows, out_rows + sine_stride, out_rows + static_cast<std::size_t>(r) * sine_stride);
+  }
   sines += n;
   row_count = rows;
   row_next = 0;
