@@ -48,6 +48,18 @@ std::string csv(const bench::SpeedReport& r) {
   return o.str();
 }
 
+/// Every timed run of the population section; the ratios in speed.md are medians
+/// over the rounds of ratios formed from these.
+std::string rounds_csv(const bench::SpeedReport& r) {
+  std::ostringstream o;
+  o << "round,work,threads,core,seconds\n";
+  for (const bench::PopulationRun& run : r.population_runs) {
+    o << run.round << ',' << run.work << ',' << run.threads << ',' << (run.core < 0 ? "-" : std::to_string(run.core))
+      << ',' << sci(run.seconds) << '\n';
+  }
+  return o.str();
+}
+
 std::string human(double v) { return format_tick(v); }
 
 std::string markdown(const bench::SpeedReport& r, const std::string& command) {
@@ -112,13 +124,20 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
         << human(row.frames_per_second) << " | " << human(row.link_updates_per_second) << " |\n";
     }
     o << "\n" << r.population_threads << "-thread / 1-thread population throughput: " << fixed(r.population_speedup, 2)
-      << "x (fast), " << fixed(r.population_batch_speedup, 2) << "x (fast-batch). The same ratio for work items "
+      << "x (fast), " << fixed(r.population_batch_speedup, 2) << "x (fast-batch). ";
+    if (r.pinned_cores > 0) {
+      o << "The 1-thread rate is the mean over the " << r.pinned_cores << " cores of a run held to each: their "
+        << "1-thread times differed by " << fixed(r.core_speed_spread, 2) << "x (median over the rounds), and against "
+        << "the faster core's run alone the fast ratio is " << fixed(r.population_speedup_vs_faster_core, 2) << "x. ";
+    }
+    o << "The same ratio for work items "
       << "of arithmetic alone that share nothing, timed in the same rounds (what this machine gave a second "
       << "busy thread at the time): " << fixed(r.host_speedup, 2) << "x for chains bound by their own latency, "
       << fixed(r.host_divider_speedup, 2) << "x for items bound by the square-root/divide unit as the step is "
       << "(below " << fixed(bench::kSharedCoreBelow, 1) << "x in " << r.shared_core_rounds << " of "
       << r.population_rounds << " rounds: the host ran both virtual cores on one physical core, whose unit they "
-      << "then share, while the latency-bound chains still get 2x).\n";
+      << "then share, while the latency-bound chains still get 2x). Each round times every engine on 1 and on "
+      << r.population_threads << " threads for about 50 ms in turn; speed_rounds.csv lists every round.\n";
   }
   if (!sweep.empty()) {
     o << "\nBest single-thread rate: " << human(r.best_link_updates_per_second) << " link updates/s (" << r.best_links
@@ -214,6 +233,10 @@ void run_bench_speed(const BenchSpeedOptions& opt, const std::string& command) {
   if (so.creature_section) {
     soda::write_file_atomically(out / "speed_creatures.svg", creatures_svg(report));
     written += ", speed_creatures.svg";
+  }
+  if (so.population_section) {
+    soda::write_file_atomically(out / "speed_rounds.csv", rounds_csv(report));
+    written += ", speed_rounds.csv";
   }
   soda::write_file_atomically(out / "speed.md", table);
   std::cerr << "bench speed: wrote " << written << "\n";

@@ -1,5 +1,7 @@
 #include "bench/speed_bench.hpp"
 
+#include <sched.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -96,6 +98,40 @@ double divider_item(std::size_t i, soda::SimdLevel level) {
 using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
+
+/// The first `wanted` cores this process may run on; empty where there are fewer or
+/// the set cannot be read (the 1-thread runs then go unpinned).
+std::vector<int> cores_to_pin(int wanted) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return {};
+  std::vector<int> cores;
+  for (int c = 0; c < CPU_SETSIZE && static_cast<int>(cores.size()) < wanted; ++c) {
+    if (CPU_ISSET(c, &set)) cores.push_back(c);
+  }
+  if (static_cast<int>(cores.size()) < wanted) return {};
+  return cores;
+}
+
+/// Runs `timed` on the calling thread held to `core` (-1: as it is) and puts the
+/// thread's previous core set back.
+double on_core(int core, const std::function<double()>& timed) {
+  cpu_set_t saved, one;
+  if (core < 0 || sched_getaffinity(0, sizeof saved, &saved) != 0) return timed();
+  CPU_ZERO(&one);
+  CPU_SET(core, &one);
+  if (sched_setaffinity(0, sizeof one, &one) != 0) return timed();
+  const double seconds = timed();
+  sched_setaffinity(0, sizeof saved, &saved);
+  return seconds;
+}
+
+/// The time a run would take at the mean of the rates of `per_core` runs.
+double at_mean_rate(const std::vector<double>& per_core) {
+  double rate = 0.0;
+  for (double t : per_core) rate += 1.0 / t;
+  return static_cast<double>(per_core.size()) / rate;
+}
 
 // Keeps results observable so the optimiser cannot drop a run.
 volatile double g_sink = 0.0;
@@ -299,9 +335,13 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
   if (!creatures.empty() && options.population_section) {
     const int all = resolve_thread_count(options.threads);
     report.population_threads = all;
-    // Long enough (about 0.3 s on one thread) that a second core waking up from
-    // idle does not show in the figure.
-    const int copies = options.quick ? 8 : 64;
+    // Short runs (about 50 ms on one thread) in many rounds: this host changes how
+    // fast each virtual core runs (what its physical core's other thread does) within
+    // a fraction of a second, and a ratio means something only where its two runs saw
+    // the same state. Runs of 0.3 s in 9 rounds straddled such changes: their median
+    // ratio swung between 1.1x and 1.9x between invocations, while 31 rounds of 50 ms
+    // runs gave 1.93-1.97x (same build, same hour).
+    const int copies = options.quick ? 4 : 16;
     const long long frames = options.quick ? 1000 : 5000;
     const std::size_t count = creatures.size() * static_cast<std::size_t>(copies);
     // Creature i is copy i / 3 of bundled creature i % 3, its muscle phases shifted
@@ -360,33 +400,59 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
       return results;
     }();
     // 1-thread and all-thread runs alternate; the speed-up is the median of the
-    // ratios of neighbouring runs, so that a slow phase of the machine (another
-    // process on the second core) hits both sides of a ratio.
-    std::vector<double> t1, tn, ratio, b1, bn, batch_ratio, host_ratio;
+    // ratios within each round, so that a slow phase of the machine (another
+    // process on the second core) hits both sides of a ratio. The virtual cores of
+    // this host do not run equally fast (at times one ran the step 1.5x slower than
+    // the other for minutes, whatever the other core did), and an unpinned 1-thread
+    // run stays on one of them: it runs once pinned to each core in turn, and the
+    // 1-thread rate is the mean of theirs. The all-thread run is not pinned.
+    const std::vector<int> cores = all > 1 ? cores_to_pin(all) : std::vector<int>{};
+    const std::vector<int> one_thread_cores = cores.empty() ? std::vector<int>{-1} : cores;
+    std::vector<double> t1, tn, ratio, ratio_faster, b1, bn, batch_ratio, host_ratio, spread;
+    auto record = [&](int round, const char* work, int threads, int core, double seconds) {
+      report.population_runs.push_back({round, work, threads, core, seconds});
+      return seconds;
+    };
     // Control items timed in the same rounds: 1-thread time / all-thread time of
     // items that share nothing; their values stay observable in `out`.
-    auto control_speedup = [&](std::vector<double>& out, const std::function<double(std::size_t)>& item) {
+    auto control_speedup = [&](int round, const char* work, std::vector<double>& out,
+                               const std::function<double(std::size_t)>& item) {
       auto timed = [&](int threads) {
         const auto t0 = Clock::now();
         parallel_for_index(out.size(), threads, [&](std::size_t i) { out[i] = item(i); });
-        return seconds_since(t0);
+        return record(round, work, threads, -1, seconds_since(t0));
       };
       const double one = timed(1);
       return one / timed(all);
     };
+    // One population round of `work`: its 1-thread runs (one per core) and all-thread run.
+    auto population_round = [&](int round, const char* work, const std::function<double(int)>& evaluate_on) {
+      std::vector<double> per_core;
+      for (int core : one_thread_cores) {
+        per_core.push_back(record(round, work, 1, core, on_core(core, [&] { return evaluate_on(1); })));
+      }
+      const double all_seconds = record(round, work, all, -1, evaluate_on(all));
+      return std::pair{per_core, all_seconds};
+    };
     std::vector<double> arithmetic(count), divider_ratio;
     // Square-root/divide-bound items: about 25 ms on one thread.
-    std::vector<double> divider(std::max<std::size_t>(count / 4, 2));
+    std::vector<double> divider(std::max<std::size_t>(count, 2));
     const soda::SimdLevel level = soda::best_simd_level();
-    const int population_runs = options.quick ? runs : 9;
+    const int population_runs = options.quick ? runs : 31;
     for (int r = 0; r < population_runs; ++r) {
-      host_ratio.push_back(control_speedup(arithmetic, arithmetic_item));
-      divider_ratio.push_back(control_speedup(divider, [level](std::size_t i) { return divider_item(i, level); }));
-      t1.push_back(evaluate(1));
-      tn.push_back(evaluate(all));
+      host_ratio.push_back(control_speedup(r, "arithmetic", arithmetic, arithmetic_item));
+      divider_ratio.push_back(
+          control_speedup(r, "divider", divider, [level](std::size_t i) { return divider_item(i, level); }));
+      const auto [fast_cores, fast_all] = population_round(r, "fast", evaluate);
+      t1.push_back(at_mean_rate(fast_cores));
+      tn.push_back(fast_all);
       ratio.push_back(t1.back() / tn.back());
-      b1.push_back(evaluate_batches(1));
-      bn.push_back(evaluate_batches(all));
+      const double faster = *std::min_element(fast_cores.begin(), fast_cores.end());
+      ratio_faster.push_back(faster / tn.back());
+      spread.push_back(*std::max_element(fast_cores.begin(), fast_cores.end()) / faster);
+      const auto [batch_cores, batch_all] = population_round(r, "fast-batch", evaluate_batches);
+      b1.push_back(at_mean_rate(batch_cores));
+      bn.push_back(batch_all);
       batch_ratio.push_back(b1.back() / bn.back());
     }
     if (results != one_thread_results) throw std::runtime_error("population results depend on the thread count");
@@ -412,6 +478,9 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     }
     report.population_speedup = all == 1 ? 1.0 : median(ratio);
     report.population_batch_speedup = all == 1 ? 1.0 : median(batch_ratio);
+    report.population_speedup_vs_faster_core = all == 1 ? 1.0 : median(ratio_faster);
+    report.core_speed_spread = median(spread);
+    report.pinned_cores = static_cast<int>(cores.size());
     report.host_speedup = all == 1 ? 1.0 : median(host_ratio);
     report.host_divider_speedup = all == 1 ? 1.0 : median(divider_ratio);
     report.population_rounds = population_runs;
@@ -423,7 +492,10 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
       }
     }
     say("population speed-up on " + std::to_string(all) + " threads: " + fmt("%.2f", report.population_speedup) +
-        " one by one, " + fmt("%.2f", report.population_batch_speedup) + " in batches; items that share nothing, in the same rounds: " +
+        " one by one, " + fmt("%.2f", report.population_batch_speedup) +
+        " in batches (one by one against the faster core: " + fmt("%.2f", report.population_speedup_vs_faster_core) +
+        "; the cores' 1-thread times differed by " + fmt("%.2f", report.core_speed_spread) +
+        "x); items that share nothing, in the same rounds: " +
         fmt("%.2f", report.host_speedup) + " (latency-bound), " + fmt("%.2f", report.host_divider_speedup) +
         " (square-root/divide-bound; below " + fmt("%.1f", kSharedCoreBelow) + " in " +
         std::to_string(report.shared_core_rounds) + " of " + std::to_string(report.population_rounds) + " rounds)");

@@ -17,7 +17,8 @@
 // about `target_seconds`. The engines' runs are interleaved (run 1 of every engine,
 // then run 2, ...) so that a slow phase of the machine hits all of them, and a
 // ratio is the median over the rounds of the ratio within each round (11 rounds,
-// 3 with --quick).
+// 3 with --quick). The population section runs 31 rounds of short runs, its
+// 1-thread runs held to each core in turn (speed_bench.cpp says why).
 #pragma once
 
 #include <functional>
@@ -57,12 +58,29 @@ struct SpeedRow {
 /// cores shared one physical core in that round (it is 2x on two cores, 1x on one).
 inline constexpr double kSharedCoreBelow = 1.5;
 
+/// One timed run of the population section (speed_rounds.csv has one row each).
+struct PopulationRun {
+  int round = 0;
+  std::string work;   ///< "arithmetic" or "divider" (control items), "fast" or "fast-batch"
+  int threads = 1;
+  int core = -1;      ///< the core a 1-thread population run was pinned to; -1: not pinned
+  double seconds = 0.0;
+};
+
 struct SpeedReport {
   std::vector<SpeedRow> rows;
   std::string simd;          ///< level of "fast"
   int population_threads = 1;
-  double population_speedup = 0.0; ///< all threads / 1 thread: median of the ratios of alternating runs
+  /// All-thread rate / 1-thread rate, the median over the rounds of the ratio within
+  /// each round; the 1-thread rate is the mean over the cores of a run pinned to each.
+  double population_speedup = 0.0;
   double population_batch_speedup = 0.0; ///< the same for the batch path
+  /// The same against the faster core's 1-thread run alone (what an unpinned run
+  /// gets where the operating system keeps it on the faster core).
+  double population_speedup_vs_faster_core = 0.0;
+  /// Median over the rounds of the slower core's 1-thread time / the faster one's.
+  double core_speed_spread = 1.0;
+  int pinned_cores = 0; ///< cores the 1-thread runs were pinned to (0: none, not pinned)
   /// The same ratio for work items of arithmetic alone that share nothing, timed in
   /// the same rounds: what the machine gave a second busy thread at the time.
   double host_speedup = 0.0;
@@ -70,6 +88,7 @@ struct SpeedReport {
   /// about 1x where the host runs both virtual cores on one physical core.
   double host_divider_speedup = 0.0;
   int population_rounds = 0;
+  std::vector<PopulationRun> population_runs; ///< every timed run, for speed_rounds.csv
   int shared_core_rounds = 0; ///< rounds whose divider-bound items got below kSharedCoreBelow
   double best_link_updates_per_second = 0.0; ///< fast, one thread, any size
   int best_links = 0;

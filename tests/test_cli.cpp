@@ -1,12 +1,15 @@
 // The sodaevo command line as a user runs it: the built binary, real files.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -220,6 +223,50 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
   CHECK(md.find("2-thread / 1-thread population throughput") != std::string::npos);
   CHECK(md.find("of arithmetic alone") != std::string::npos);
   CHECK(md.find("for items bound by the square-root/divide unit as the step is") != std::string::npos);
+  // Every timed population run: the reported ratio is the median over the rounds of
+  // (1-thread time at the mean rate of the per-core runs) / (all-thread time).
+  const CsvLines runs = read_csv_lines(out / "speed_rounds.csv");
+  CHECK(runs.header == "round,work,threads,core,seconds");
+  std::map<int, std::vector<double>> one_thread_rates;
+  std::map<int, double> all_threads;
+  std::set<std::string> cores;
+  for (const std::string& line : runs.rows) {
+    std::vector<std::string> f;
+    std::istringstream cells(line);
+    for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+    REQUIRE(f.size() == 5);
+    const double seconds = std::stod(f[4]);
+    CHECK(seconds > 0.0);
+    if (f[1] != "fast") continue;
+    const int round = std::stoi(f[0]);
+    if (f[2] == "1") {
+      one_thread_rates[round].push_back(1.0 / seconds);
+      cores.insert(f[3]);
+    } else {
+      CHECK(f[2] == "2");
+      CHECK(f[3] == "-"); // the all-thread run is not pinned
+      all_threads[round] = seconds;
+    }
+  }
+  REQUIRE(!all_threads.empty());
+  REQUIRE(one_thread_rates.size() == all_threads.size());
+  std::vector<double> ratios;
+  for (const auto& [round, rates] : one_thread_rates) {
+    double mean_rate = 0.0;
+    for (double v : rates) mean_rate += v / static_cast<double>(rates.size());
+    ratios.push_back((1.0 / mean_rate) / all_threads.at(round));
+  }
+  // On a machine with two cores to use, the 1-thread runs were held to each in turn.
+  if (std::thread::hardware_concurrency() >= 2) CHECK(cores.size() == 2);
+  std::sort(ratios.begin(), ratios.end());
+  const std::string lead = "population throughput: ";
+  const std::size_t at = md.find(lead);
+  REQUIRE(at != std::string::npos);
+  const double reported = std::stod(md.substr(at + lead.size()));
+  const std::size_t n = ratios.size();
+  const double median = n % 2 ? ratios[n / 2] : 0.5 * (ratios[n / 2 - 1] + ratios[n / 2]);
+  // The CSV keeps 4 significant digits of each time.
+  CHECK(reported == Approx(median).margin(0.006));
   CHECK(soda::read_whole_file(out / "speed.svg").find("<svg") != std::string::npos);
   CHECK(soda::read_whole_file(out / "speed_creatures.svg").find("<svg") != std::string::npos);
   fs::remove_all(out);
