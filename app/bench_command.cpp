@@ -136,8 +136,9 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
       << fixed(r.host_divider_speedup, 2) << "x for items bound by the square-root/divide unit as the step is "
       << "(below " << fixed(bench::kSharedCoreBelow, 1) << "x in " << r.shared_core_rounds << " of "
       << r.population_rounds << " rounds: the host ran both virtual cores on one physical core, whose unit they "
-      << "then share, while the latency-bound chains still get 2x). Each round times every engine on 1 and on "
-      << r.population_threads << " threads for about 50 ms in turn; speed_rounds.csv lists every round.\n";
+      << "then share, while the latency-bound chains still get 2x). Each round times both paths on 1 thread "
+      << "(once per core) and on " << r.population_threads
+      << " threads, about 50 ms a run; speed_rounds.csv lists every timed run.\n";
   }
   if (!sweep.empty()) {
     o << "\nBest single-thread rate: " << human(r.best_link_updates_per_second) << " link updates/s (" << r.best_links
