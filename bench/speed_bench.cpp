@@ -340,7 +340,8 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     // a fraction of a second, and a ratio means something only where its two runs saw
     // the same state. Runs of 0.3 s in 9 rounds straddled such changes: their median
     // ratio swung between 1.1x and 1.9x between invocations, while 31 rounds of 50 ms
-    // runs gave 1.93-1.97x (same build, same hour).
+    // runs gave 1.91-1.97x wherever the two cores ran equally fast (same build, same
+    // hour).
     const int copies = options.quick ? 4 : 16;
     const long long frames = options.quick ? 1000 : 5000;
     const std::size_t count = creatures.size() * static_cast<std::size_t>(copies);
@@ -403,9 +404,9 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     // ratios within each round, so that a slow phase of the machine (another
     // process on the second core) hits both sides of a ratio. The virtual cores of
     // this host do not run equally fast (at times one ran the step 1.5x slower than
-    // the other for minutes, whatever the other core did), and an unpinned 1-thread
-    // run stays on one of them: it runs once pinned to each core in turn, and the
-    // 1-thread rate is the mean of theirs. The all-thread run is not pinned.
+    // the other for seconds on end, whatever the other core did), and an unpinned
+    // 1-thread run stays on one of them: it runs once pinned to each core in turn,
+    // and the 1-thread rate is the mean of theirs. The all-thread run is not pinned.
     const std::vector<int> cores = all > 1 ? cores_to_pin(all) : std::vector<int>{};
     const std::vector<int> one_thread_cores = cores.empty() ? std::vector<int>{-1} : cores;
     std::vector<double> t1, tn, ratio, ratio_faster, b1, bn, batch_ratio, host_ratio, spread;
