@@ -55,7 +55,7 @@ std::string rounds_csv(const bench::SpeedReport& r) {
   o << "round,work,threads,core,seconds\n";
   for (const bench::PopulationRun& run : r.population_runs) {
     o << run.round << ',' << run.work << ',' << run.threads << ',' << (run.core < 0 ? "-" : std::to_string(run.core))
-      << ',' << sci(run.seconds) << '\n';
+      << ',' << soda::format_printf("%.6g", run.seconds) << '\n';
   }
   return o.str();
 }
@@ -123,22 +123,42 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
       o << "| " << row.engine << " | " << row.threads << " | " << row.creature << " x " << row.frames << " | "
         << human(row.frames_per_second) << " | " << human(row.link_updates_per_second) << " |\n";
     }
-    o << "\n" << r.population_threads << "-thread / 1-thread population throughput: " << fixed(r.population_speedup, 2)
-      << "x (fast), " << fixed(r.population_batch_speedup, 2) << "x (fast-batch). ";
-    if (r.pinned_cores > 0) {
-      o << "The 1-thread rate is the mean over the " << r.pinned_cores << " cores of a run held to each: their "
-        << "1-thread times differed by " << fixed(r.core_speed_spread, 2) << "x (median over the rounds), and against "
-        << "the faster core's run alone the fast ratio is " << fixed(r.population_speedup_vs_faster_core, 2) << "x. ";
+    if (r.population_threads == 1) {
+      o << "\nOne thread only (--threads 1): no speed-up to report.\n";
+    } else {
+      const std::string n = std::to_string(r.population_threads);
+      o << "\n" << n << "-thread / 1-thread population throughput: " << fixed(r.population_speedup, 2) << "x (fast), "
+        << fixed(r.population_batch_speedup, 2) << "x (fast-batch): the median over " << r.population_rounds
+        << " rounds of the ratio of rates within each round, where ";
+      if (r.pinned_cores > 0) {
+        o << "the 1-thread rate is the mean of the rates of a run held to each of " << r.pinned_cores
+          << " cores in turn";
+      } else {
+        o << "the 1-thread run was not held to a core";
+      }
+      o << " and the " << n << "-thread run is not held (the table's rates are medians of each run's rate, so "
+        << "their ratio differs a little). A 1-thread run took about " << fixed(1000.0 * r.one_thread_run_seconds, 0)
+        << " ms. Control items that share nothing, timed in the same rounds: " << fixed(r.host_speedup, 2)
+        << "x for chains of arithmetic bound by their own latency, " << fixed(r.host_divider_speedup, 2)
+        << "x for items bound by the square-root/divide unit as the step is. The latter fell below "
+        << fixed(bench::kSharedCoreBelow, 1) << "x in " << r.shared_core_rounds << " of " << r.population_rounds
+        << " rounds (on this project's machine: the host ran both virtual cores on one physical core, whose unit "
+           "they then share)";
+      if (r.shared_core_rounds < r.population_rounds) {
+        o << "; over the other " << r.population_rounds - r.shared_core_rounds << " rounds the population's medians are "
+          << fixed(r.population_speedup_two_cores, 2) << "x (fast) and " << fixed(r.population_batch_speedup_two_cores, 2)
+          << "x (fast-batch)";
+      }
+      o << ". ";
+      if (r.pinned_cores > 0) {
+        o << "The slowest core's 1-thread time over the fastest's: " << fixed(r.core_speed_spread, 2)
+          << "x (median over the rounds, fast); against the fastest core's run alone the fast ratio is "
+          << fixed(r.population_speedup_vs_faster_core, 2) << "x. ";
+      }
+      o << "Rounds whose fast ratio exceeds " << fixed(bench::kAboveIdeal * r.population_threads, 2)
+        << "x, which one host state cannot give (their runs saw different ones): " << r.above_ideal_rounds
+        << ". speed_rounds.csv lists every timed run (round, work, threads, core, seconds).\n";
     }
-    o << "The same ratio for work items "
-      << "of arithmetic alone that share nothing, timed in the same rounds (what this machine gave a second "
-      << "busy thread at the time): " << fixed(r.host_speedup, 2) << "x for chains bound by their own latency, "
-      << fixed(r.host_divider_speedup, 2) << "x for items bound by the square-root/divide unit as the step is "
-      << "(below " << fixed(bench::kSharedCoreBelow, 1) << "x in " << r.shared_core_rounds << " of "
-      << r.population_rounds << " rounds: the host ran both virtual cores on one physical core, whose unit they "
-      << "then share, while the latency-bound chains still get 2x). Each round times both paths on 1 thread "
-      << "(once per core) and on " << r.population_threads
-      << " threads, about 50 ms a run; speed_rounds.csv lists every timed run.\n";
   }
   if (!sweep.empty()) {
     o << "\nBest single-thread rate: " << human(r.best_link_updates_per_second) << " link updates/s (" << r.best_links
@@ -253,7 +273,8 @@ void add_bench_command(CLI::App& app) {
       "speed",
       "Frames and link updates per second: seed paper baseline, plain loop, reference and fast step\n"
       "on the bundled creatures, a size sweep (10..100,000 links) and population throughput on\n"
-      "1 and all threads. Writes speed.csv, speed.svg, speed_creatures.svg and speed.md.");
+      "1 and all threads. Writes speed.csv, speed.svg, speed_creatures.svg, speed_rounds.csv (every\n"
+      "timed run of the population section) and speed.md.");
   speed->add_flag("--quick", opt->quick, "Short runs (a few seconds) for a smoke test");
   CLI::Option* out = speed->add_option("--out", opt->out, "Output directory")->default_val("results/bench");
   speed->add_option("--models", opt->models, "Directory with the bundled creatures")->default_val("models");

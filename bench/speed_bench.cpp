@@ -100,7 +100,8 @@ using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
 /// The first `wanted` cores this process may run on; empty where there are fewer or
-/// the set cannot be read (the 1-thread runs then go unpinned).
+/// the set cannot be read (the 1-thread runs then go unpinned). The all-thread run
+/// may use other cores where more are allowed than `wanted`.
 std::vector<int> cores_to_pin(int wanted) {
   cpu_set_t set;
   CPU_ZERO(&set);
@@ -113,18 +114,34 @@ std::vector<int> cores_to_pin(int wanted) {
   return cores;
 }
 
-/// Runs `timed` on the calling thread held to `core` (-1: as it is) and puts the
-/// thread's previous core set back.
-double on_core(int core, const std::function<double()>& timed) {
-  cpu_set_t saved, one;
-  if (core < 0 || sched_getaffinity(0, sizeof saved, &saved) != 0) return timed();
-  CPU_ZERO(&one);
-  CPU_SET(core, &one);
-  if (sched_setaffinity(0, sizeof one, &one) != 0) return timed();
-  const double seconds = timed();
-  sched_setaffinity(0, sizeof saved, &saved);
-  return seconds;
-}
+/// Holds the calling thread to one core while it lives and puts the thread's
+/// previous core set back. `held()` says whether the hold took (it may not, where
+/// the process may not choose its cores); a thread started meanwhile would inherit
+/// the hold, so the population's 1-thread runs start none.
+class CoreHold {
+ public:
+  explicit CoreHold(int core) {
+    if (core < 0 || sched_getaffinity(0, sizeof saved_, &saved_) != 0) return;
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(core, &one);
+    held_ = sched_setaffinity(0, sizeof one, &one) == 0;
+  }
+  ~CoreHold() noexcept(false) {
+    // Failing to let go would leave every later thread on one core, and the
+    // all-thread figures wrong without a word.
+    if (held_ && sched_setaffinity(0, sizeof saved_, &saved_) != 0 && std::uncaught_exceptions() == 0) {
+      throw std::runtime_error("bench speed: could not release the 1-thread run's hold on its core");
+    }
+  }
+  CoreHold(const CoreHold&) = delete;
+  CoreHold& operator=(const CoreHold&) = delete;
+  bool held() const { return held_; }
+
+ private:
+  cpu_set_t saved_{};
+  bool held_ = false;
+};
 
 /// The time a run would take at the mean of the rates of `per_core` runs.
 double at_mean_rate(const std::vector<double>& per_core) {
@@ -342,7 +359,9 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     // ratio swung between 1.1x and 1.9x between invocations, while 31 rounds of 50 ms
     // runs gave 1.91-1.97x wherever the two cores ran equally fast (same build, same
     // hour).
-    const int copies = options.quick ? 4 : 16;
+    // Two copies of each bundled creature per batch item and thread: enough items for
+    // the batch path to keep every thread busy.
+    const int copies = (options.quick ? 4 : 16) * std::max(1, all / 2);
     const long long frames = options.quick ? 1000 : 5000;
     const std::size_t count = creatures.size() * static_cast<std::size_t>(copies);
     // Creature i is copy i / 3 of bundled creature i % 3, its muscle phases shifted
@@ -407,8 +426,10 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     // the other for seconds on end, whatever the other core did), and an unpinned
     // 1-thread run stays on one of them: it runs once pinned to each core in turn,
     // and the 1-thread rate is the mean of theirs. The all-thread run is not pinned.
-    const std::vector<int> cores = all > 1 ? cores_to_pin(all) : std::vector<int>{};
+    // At most kMaxHeldCores 1-thread runs per round: each costs a run's time.
+    const std::vector<int> cores = all > 1 ? cores_to_pin(std::min(all, kMaxHeldCores)) : std::vector<int>{};
     const std::vector<int> one_thread_cores = cores.empty() ? std::vector<int>{-1} : cores;
+    int held_runs = 0, hold_attempts = 0;
     std::vector<double> t1, tn, ratio, ratio_faster, b1, bn, batch_ratio, host_ratio, spread;
     auto record = [&](int round, const char* work, int threads, int core, double seconds) {
       report.population_runs.push_back({round, work, threads, core, seconds});
@@ -426,13 +447,20 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
       const double one = timed(1);
       return one / timed(all);
     };
-    // One population round of `work`: its 1-thread runs (one per core) and all-thread run.
+    // One population round of `work`: its 1-thread runs (one per core, the first
+    // core alternating from round to round so that neither always runs first) and
+    // its all-thread run (none with one thread only).
     auto population_round = [&](int round, const char* work, const std::function<double(int)>& evaluate_on) {
       std::vector<double> per_core;
-      for (int core : one_thread_cores) {
-        per_core.push_back(record(round, work, 1, core, on_core(core, [&] { return evaluate_on(1); })));
+      const std::size_t n = one_thread_cores.size();
+      for (std::size_t k = 0; k < n; ++k) {
+        const int core = one_thread_cores[(k + static_cast<std::size_t>(round)) % n];
+        const CoreHold hold(core);
+        if (core >= 0) ++hold_attempts;
+        if (hold.held()) ++held_runs;
+        per_core.push_back(record(round, work, 1, hold.held() ? core : -1, evaluate_on(1)));
       }
-      const double all_seconds = record(round, work, all, -1, evaluate_on(all));
+      const double all_seconds = all > 1 ? record(round, work, all, -1, evaluate_on(all)) : per_core.front();
       return std::pair{per_core, all_seconds};
     };
     std::vector<double> arithmetic(count), divider_ratio;
@@ -441,9 +469,11 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     const soda::SimdLevel level = soda::best_simd_level();
     const int population_runs = options.quick ? runs : 31;
     for (int r = 0; r < population_runs; ++r) {
-      host_ratio.push_back(control_speedup(r, "arithmetic", arithmetic, arithmetic_item));
-      divider_ratio.push_back(
-          control_speedup(r, "divider", divider, [level](std::size_t i) { return divider_item(i, level); }));
+      if (all > 1) {
+        host_ratio.push_back(control_speedup(r, "arithmetic", arithmetic, arithmetic_item));
+        divider_ratio.push_back(
+            control_speedup(r, "divider", divider, [level](std::size_t i) { return divider_item(i, level); }));
+      }
       const auto [fast_cores, fast_all] = population_round(r, "fast", evaluate);
       t1.push_back(at_mean_rate(fast_cores));
       tn.push_back(fast_all);
@@ -481,16 +511,38 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     report.population_batch_speedup = all == 1 ? 1.0 : median(batch_ratio);
     report.population_speedup_vs_faster_core = all == 1 ? 1.0 : median(ratio_faster);
     report.core_speed_spread = median(spread);
-    report.pinned_cores = static_cast<int>(cores.size());
+    report.pinned_cores = hold_attempts > 0 && held_runs == hold_attempts ? static_cast<int>(cores.size()) : 0;
+    std::vector<double> one_thread_runs;
+    for (const PopulationRun& run : report.population_runs) {
+      if (run.work == "fast" && run.threads == 1) one_thread_runs.push_back(run.seconds);
+    }
+    report.one_thread_run_seconds = median(one_thread_runs);
     report.host_speedup = all == 1 ? 1.0 : median(host_ratio);
     report.host_divider_speedup = all == 1 ? 1.0 : median(divider_ratio);
     report.population_rounds = population_runs;
     report.shared_core_rounds =
         static_cast<int>(std::count_if(divider_ratio.begin(), divider_ratio.end(), [](double v) { return v < kSharedCoreBelow; }));
+    // The same medians over the rounds where the divider-bound items said two
+    // physical cores, and the rounds whose ratio is above what `all` threads can
+    // give (their runs saw different host states).
+    std::vector<double> two_core_fast, two_core_batch;
+    for (std::size_t r = 0; r < divider_ratio.size(); ++r) {
+      if (divider_ratio[r] < kSharedCoreBelow) continue;
+      two_core_fast.push_back(ratio[r]);
+      two_core_batch.push_back(batch_ratio[r]);
+    }
+    report.population_speedup_two_cores = median(two_core_fast);
+    report.population_batch_speedup_two_cores = median(two_core_batch);
+    report.above_ideal_rounds = static_cast<int>(
+        std::count_if(ratio.begin(), ratio.end(), [&](double v) { return v > kAboveIdeal * static_cast<double>(all); }));
     for (const std::vector<double>* values : {&arithmetic, &divider}) {
       for (double v : *values) {
         if (!std::isfinite(v)) throw std::runtime_error("a control work item gave a non-finite value");
       }
+    }
+    if (all == 1) {
+      say("population on 1 thread only (--threads 1): no speed-up to report");
+      return report;
     }
     say("population speed-up on " + std::to_string(all) + " threads: " + fmt("%.2f", report.population_speedup) +
         " one by one, " + fmt("%.2f", report.population_batch_speedup) +

@@ -58,6 +58,14 @@ struct SpeedRow {
 /// cores shared one physical core in that round (it is 2x on two cores, 1x on one).
 inline constexpr double kSharedCoreBelow = 1.5;
 
+/// A round's population speed-up above this many times the thread count cannot
+/// come from one host state: its runs saw different ones.
+inline constexpr double kAboveIdeal = 1.025;
+
+/// The population's 1-thread runs are held to at most this many cores in turn
+/// (each costs one run per round).
+inline constexpr int kMaxHeldCores = 4;
+
 /// One timed run of the population section (speed_rounds.csv has one row each).
 struct PopulationRun {
   int round = 0;
@@ -78,9 +86,16 @@ struct SpeedReport {
   /// The same against the faster core's 1-thread run alone (what an unpinned run
   /// gets where the operating system keeps it on the faster core).
   double population_speedup_vs_faster_core = 0.0;
-  /// Median over the rounds of the slower core's 1-thread time / the faster one's.
+  /// Median over the rounds of the slowest core's 1-thread time / the fastest one's
+  /// (one stepper per creature).
   double core_speed_spread = 1.0;
-  int pinned_cores = 0; ///< cores the 1-thread runs were pinned to (0: none, not pinned)
+  int pinned_cores = 0; ///< cores every 1-thread run was held to in turn (0: not held)
+  double one_thread_run_seconds = 0.0; ///< median time of one 1-thread run (one by one)
+  /// population_speedup and population_batch_speedup over the rounds whose
+  /// divider-bound items got at least kSharedCoreBelow (two physical cores); 0 if none.
+  double population_speedup_two_cores = 0.0;
+  double population_batch_speedup_two_cores = 0.0;
+  int above_ideal_rounds = 0; ///< rounds whose one-by-one ratio exceeds kAboveIdeal x threads
   /// The same ratio for work items of arithmetic alone that share nothing, timed in
   /// the same rounds: what the machine gave a second busy thread at the time.
   double host_speedup = 0.0;
