@@ -357,8 +357,8 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     // a fraction of a second, and a ratio means something only where its two runs saw
     // the same state. Runs of 0.3 s in 9 rounds straddled such changes: their median
     // ratio swung between 1.1x and 1.9x between invocations, while 31 rounds of 50 ms
-    // runs gave 1.91-1.97x wherever the two cores ran equally fast (same build, same
-    // hour).
+    // runs gave 1.93-1.97x in five invocations where the host put the two virtual
+    // cores on one physical core in at most 8 rounds (bench/README.md, Results).
     // Two copies of each bundled creature per batch item and thread: enough items for
     // the batch path to keep every thread busy.
     const int copies = (options.quick ? 4 : 16) * std::max(1, all / 2);
@@ -422,7 +422,7 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     // 1-thread and all-thread runs alternate; the speed-up is the median of the
     // ratios within each round, so that a slow phase of the machine (another
     // process on the second core) hits both sides of a ratio. The virtual cores of
-    // this host do not run equally fast (at times one ran the step 1.5x slower than
+    // this host do not run equally fast (at times one ran the step 1.6x slower than
     // the other for seconds on end, whatever the other core did), and an unpinned
     // 1-thread run stays on one of them: it runs once pinned to each core in turn,
     // and the 1-thread rate is the mean of theirs. The all-thread run is not pinned.
