@@ -673,40 +673,29 @@ struct KernelTable {
   static TargetFn targets();
 };
 
-#define SODA_KERNELS(O)                                                                                   \
-  template bool mass_kernel<O, false, false, false, false>(Impl&);                                        \
-  template bool mass_kernel<O, false, false, false, true>(Impl&);                                         \
-  template bool mass_kernel<O, false, false, true, false>(Impl&);                                         \
-  template bool mass_kernel<O, false, false, true, true>(Impl&);                                          \
-  template bool mass_kernel<O, false, true, false, false>(Impl&);                                         \
-  template bool mass_kernel<O, false, true, false, true>(Impl&);                                          \
-  template bool mass_kernel<O, false, true, true, false>(Impl&);                                          \
-  template bool mass_kernel<O, false, true, true, true>(Impl&);                                           \
-  template bool mass_kernel<O, true, false, false, false>(Impl&);                                         \
-  template bool mass_kernel<O, true, false, false, true>(Impl&);                                          \
-  template bool mass_kernel<O, true, false, true, false>(Impl&);                                          \
-  template bool mass_kernel<O, true, false, true, true>(Impl&);                                           \
-  template bool mass_kernel<O, true, true, false, false>(Impl&);                                          \
-  template bool mass_kernel<O, true, true, false, true>(Impl&);                                           \
-  template bool mass_kernel<O, true, true, true, false>(Impl&);                                           \
-  template bool mass_kernel<O, true, true, true, true>(Impl&);                                            \
-  template void link_kernel<O, false>(Impl&);                                                                     \
-  template void run_chunk<O, false, false, false, false>(Impl&, State* const*, long long);                       \
-  template void run_chunk<O, false, false, false, true>(Impl&, State* const*, long long);                        \
-  template void run_chunk<O, false, false, true, false>(Impl&, State* const*, long long);                        \
-  template void run_chunk<O, false, false, true, true>(Impl&, State* const*, long long);                         \
-  template void run_chunk<O, false, true, false, false>(Impl&, State* const*, long long);                        \
-  template void run_chunk<O, false, true, false, true>(Impl&, State* const*, long long);                         \
-  template void run_chunk<O, false, true, true, false>(Impl&, State* const*, long long);                         \
-  template void run_chunk<O, false, true, true, true>(Impl&, State* const*, long long);                          \
-  template void run_chunk<O, true, false, false, false>(Impl&, State* const*, long long);                        \
-  template void run_chunk<O, true, false, false, true>(Impl&, State* const*, long long);                         \
-  template void run_chunk<O, true, false, true, false>(Impl&, State* const*, long long);                         \
-  template void run_chunk<O, true, false, true, true>(Impl&, State* const*, long long);                          \
-  template void run_chunk<O, true, true, false, false>(Impl&, State* const*, long long);                         \
-  template void run_chunk<O, true, true, false, true>(Impl&, State* const*, long long);                          \
-  template void run_chunk<O, true, true, true, false>(Impl&, State* const*, long long);                          \
-  template void run_chunk<O, true, true, true, true>(Impl&, State* const*, long long);                           \
+// The 16 specialisations of a frame kernel (gravity, floor, ceiling, side walls),
+// in the order of specialisation_index: X(args..., G, F, C, S) for each.
+#define SODA_EACH_SPECIALISATION(X, ...)                                                                     \
+  X(__VA_ARGS__, false, false, false, false) X(__VA_ARGS__, false, false, false, true)                     \
+  X(__VA_ARGS__, false, false, true, false) X(__VA_ARGS__, false, false, true, true)                       \
+  X(__VA_ARGS__, false, true, false, false) X(__VA_ARGS__, false, true, false, true)                       \
+  X(__VA_ARGS__, false, true, true, false) X(__VA_ARGS__, false, true, true, true)                         \
+  X(__VA_ARGS__, true, false, false, false) X(__VA_ARGS__, true, false, false, true)                       \
+  X(__VA_ARGS__, true, false, true, false) X(__VA_ARGS__, true, false, true, true)                         \
+  X(__VA_ARGS__, true, true, false, false) X(__VA_ARGS__, true, true, false, true)                         \
+  X(__VA_ARGS__, true, true, true, false) X(__VA_ARGS__, true, true, true, true)
+
+constexpr int specialisation_index(bool g, bool f, bool c, bool sides) {
+  return (g ? 8 : 0) + (f ? 4 : 0) + (c ? 2 : 0) + (sides ? 1 : 0);
+}
+
+#define SODA_MASS_KERNEL(O, G, F, C, S) template bool mass_kernel<O, G, F, C, S>(Impl&);
+#define SODA_RUN_CHUNK(O, G, F, C, S) template void run_chunk<O, G, F, C, S>(Impl&, State* const*, long long);
+#define SODA_RUN_CHUNK_ADDRESS(O, G, F, C, S) &run_chunk<O, G, F, C, S>,
+#define SODA_KERNELS(O)                                                                                    \
+  SODA_EACH_SPECIALISATION(SODA_MASS_KERNEL, O)                                                            \
+  template void link_kernel<O, false>(Impl&);                                                              \
+  SODA_EACH_SPECIALISATION(SODA_RUN_CHUNK, O)                                                              \
   template void targets_kernel<O>(Impl&, const double*);                                                   \
   template <>                                                                                              \
   TargetFn KernelTable<O>::targets() {                                                                     \
@@ -714,20 +703,12 @@ struct KernelTable {
   }                                                                                                        \
   template <>                                                                                              \
   LinkFn KernelTable<O>::link() {                                                                          \
-    return &link_kernel<O, false>;                                                                                \
+    return &link_kernel<O, false>;                                                                         \
   }                                                                                                        \
   template <>                                                                                              \
   ChunkFn KernelTable<O>::chunk(bool g, bool f, bool c, bool sides) {                                      \
-    constexpr ChunkFn table[16] = {                                                                        \
-        &run_chunk<O, false, false, false, false>, &run_chunk<O, false, false, false, true>,               \
-        &run_chunk<O, false, false, true, false>,  &run_chunk<O, false, false, true, true>,                \
-        &run_chunk<O, false, true, false, false>,  &run_chunk<O, false, true, false, true>,                \
-        &run_chunk<O, false, true, true, false>,   &run_chunk<O, false, true, true, true>,                 \
-        &run_chunk<O, true, false, false, false>,  &run_chunk<O, true, false, false, true>,                \
-        &run_chunk<O, true, false, true, false>,   &run_chunk<O, true, false, true, true>,                 \
-        &run_chunk<O, true, true, false, false>,   &run_chunk<O, true, true, false, true>,                 \
-        &run_chunk<O, true, true, true, false>,    &run_chunk<O, true, true, true, true>};                 \
-    return table[(g ? 8 : 0) + (f ? 4 : 0) + (c ? 2 : 0) + (sides ? 1 : 0)];                               \
+    constexpr ChunkFn table[16] = {SODA_EACH_SPECIALISATION(SODA_RUN_CHUNK_ADDRESS, O)};                   \
+    return table[specialisation_index(g, f, c, sides)];                                                    \
   }
 
 SODA_KERNELS(Sse2Ops)
@@ -743,37 +724,22 @@ SODA_KERNELS(Avx2Ops)
 #pragma GCC target("avx512f")
 SODA_KERNELS(Avx512Ops)
 template void link_kernel<Avx512Ops, true>(Impl&);
-template void register_chunk<false, false, false, false>(Impl&, State* const*, long long);
-template void register_chunk<false, false, false, true>(Impl&, State* const*, long long);
-template void register_chunk<false, false, true, false>(Impl&, State* const*, long long);
-template void register_chunk<false, false, true, true>(Impl&, State* const*, long long);
-template void register_chunk<false, true, false, false>(Impl&, State* const*, long long);
-template void register_chunk<false, true, false, true>(Impl&, State* const*, long long);
-template void register_chunk<false, true, true, false>(Impl&, State* const*, long long);
-template void register_chunk<false, true, true, true>(Impl&, State* const*, long long);
-template void register_chunk<true, false, false, false>(Impl&, State* const*, long long);
-template void register_chunk<true, false, false, true>(Impl&, State* const*, long long);
-template void register_chunk<true, false, true, false>(Impl&, State* const*, long long);
-template void register_chunk<true, false, true, true>(Impl&, State* const*, long long);
-template void register_chunk<true, true, false, false>(Impl&, State* const*, long long);
-template void register_chunk<true, true, false, true>(Impl&, State* const*, long long);
-template void register_chunk<true, true, true, false>(Impl&, State* const*, long long);
-template void register_chunk<true, true, true, true>(Impl&, State* const*, long long);
+#define SODA_REGISTER_CHUNK(_, G, F, C, S) template void register_chunk<G, F, C, S>(Impl&, State* const*, long long);
+#define SODA_REGISTER_CHUNK_ADDRESS(_, G, F, C, S) &register_chunk<G, F, C, S>,
+SODA_EACH_SPECIALISATION(SODA_REGISTER_CHUNK, 0)
 
 ChunkFn register_chunk_fn(bool g, const WallNeeds& w) {
-  constexpr ChunkFn table[16] = {
-      &register_chunk<false, false, false, false>, &register_chunk<false, false, false, true>,
-      &register_chunk<false, false, true, false>,  &register_chunk<false, false, true, true>,
-      &register_chunk<false, true, false, false>,  &register_chunk<false, true, false, true>,
-      &register_chunk<false, true, true, false>,   &register_chunk<false, true, true, true>,
-      &register_chunk<true, false, false, false>,  &register_chunk<true, false, false, true>,
-      &register_chunk<true, false, true, false>,   &register_chunk<true, false, true, true>,
-      &register_chunk<true, true, false, false>,   &register_chunk<true, true, false, true>,
-      &register_chunk<true, true, true, false>,    &register_chunk<true, true, true, true>};
-  return table[(g ? 8 : 0) + (w.floor ? 4 : 0) + (w.ceiling ? 2 : 0) + (w.sides ? 1 : 0)];
+  constexpr ChunkFn table[16] = {SODA_EACH_SPECIALISATION(SODA_REGISTER_CHUNK_ADDRESS, 0)};
+  return table[specialisation_index(g, w.floor, w.ceiling, w.sides)];
 }
 #pragma GCC pop_options
 
+#undef SODA_REGISTER_CHUNK_ADDRESS
+#undef SODA_REGISTER_CHUNK
+#undef SODA_RUN_CHUNK_ADDRESS
+#undef SODA_RUN_CHUNK
+#undef SODA_MASS_KERNEL
+#undef SODA_EACH_SPECIALISATION
 #undef SODA_KERNELS
 
 LinkFn link_fn(SimdLevel level) {
