@@ -35,6 +35,21 @@ CsvLines read_csv_lines(const fs::path& path) {
   return lines;
 }
 
+/// The cells of one CSV line (no quoting in the files tested here).
+std::vector<std::string> csv_cells(const std::string& line) {
+  std::vector<std::string> cells;
+  std::istringstream in(line);
+  for (std::string c; std::getline(in, c, ',');) cells.push_back(c);
+  return cells;
+}
+
+/// The cells of one CSV line as numbers.
+std::vector<double> csv_numbers(const std::string& line) {
+  std::vector<double> numbers;
+  for (const std::string& c : csv_cells(line)) numbers.push_back(std::stod(c));
+  return numbers;
+}
+
 } // namespace
 
 TEST_CASE("simulate --json reports the summary keys and the walk", "[cli]") {
@@ -68,10 +83,7 @@ TEST_CASE("simulate --trace writes the golden trace's columns", "[cli]") {
   CHECK(line.rfind("frame,wave_phase,wave_mode,x0,y0,vx0,vy0,x1,", 0) == 0);
   int frame = 0;
   while (std::getline(in, line)) {
-    std::vector<double> fields;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, ',')) fields.push_back(std::stod(cell));
+    const std::vector<double> fields = csv_numbers(line);
     REQUIRE(fields.size() == 3 + golden[frame].values.size());
     CHECK(fields[0] == frame);
     CHECK(fields[2] == golden[frame].wave_mode);
@@ -99,10 +111,7 @@ TEST_CASE("simulate --out writes a final state that reloads and continues exactl
   std::getline(in, line);
   int row = 0;
   while (std::getline(in, line)) {
-    std::stringstream ss(line);
-    std::string cell;
-    std::vector<double> fields;
-    while (std::getline(ss, cell, ',')) fields.push_back(std::stod(cell));
+    const std::vector<double> fields = csv_numbers(line);
     const auto& gold = golden[100 + row];
     REQUIRE(fields.size() == 3 + gold.values.size());
     for (size_t k = 0; k < gold.values.size(); ++k) REQUIRE(std::fabs(fields[3 + k] - gold.values[k]) <= 1e-9);
@@ -200,9 +209,7 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
   std::map<std::string, int> rows_per_section;
   std::map<std::string, int> creature_engines;
   for (const std::string& line : csv.rows) {
-    std::vector<std::string> f;
-    std::istringstream cells(line);
-    for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+    const std::vector<std::string> f = csv_cells(line);
     REQUIRE(f.size() == 14);
     rows_per_section[f[0]]++;
     CHECK(std::stod(f[9]) > 0.0); // frames per second
@@ -233,9 +240,7 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
   };
   std::map<std::string, std::map<int, Round>> by_work;
   for (const std::string& line : runs.rows) {
-    std::vector<std::string> f;
-    std::istringstream cells(line);
-    for (std::string c; std::getline(cells, c, ',');) f.push_back(c);
+    const std::vector<std::string> f = csv_cells(line);
     REQUIRE(f.size() == 5);
     const double seconds = std::stod(f[4]);
     CHECK(seconds > 0.0);
