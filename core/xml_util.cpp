@@ -165,13 +165,7 @@ SourceText::SourceText(std::string_view raw, std::string source_name) : name_(st
     utf8_.assign(raw);
   }
 
-  line_starts_.push_back(0);
-  for (std::size_t i = 0; i < utf8_.size(); ++i) {
-    const char c = utf8_[i];
-    if (c == '\n' || (c == '\r' && (i + 1 >= utf8_.size() || utf8_[i + 1] != '\n'))) {
-      line_starts_.push_back(i + 1);
-    }
-  }
+  lines_ = LineIndex(utf8_);
 
   for (std::size_t i = 0; i < utf8_.size();) {
     const std::size_t at = i;
@@ -191,21 +185,17 @@ SourceText::SourceText(std::string_view raw, std::string source_name) : name_(st
 }
 
 TextLocation SourceText::locate(std::ptrdiff_t utf8_offset) const {
-  const std::size_t off =
-      utf8_offset <= 0 ? 0 : std::min(static_cast<std::size_t>(utf8_offset), utf8_.size());
-  const auto it = std::upper_bound(line_starts_.begin(), line_starts_.end(), off);
-  const std::size_t line_index = static_cast<std::size_t>(it - line_starts_.begin()) - 1;
-  const std::size_t start = line_starts_[line_index];
-  long column = 1;
+  TextLocation loc = lines_.locate(utf8_offset);
   if (from_latin1_) {
     // One column per character: count the bytes that start a UTF-8 sequence.
+    const std::size_t start = lines_.line_start(loc.line);
+    const std::size_t off = start + static_cast<std::size_t>(loc.column - 1);
+    loc.column = 1;
     for (std::size_t i = start; i < off; ++i) {
-      if ((static_cast<unsigned char>(utf8_[i]) & 0xC0) != 0x80) ++column;
+      if ((static_cast<unsigned char>(utf8_[i]) & 0xC0) != 0x80) ++loc.column;
     }
-  } else {
-    column += static_cast<long>(off - start);
   }
-  return TextLocation{static_cast<long>(line_index) + 1, column};
+  return loc;
 }
 
 std::string SourceText::where(std::ptrdiff_t utf8_offset) const {

@@ -46,7 +46,7 @@ class SourceText {
   std::string name_;
   std::string utf8_;
   bool from_latin1_ = false;
-  std::vector<std::size_t> line_starts_; // offsets into utf8_
+  LineIndex lines_; // of utf8_
 };
 
 /// State shared by the readers while they walk one document: positions, messages,

@@ -163,10 +163,11 @@ Generation generation_from_xml(const std::string& text, const std::string& sourc
   }
   const pugi::xml_node root = doc.child("generation");
   if (!root) throw soda::InputError(source + ": expected a <generation> root element");
+  const soda::LineIndex lines(text); // every creature's position is named: no scan per creature
   const auto where_of = [&](pugi::xml_node node) {
     std::ptrdiff_t offset = node.offset_debug(); // the name, just after '<'
     if (offset > 0 && text[static_cast<std::size_t>(offset - 1)] == '<') --offset;
-    const soda::TextLocation at = soda::locate_offset(text, offset);
+    const soda::TextLocation at = lines.locate(offset);
     return source + ":" + std::to_string(at.line) + ":" + std::to_string(at.column);
   };
   Generation g;

@@ -234,6 +234,39 @@ TEST_CASE("locate_offset gives 1-based line and byte column", "[model_file]") {
   CHECK(at(1000) == std::pair{4L, 3L}); // clamped to the end
 }
 
+TEST_CASE("LineIndex locates every offset as a scan from the start does", "[model_file]") {
+  // Reference: walk the bytes before the offset, one line per LF, per CR LF and per
+  // lone CR, written here independently of LineIndex.
+  const auto scan = [](const std::string& text, std::size_t end) {
+    long line = 1, column = 1;
+    for (std::size_t i = 0; i < end; ++i) {
+      const bool crlf_cr = text[i] == '\r' && i + 1 < text.size() && text[i + 1] == '\n';
+      if (text[i] == '\n' || (text[i] == '\r' && !crlf_cr)) {
+        ++line;
+        column = 1;
+      } else {
+        ++column;
+      }
+    }
+    return std::pair{line, column};
+  };
+  std::mt19937 rng(7);
+  const char alphabet[] = {'a', '<', '\n', '\r', ' '};
+  for (int trial = 0; trial < 200; ++trial) {
+    std::string text(static_cast<std::size_t>(rng() % 40), 'a');
+    for (char& c : text) c = alphabet[rng() % sizeof alphabet];
+    const soda::LineIndex index(text);
+    for (std::size_t off = 0; off <= text.size(); ++off) {
+      const soda::TextLocation loc = index.locate(static_cast<std::ptrdiff_t>(off));
+      INFO("text of " << text.size() << " bytes, offset " << off);
+      REQUIRE(std::pair{loc.line, loc.column} == scan(text, off));
+      REQUIRE(index.line_start(loc.line) + static_cast<std::size_t>(loc.column - 1) == off);
+    }
+    const soda::TextLocation past = index.locate(static_cast<std::ptrdiff_t>(text.size()) + 9);
+    CHECK(std::pair{past.line, past.column} == scan(text, text.size()));
+  }
+}
+
 // --- the model files in the test data -------------------------------------------------
 
 TEST_CASE("every model file in the test data loads and race files are refused", "[model_file]") {
