@@ -170,42 +170,53 @@ struct FusedScene::Data {
   std::vector<double> group_phase;       ///< distinct muscle phases, per creature
   int groups = 0;                        ///< all creatures'
   // Sines for this frame and the next rows - 1, computed for the phases each
-  // creature's wave will have if its direction does not change: row r holds the
-  // sines of every group at row_sin[r * groups] (or, after a fill that shared
-  // sines, of every distinct argument at dist_sin[r * distinct]: see sine_rows).
-  // A row is used only while every creature's phase is the row's, bit for bit;
-  // else all rows are refilled.
+  // creature's wave will have if its direction does not change (fill_rows). A row
+  // is used only while every creature's phase is the row's, bit for bit; else all
+  // rows are refilled.
   int rows = 1, row_count = 0, row_next = 0;
   int current_row = -1;                       ///< the row the targets were computed from
   bool targets_valid = false;
-  std::vector<int> wave_creatures;            ///< creatures with a wave muscle
-  std::vector<std::uint64_t> row_phase_bits; ///< [creatures * rows] at c * rows + r
-  std::vector<double> row_phase_after;        ///< [creatures * rows] rules::advance_wave_phase of the row's phase
-  AVec<double> row_arg, row_sin;             ///< [rows * groups, padded]
+  bool rows_standing = false; ///< no wave moves in these rows: every row is row 0
+  // While rows_synced, every wave creature's phase is its rows' phase at row_next
+  // and its direction the rows' (so it was when the row was checked or filled, and
+  // each frame's advance is the next row's phase): a frame takes the next row and
+  // the advance from it without comparing every creature's phase. leave_rows ends
+  // it wherever a direction may change or another state may come in.
+  bool rows_synced = false;
+  std::vector<int> wave_creatures;  ///< creatures with a wave muscle
+  std::vector<int> still_creatures; ///< the others (their phases still advance)
   long long sines = 0;
   SinFn sine_fn = nullptr; ///< exact_sin_fn of the level (std::sin alone without vector_sines), chosen at build
-  // Sharing sines between creatures (fill_rows): creatures whose waves are in the
-  // same state (phase bits, direction, speed bits) have the same rows of phases,
-  // and a muscle phase they share then gives bit-identical sine arguments.
+  // Wave states (fill_rows): creatures whose waves are in the same state (phase
+  // bits, direction, speed bits) have the same rows of phases, and a muscle phase
+  // they share then gives bit-identical sine arguments: each distinct (state,
+  // muscle phase) pair is one argument per row. A creature's distinct muscle
+  // phases are its groups, so without shared states argument d is group d.
   int uphases = 0;                   ///< distinct muscle phases of the whole scene
-  std::vector<double> uphase;        ///< [uphases] their values
-  std::vector<int> group_u;          ///< [groups] index of the group's phase in uphase
-  std::vector<int> fill_slot;        ///< [creatures] the wave state of this fill
+  std::vector<int> group_u;          ///< [groups] index of the group's phase among them
+  int states = 0;                    ///< wave states of this numbering
+  std::vector<int> fill_slot;        ///< [creatures] wave state of each wave creature
   std::vector<int> slot_leader;      ///< [creatures] first creature of each wave state
-  std::vector<double> slot_phase;    ///< [creatures * rows] each wave state's phases
+  bool numbering_valid = false;      ///< the arguments below are numbered for fill_slot
+  int distinct = 0;                  ///< distinct arguments per row
   std::vector<int> su_index;         ///< [creatures * uphases] distinct argument of (state, phase), -1: none
   std::vector<int> dist_key;         ///< [groups] (state, phase) key of each distinct argument
-  std::vector<int> dist_state, dist_u; ///< [groups] its wave state and phase
+  std::vector<int> dist_state;       ///< [groups] its wave state
+  std::vector<double> dist_phase;    ///< [groups] its muscle phase
   std::vector<int> group_arg;        ///< [groups] distinct argument of each group
-  AVec<double> dist_arg, dist_sin;   ///< [rows * groups, padded] distinct arguments, their sines
+  std::vector<std::uint64_t> row_phase_bits; ///< [creatures * rows] wave state k's phase in row r at k * rows + r
+  std::vector<double> row_phase_after;        ///< [creatures * rows] rules::advance_wave_phase of it
+  std::vector<double> row_phase;              ///< [rows * creatures] the same phases at r * creatures + k
+  AVec<double> dist_arg, dist_sin;   ///< [rows * distinct, padded] the arguments of each row, their sines
+  AVec<double> row_sin;              ///< [rows * groups, padded] sines by group (remapped, in registers)
   // Where the targets read their sines: the row of a frame starts at sine_rows +
   // row * sine_stride and muscle slot q's sine is at sine_index[q] in it. Either
-  // row_sin by group (sine_index = tm_group), or, after a fill that shared
-  // arguments between creatures, the distinct sines themselves (sine_index =
-  // tm_dist, group_arg of tm_group[q], set per fill): copying them out per group
-  // and row cost more than the targets (a GA scene: 13 rows of 74 groups from 56
-  // distinct sines). Scenes with their sines in registers keep row_sin
-  // (muscle_targets permutes by group).
+  // the sines by group (dist_sin when every argument is distinct, else row_sin;
+  // sine_index = tm_group), or, after a numbering that shared arguments between
+  // creatures, the distinct sines themselves (sine_index = tm_dist, group_arg of
+  // tm_group[q]): copying them out per group and row cost more than the targets (a
+  // GA scene: 13 rows of 74 groups from 56 distinct sines). Scenes with their sines
+  // in registers read by group (muscle_targets permutes by group).
   const double* sine_rows = nullptr;
   int sine_stride = 0;
   const std::int32_t* sine_index = nullptr;
@@ -233,6 +244,12 @@ struct FusedScene::Data {
   // stand). Inline, so that the frame in registers (register_chunk) calls nothing
   // but fill_rows: a call spills every vector register.
   const double* row_for_frame(State* const* st) {
+    if (rows_synced && row_next < row_count) {
+      if (rows_standing && targets_valid) return nullptr;
+      current_row = row_next++;
+      targets_valid = true;
+      return sine_rows + static_cast<std::size_t>(current_row) * sine_stride;
+    }
     bool changed = !targets_valid;
     for (std::size_t k = 0; k < wave_creatures.size() && !changed; ++k) {
       const int c = wave_creatures[k];
@@ -242,28 +259,53 @@ struct FusedScene::Data {
     bool row_usable = row_next < row_count;
     for (std::size_t k = 0; k < wave_creatures.size() && row_usable; ++k) {
       const int c = wave_creatures[k];
-      row_usable = bits_of(st[c]->wave_phase) == row_phase_bits[static_cast<std::size_t>(c) * rows + row_next];
+      row_usable = bits_of(st[c]->wave_phase) == row_phase_bits[row_at(c, row_next)] &&
+                   st[c]->wave_mode == creatures[c].rows_mode;
     }
     if (!row_usable) fill_rows(st);
     current_row = row_next++;
-    for (int c : wave_creatures) creatures[c].targets_phase_bits = bits_of(st[c]->wave_phase);
     targets_valid = true;
+    rows_synced = true;
     return sine_rows + static_cast<std::size_t>(current_row) * sine_stride;
+  }
+  /// Index of wave creature c's row r in row_phase_bits and row_phase_after.
+  [[nodiscard]] std::size_t row_at(int c, int r) const {
+    return static_cast<std::size_t>(fill_slot[c]) * rows + static_cast<std::size_t>(r);
+  }
+  /// Whether creatures a and b have their waves in the same state (phase and speed
+  /// bit for bit, same direction): the same rows of phases.
+  [[nodiscard]] bool same_wave(State* const* st, int a, int b) const {
+    return bits_of(st[a]->wave_phase) == bits_of(st[b]->wave_phase) && st[a]->wave_mode == st[b]->wave_mode &&
+           bits_of(creatures[a].model->wave_speed) == bits_of(creatures[b].model->wave_speed);
+  }
+  /// Ends rows_synced (see there), noting the phases the targets are for.
+  void leave_rows() {
+    if (!rows_synced) return;
+    rows_synced = false;
+    for (int c : wave_creatures) creatures[c].targets_phase_bits = row_phase_bits[row_at(c, current_row)];
   }
   void update_targets(State* const* st);
   void fill_rows(State* const* st);
+  void number_arguments(State* const* st);
   // The wave advance of this frame: already computed for the current row (same
   // rule, same inputs) when the phase and direction are still the row's.
-  [[nodiscard]] double advance_phase(std::size_t c, const State& st) const {
+  [[nodiscard]] double advance_phase(int c, const State& st) const {
     const Creature& cr = creatures[c];
     if (current_row >= 0 && cr.groups > 0) {
-      const std::size_t at = c * static_cast<std::size_t>(rows) + static_cast<std::size_t>(current_row);
+      const std::size_t at = row_at(c, current_row);
       if (bits_of(st.wave_phase) == row_phase_bits[at] && st.wave_mode == cr.rows_mode) return row_phase_after[at];
     }
     return rules::advance_wave_phase(st.wave_phase, cr.model->wave_speed, st.wave_mode);
   }
   void advance_waves(State* const* st) {
-    for (std::size_t c = 0; c < creatures.size(); ++c) st[c]->wave_phase = advance_phase(c, *st[c]);
+    if (rows_synced) {
+      for (int c : wave_creatures) st[c]->wave_phase = row_phase_after[row_at(c, current_row)];
+      for (int c : still_creatures) {
+        st[c]->wave_phase = rules::advance_wave_phase(st[c]->wave_phase, creatures[c].model->wave_speed, st[c]->wave_mode);
+      }
+      return;
+    }
+    for (std::size_t c = 0; c < creatures.size(); ++c) st[c]->wave_phase = advance_phase(static_cast<int>(c), *st[c]);
   }
   void ordered_frame(State& s);
   void replay_side_hits(State* const* st);
@@ -495,6 +537,26 @@ void targets_kernel(Impl& s, const double* sine) {
   }
 }
 
+/// The sine arguments of rows [0, filled) (fill_rows): argument d of row r is
+/// 2pi * (muscle phase - the row's phase of its wave state), as
+/// rules::muscle_target_length forms it, W arguments at a time. The last vector of
+/// a row runs into the next row, which is written after it (dist_arg, dist_phase
+/// and dist_state are padded for the last row's).
+template <class O>
+void args_kernel(Impl& s, int filled) {
+  using V = typename O::V;
+  const V two_pi = O::set1(kTwoPi);
+  const std::size_t stride = s.creatures.size();
+  for (int r = 0; r < filled; ++r) {
+    const double* phase = s.row_phase.data() + static_cast<std::size_t>(r) * stride;
+    double* arg = s.dist_arg.data() + static_cast<std::size_t>(r) * s.distinct;
+    for (int d = 0; d < s.distinct; d += O::W) {
+      const V wave = s.states == 1 ? O::set1(phase[0]) : O::gather(phase, s.dist_state.data() + d);
+      O::storeu(arg + d, O::mul(two_pi, O::sub(O::loadu(s.dist_phase.data() + d), wave)));
+    }
+  }
+}
+
 /// Frames of a scene of at most 16 points and 32 link slots (AVX-512), with every
 /// point's position and velocity and every impulse in registers from frame to
 /// frame: the link pass takes each end by one permute, the sums take each impulse
@@ -664,6 +726,7 @@ void run_chunk(Impl& s, State* const* st, long long frames) {
 
 using LinkFn = void (*)(Impl&);
 using TargetFn = void (*)(Impl&, const double*);
+using ArgsFn = void (*)(Impl&, int);
 using ChunkFn = void (*)(Impl&, State* const*, long long);
 
 template <class O>
@@ -671,6 +734,7 @@ struct KernelTable {
   static LinkFn link();
   static ChunkFn chunk(bool g, bool f, bool c, bool sides);
   static TargetFn targets();
+  static ArgsFn args();
 };
 
 // The 16 specialisations of a frame kernel (gravity, floor, ceiling, side walls),
@@ -697,9 +761,14 @@ constexpr int specialisation_index(bool g, bool f, bool c, bool sides) {
   template void link_kernel<O, false>(Impl&);                                                              \
   SODA_EACH_SPECIALISATION(SODA_RUN_CHUNK, O)                                                              \
   template void targets_kernel<O>(Impl&, const double*);                                                   \
+  template void args_kernel<O>(Impl&, int);                                                                \
   template <>                                                                                              \
   TargetFn KernelTable<O>::targets() {                                                                     \
     return &targets_kernel<O>;                                                                             \
+  }                                                                                                        \
+  template <>                                                                                              \
+  ArgsFn KernelTable<O>::args() {                                                                          \
+    return &args_kernel<O>;                                                                                \
   }                                                                                                        \
   template <>                                                                                              \
   LinkFn KernelTable<O>::link() {                                                                          \
@@ -755,6 +824,14 @@ TargetFn targets_fn(SimdLevel level) {
     case SimdLevel::Avx512: return KernelTable<Avx512Ops>::targets();
     case SimdLevel::Avx2: return KernelTable<Avx2Ops>::targets();
     default: return KernelTable<Sse2Ops>::targets();
+  }
+}
+
+ArgsFn args_fn(SimdLevel level) {
+  switch (level) {
+    case SimdLevel::Avx512: return KernelTable<Avx512Ops>::args();
+    case SimdLevel::Avx2: return KernelTable<Avx2Ops>::args();
+    default: return KernelTable<Sse2Ops>::args();
   }
 }
 
@@ -1003,38 +1080,39 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   rows = std::clamp(kSinesPerBatch / std::max(groups, 1), 1, 16);
   const std::size_t row_values = static_cast<std::size_t>((rows * groups + kMaxWidth - 1) / kMaxWidth * kMaxWidth);
   wave_creatures.clear();
+  still_creatures.clear();
   for (std::size_t c = 0; c < creatures.size(); ++c) {
-    if (creatures[c].groups > 0) wave_creatures.push_back(static_cast<int>(c));
+    (creatures[c].groups > 0 ? wave_creatures : still_creatures).push_back(static_cast<int>(c));
   }
   row_phase_bits.assign(creatures.size() * static_cast<std::size_t>(rows), 0);
   row_phase_after.assign(creatures.size() * static_cast<std::size_t>(rows), 0.0);
-  row_arg.assign(row_values, 1.0); // padding lanes: an argument the tables take
-  row_sin.assign(row_values + Avx512Ops::kRegisterPoints, 0.0); // any row loads as two registers
+  row_phase.assign(creatures.size() * static_cast<std::size_t>(rows), 0.0);
   sines_in_registers = simd == SimdLevel::Avx512 && groups <= Avx512Ops::kRegisterPoints;
   tm_group_lane.assign(static_cast<std::size_t>(nwm_pad), 0);
   for (int q = 0; q < nwm_pad; ++q) tm_group_lane[q] = tm_group[q];
-  dist_arg.assign(row_values, 1.0);
-  dist_sin.assign(row_values, 0.0);
+  dist_arg.assign(row_values + kMaxWidth, 1.0); // padding lanes: an argument the tables take (args_kernel)
+  // Any row of sines by group loads as two registers (sines_in_registers).
+  dist_sin.assign(row_values + Avx512Ops::kRegisterPoints, 0.0);
+  row_sin.assign(row_values + Avx512Ops::kRegisterPoints, 0.0);
   tm_dist.assign(static_cast<std::size_t>(nwm_pad), 0);
-  sine_rows = row_sin.data();
+  sine_rows = dist_sin.data();
   sine_stride = groups;
   sine_index = tm_group.data();
   std::map<std::uint64_t, int> u_of_phase;
-  uphase.clear();
   group_u.assign(static_cast<std::size_t>(groups), 0);
   for (int g = 0; g < groups; ++g) {
-    auto [it, inserted] = u_of_phase.try_emplace(bits_of(group_phase[g]), static_cast<int>(uphase.size()));
-    if (inserted) uphase.push_back(group_phase[g]);
-    group_u[g] = it->second;
+    group_u[g] = u_of_phase.try_emplace(bits_of(group_phase[g]), static_cast<int>(u_of_phase.size())).first->second;
   }
-  uphases = static_cast<int>(uphase.size());
+  uphases = static_cast<int>(u_of_phase.size());
+  states = 0;
+  numbering_valid = false;
+  rows_synced = false;
   fill_slot.assign(creatures.size(), 0);
   slot_leader.assign(creatures.size(), 0);
-  slot_phase.assign(creatures.size() * static_cast<std::size_t>(rows), 0.0);
   su_index.assign(creatures.size() * static_cast<std::size_t>(uphases), -1);
   dist_key.assign(static_cast<std::size_t>(groups), 0);
-  dist_state.assign(static_cast<std::size_t>(groups), 0);
-  dist_u.assign(static_cast<std::size_t>(groups), 0);
+  dist_state.assign(static_cast<std::size_t>(groups + kMaxWidth), 0); // padded for args_kernel
+  dist_phase.assign(static_cast<std::size_t>(groups + kMaxWidth), 0.0);
   group_arg.assign(static_cast<std::size_t>(groups), 0);
 
   if (creatures.size() == 1) {
@@ -1221,137 +1299,100 @@ void FusedScene::Data::store_state(State* const* st) {
   }
 }
 
+// The wave states of the wave creatures (fill_slot, slot_leader) and the distinct
+// sine arguments of a row under them (dist_state, dist_phase, group_arg; tm_dist),
+// numbered in creature and group order: with every argument distinct, argument d
+// is group d.
+void FusedScene::Data::number_arguments(State* const* st) {
+  states = 0;
+  for (int c : wave_creatures) {
+    int k = 0;
+    while (k < states && !same_wave(st, c, slot_leader[k])) ++k;
+    fill_slot[c] = k;
+    if (k == states) slot_leader[states++] = c;
+  }
+  distinct = 0;
+  for (int c : wave_creatures) {
+    const Creature& cr = creatures[c];
+    for (int g = cr.group_base; g < cr.group_base + cr.groups; ++g) {
+      const int key = fill_slot[c] * uphases + group_u[g];
+      if (su_index[key] < 0) {
+        su_index[key] = distinct;
+        dist_key[distinct] = key;
+        dist_state[distinct] = fill_slot[c];
+        dist_phase[distinct++] = group_phase[g];
+      }
+      group_arg[g] = su_index[key];
+    }
+  }
+  for (int d = 0; d < distinct; ++d) su_index[dist_key[d]] = -1;
+  // Where the targets read (see sine_rows).
+  const bool remap = distinct < groups;
+  if (remap && !sines_in_registers) {
+    for (int q = 0; q < nwm_pad; ++q) tm_dist[q] = group_arg[tm_group[q]];
+  }
+  sine_rows = !remap ? dist_sin.data() : sines_in_registers ? row_sin.data() : dist_sin.data();
+  sine_stride = remap && !sines_in_registers ? distinct : groups;
+  sine_index = remap && !sines_in_registers ? tm_dist.data() : tm_group.data();
+  numbering_valid = true;
+}
+
 // Sines for this frame and the next rows - 1 (while each wave's direction holds),
 // for every creature, in one batch. Row 0 is the current phase.
 //
-// Creatures whose waves are in the same state (phase and speed bit for bit, same
-// direction; a GA population shares most genes) get the same rows of phases, so
-// their rows are computed once, and each distinct (wave state, muscle phase) pair
-// gives one sine argument whatever the number of creatures and muscles sharing it:
-// the same operations on the same bits give the same sine. When no two creatures
-// share a wave state nothing can be shared (a creature's groups are its distinct
-// phases already) and the rows go straight to row_arg and row_sin.
+// Creatures whose waves are in the same state (a GA population shares most genes)
+// get the same rows of phases, computed once, and each distinct (wave state,
+// muscle phase) pair gives one sine argument whatever the number of creatures and
+// muscles sharing it: the same operations on the same bits give the same sine.
+// The states are those of the last fill while every creature is still in its
+// state's (its leader's): waves move in step until a direction changes, so the
+// numbering of the arguments is kept from fill to fill (two states that come to
+// agree stay apart until then: exact, only not shared).
 void FusedScene::Data::fill_rows(State* const* st) {
-  int states = 0;
-  if (wave_creatures.size() > 1) {
-    for (int c : wave_creatures) {
-      const State& sc = *st[c];
-      const std::uint64_t speed = bits_of(creatures[c].model->wave_speed);
-      int k = 0;
-      for (; k < states; ++k) {
-        const int o = slot_leader[k];
-        if (bits_of(st[o]->wave_phase) == bits_of(sc.wave_phase) && st[o]->wave_mode == sc.wave_mode &&
-            bits_of(creatures[o].model->wave_speed) == speed) {
-          break;
-        }
-      }
-      fill_slot[c] = k;
-      if (k == states) slot_leader[states++] = c;
-    }
+  bool same_states = numbering_valid;
+  for (std::size_t k = 0; k < wave_creatures.size() && same_states; ++k) {
+    const int c = wave_creatures[k];
+    same_states = same_wave(st, c, slot_leader[fill_slot[c]]);
   }
-  const bool shared = states > 0 && states < static_cast<int>(wave_creatures.size());
+  if (!same_states) number_arguments(st);
+  // Each state's rows of phases, the advance from each (rules::advance_wave_phase).
+  const std::size_t stride = creatures.size();
   bool all_standing = true;
-  int distinct = groups;
-  if (!shared) {
-    for (int c : wave_creatures) {
-      Creature& cr = creatures[c];
-      std::uint64_t* phase_bits = row_phase_bits.data() + static_cast<std::size_t>(c) * rows;
-      double* phase_after = row_phase_after.data() + static_cast<std::size_t>(c) * rows;
-      double phase = st[c]->wave_phase;
-      cr.rows_mode = st[c]->wave_mode;
-      for (int r = 0; r < rows; ++r) {
-        phase_bits[r] = bits_of(phase);
-        double* arg = row_arg.data() + static_cast<std::size_t>(r) * groups + cr.group_base;
-        // The argument rules::muscle_target_length forms.
-        for (int g = 0; g < cr.groups; ++g) arg[g] = kTwoPi * (group_phase[cr.group_base + g] - phase);
-        const double next = rules::advance_wave_phase(phase, cr.model->wave_speed, cr.rows_mode);
-        phase_after[r] = next;
-        all_standing = all_standing && bits_of(next) == bits_of(phase);
-        phase = next;
-      }
+  for (int k = 0; k < states; ++k) {
+    const int c = slot_leader[k];
+    double phase = st[c]->wave_phase;
+    const WaveDirection mode = st[c]->wave_mode;
+    const double speed = creatures[c].model->wave_speed;
+    std::uint64_t* phase_bits = row_phase_bits.data() + static_cast<std::size_t>(k) * rows;
+    double* phase_after = row_phase_after.data() + static_cast<std::size_t>(k) * rows;
+    for (int r = 0; r < rows; ++r) {
+      row_phase[r * stride + k] = phase;
+      phase_bits[r] = bits_of(phase);
+      const double next = rules::advance_wave_phase(phase, speed, mode);
+      phase_after[r] = next;
+      all_standing = all_standing && bits_of(next) == phase_bits[r];
+      phase = next;
     }
-  } else {
-    for (int k = 0; k < states; ++k) {
-      const int c = slot_leader[k];
-      double* phases = slot_phase.data() + static_cast<std::size_t>(k) * rows;
-      double phase = st[c]->wave_phase;
-      const WaveDirection mode = st[c]->wave_mode;
-      const double speed = creatures[c].model->wave_speed;
-      std::uint64_t* phase_bits = row_phase_bits.data() + static_cast<std::size_t>(c) * rows;
-      double* phase_after = row_phase_after.data() + static_cast<std::size_t>(c) * rows;
-      for (int r = 0; r < rows; ++r) {
-        phases[r] = phase;
-        phase_bits[r] = bits_of(phase);
-        const double next = rules::advance_wave_phase(phase, speed, mode);
-        phase_after[r] = next;
-        all_standing = all_standing && bits_of(next) == bits_of(phase);
-        phase = next;
-      }
-    }
-    // Distinct arguments, numbered in order of first use.
-    distinct = 0;
-    for (int c : wave_creatures) {
-      Creature& cr = creatures[c];
-      cr.rows_mode = st[c]->wave_mode;
-      const int k = fill_slot[c];
-      if (slot_leader[k] != c) {
-        const std::size_t from = static_cast<std::size_t>(slot_leader[k]) * rows;
-        const std::size_t to = static_cast<std::size_t>(c) * rows;
-        std::copy_n(row_phase_bits.data() + from, rows, row_phase_bits.data() + to);
-        std::copy_n(row_phase_after.data() + from, rows, row_phase_after.data() + to);
-      }
-      for (int g = cr.group_base; g < cr.group_base + cr.groups; ++g) {
-        const int key = k * uphases + group_u[g];
-        if (su_index[key] < 0) {
-          su_index[key] = distinct;
-          dist_key[distinct] = key;
-          dist_state[distinct] = k;
-          dist_u[distinct++] = group_u[g];
-        }
-        group_arg[g] = su_index[key];
-      }
-    }
-    for (int d = 0; d < distinct; ++d) su_index[dist_key[d]] = -1;
   }
-  // With every argument distinct, argument d is group d (both numbered in creature
-  // and group order): no remapping.
-  const bool remap = distinct < groups;
-  double* arg_rows = remap ? dist_arg.data() : row_arg.data();
-  double* sin_rows = remap ? dist_sin.data() : row_sin.data();
+  for (int c : wave_creatures) creatures[c].rows_mode = st[c]->wave_mode;
+  rows_standing = all_standing;
   // Every wave stands still (manual mode, speed 0): one row of sines serves all.
   const int filled = all_standing ? 1 : rows;
-  if (shared) {
-    for (int d = 0; d < distinct; ++d) {
-      const double muscle_phase = uphase[dist_u[d]];
-      const double* wave_phase = slot_phase.data() + static_cast<std::size_t>(dist_state[d]) * rows;
-      double* arg = arg_rows + d;
-      for (int r = 0; r < filled; ++r) {
-        // The argument rules::muscle_target_length forms.
-        arg[static_cast<std::size_t>(r) * distinct] = kTwoPi * (muscle_phase - wave_phase[r]);
-      }
-    }
-  }
+  args_fn(simd)(*this, filled);
   const int n = filled * distinct;
-  sine_fn(arg_rows, sin_rows, n);
-  // Where the targets read (see sine_rows).
-  const bool read_distinct = remap && !sines_in_registers;
-  if (read_distinct) {
-    for (int q = 0; q < nwm_pad; ++q) tm_dist[q] = group_arg[tm_group[q]];
-  } else if (remap) {
+  sine_fn(dist_arg.data(), dist_sin.data(), n);
+  sines += n;
+  if (distinct < groups && sines_in_registers) {
     for (int r = 0; r < filled; ++r) {
       const double* from = dist_sin.data() + static_cast<std::size_t>(r) * distinct;
       double* to = row_sin.data() + static_cast<std::size_t>(r) * groups;
       for (int g = 0; g < groups; ++g) to[g] = from[group_arg[g]];
     }
   }
-  double* out_rows = read_distinct ? dist_sin.data() : row_sin.data();
-  sine_rows = out_rows;
-  sine_stride = read_distinct ? distinct : groups;
-  sine_index = read_distinct ? tm_dist.data() : tm_group.data();
+  double* out_rows = const_cast<double*>(sine_rows);
   for (int r = filled; r < rows; ++r) {
     std::copy(out_rows, out_rows + sine_stride, out_rows + static_cast<std::size_t>(r) * sine_stride);
   }
-  sines += n;
   row_count = rows;
   row_next = 0;
 }
@@ -1412,6 +1453,7 @@ void FusedScene::Data::record(const KernelChoice& k) {
 // Autoreverse (rules::autoreverse_on_wall_hit) for the side-wall hits of this
 // frame, per creature in its mass order as the reference meets them.
 void FusedScene::Data::replay_side_hits(State* const* st) {
+  leave_rows(); // a direction may change
   for (std::size_t c = 0; c < creatures.size(); ++c) {
     const Creature& cr = creatures[c];
     for (int p = 0; p < cr.model->mass_count; ++p) {
@@ -1439,7 +1481,9 @@ void FusedScene::Data::ordered_frame(State& s) {
   State* const st[1] = {&s};
   if (nwm > 0) update_targets(st);
   if (nl > 0) link_fn(simd)(*this);
+  const WaveDirection mode = s.wave_mode;
   ordered_masses(s);
+  if (s.wave_mode != mode) leave_rows();
   advance_waves(st);
 }
 
@@ -1479,6 +1523,7 @@ void FusedScene::run(State* const* states, long long frames) {
   if (frames <= 0) return;
   Data& s = *d_;
   s.load_state(states);
+  s.leave_rows(); // the states may be others, or changed since
   KernelChoice k;
   k.simd = s.simd;
   k.wave = s.any_wave;
