@@ -190,8 +190,7 @@ struct FusedScene::Data {
   // Wave states (fill_rows): creatures whose waves are in the same state (phase
   // bits, direction, speed bits) have the same rows of phases, and a muscle phase
   // they share then gives bit-identical sine arguments: each distinct (state,
-  // muscle phase) pair is one argument per row. A creature's distinct muscle
-  // phases are its groups, so without shared states argument d is group d.
+  // muscle phase) pair is one argument per row (number_arguments).
   int uphases = 0;                   ///< distinct muscle phases of the whole scene
   std::vector<int> group_u;          ///< [groups] index of the group's phase among them
   int states = 0;                    ///< wave states of this numbering
@@ -201,7 +200,7 @@ struct FusedScene::Data {
   int distinct = 0;                  ///< distinct arguments per row
   std::vector<int> su_index;         ///< [creatures * uphases] distinct argument of (state, phase), -1: none
   std::vector<int> dist_key;         ///< [groups] (state, phase) key of each distinct argument
-  std::vector<int> dist_state;       ///< [groups] its wave state
+  std::vector<int> state_first;      ///< [states + 1] first argument of each wave state
   std::vector<double> dist_phase;    ///< [groups] its muscle phase
   std::vector<int> group_arg;        ///< [groups] distinct argument of each group
   std::vector<std::uint64_t> row_phase_bits; ///< [creatures * rows] wave state k's phase in row r at k * rows + r
@@ -241,9 +240,9 @@ struct FusedScene::Data {
   // then per muscle rest * (1 + (Aw*Am) * sine) with the same operations in the same
   // order (targets_kernel). row_for_frame returns this frame's row of sines, filling
   // the rows when the waves left them, or nullptr when no wave moved (the targets
-  // stand). Inline, so that the frame in registers (register_chunk) calls nothing
+  // stand). Always inlined, so that the frame in registers (register_chunk) calls nothing
   // but fill_rows: a call spills every vector register.
-  const double* row_for_frame(State* const* st) {
+  [[gnu::always_inline]] const double* row_for_frame(State* const* st) {
     if (rows_synced && row_next < row_count) {
       if (rows_standing && targets_valid) return nullptr;
       current_row = row_next++;
@@ -289,7 +288,7 @@ struct FusedScene::Data {
   void number_arguments(State* const* st);
   // The wave advance of this frame: already computed for the current row (same
   // rule, same inputs) when the phase and direction are still the row's.
-  [[nodiscard]] double advance_phase(int c, const State& st) const {
+  [[nodiscard]] [[gnu::always_inline]] double advance_phase(int c, const State& st) const {
     const Creature& cr = creatures[c];
     if (current_row >= 0 && cr.groups > 0) {
       const std::size_t at = row_at(c, current_row);
@@ -297,7 +296,7 @@ struct FusedScene::Data {
     }
     return rules::advance_wave_phase(st.wave_phase, cr.model->wave_speed, st.wave_mode);
   }
-  void advance_waves(State* const* st) {
+  [[gnu::always_inline]] void advance_waves(State* const* st) {
     if (rows_synced) {
       for (int c : wave_creatures) st[c]->wave_phase = row_phase_after[row_at(c, current_row)];
       for (int c : still_creatures) {
@@ -539,9 +538,10 @@ void targets_kernel(Impl& s, const double* sine) {
 
 /// The sine arguments of rows [0, filled) (fill_rows): argument d of row r is
 /// 2pi * (muscle phase - the row's phase of its wave state), as
-/// rules::muscle_target_length forms it, W arguments at a time. The last vector of
-/// a row runs into the next row, which is written after it (dist_arg, dist_phase
-/// and dist_state are padded for the last row's).
+/// rules::muscle_target_length forms it, W arguments of one wave state at a time
+/// (they are consecutive: number_arguments). The last vector of a state runs into
+/// the next state's arguments or row, which are written after it (dist_arg and
+/// dist_phase are padded for the last row's).
 template <class O>
 void args_kernel(Impl& s, int filled) {
   using V = typename O::V;
@@ -550,9 +550,11 @@ void args_kernel(Impl& s, int filled) {
   for (int r = 0; r < filled; ++r) {
     const double* phase = s.row_phase.data() + static_cast<std::size_t>(r) * stride;
     double* arg = s.dist_arg.data() + static_cast<std::size_t>(r) * s.distinct;
-    for (int d = 0; d < s.distinct; d += O::W) {
-      const V wave = s.states == 1 ? O::set1(phase[0]) : O::gather(phase, s.dist_state.data() + d);
-      O::storeu(arg + d, O::mul(two_pi, O::sub(O::loadu(s.dist_phase.data() + d), wave)));
+    for (int k = 0; k < s.states; ++k) {
+      const V wave = O::set1(phase[k]);
+      for (int d = s.state_first[k]; d < s.state_first[k + 1]; d += O::W) {
+        O::storeu(arg + d, O::mul(two_pi, O::sub(O::loadu(s.dist_phase.data() + d), wave)));
+      }
     }
   }
 }
@@ -1111,8 +1113,8 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   slot_leader.assign(creatures.size(), 0);
   su_index.assign(creatures.size() * static_cast<std::size_t>(uphases), -1);
   dist_key.assign(static_cast<std::size_t>(groups), 0);
-  dist_state.assign(static_cast<std::size_t>(groups + kMaxWidth), 0); // padded for args_kernel
-  dist_phase.assign(static_cast<std::size_t>(groups + kMaxWidth), 0.0);
+  state_first.assign(creatures.size() + 1, 0);
+  dist_phase.assign(static_cast<std::size_t>(groups + kMaxWidth), 0.0); // padded for args_kernel
   group_arg.assign(static_cast<std::size_t>(groups), 0);
 
   if (creatures.size() == 1) {
@@ -1300,9 +1302,10 @@ void FusedScene::Data::store_state(State* const* st) {
 }
 
 // The wave states of the wave creatures (fill_slot, slot_leader) and the distinct
-// sine arguments of a row under them (dist_state, dist_phase, group_arg; tm_dist),
-// numbered in creature and group order: with every argument distinct, argument d
-// is group d.
+// sine arguments of a row under them (state_first, dist_phase, group_arg; tm_dist),
+// numbered state by state, in creature and group order within a state: where
+// every creature has its own state, or all share one, and no argument is shared,
+// argument g is group g and the targets read the sines by group.
 void FusedScene::Data::number_arguments(State* const* st) {
   states = 0;
   for (int c : wave_creatures) {
@@ -1311,23 +1314,29 @@ void FusedScene::Data::number_arguments(State* const* st) {
     fill_slot[c] = k;
     if (k == states) slot_leader[states++] = c;
   }
+  // State by state, so that the arguments of a state are consecutive (args_kernel).
   distinct = 0;
-  for (int c : wave_creatures) {
-    const Creature& cr = creatures[c];
-    for (int g = cr.group_base; g < cr.group_base + cr.groups; ++g) {
-      const int key = fill_slot[c] * uphases + group_u[g];
-      if (su_index[key] < 0) {
-        su_index[key] = distinct;
-        dist_key[distinct] = key;
-        dist_state[distinct] = fill_slot[c];
-        dist_phase[distinct++] = group_phase[g];
+  for (int k = 0; k < states; ++k) {
+    state_first[k] = distinct;
+    for (int c : wave_creatures) {
+      if (fill_slot[c] != k) continue;
+      const Creature& cr = creatures[c];
+      for (int g = cr.group_base; g < cr.group_base + cr.groups; ++g) {
+        const int key = k * uphases + group_u[g];
+        if (su_index[key] < 0) {
+          su_index[key] = distinct;
+          dist_key[distinct] = key;
+          dist_phase[distinct++] = group_phase[g];
+        }
+        group_arg[g] = su_index[key];
       }
-      group_arg[g] = su_index[key];
     }
   }
+  state_first[states] = distinct;
   for (int d = 0; d < distinct; ++d) su_index[dist_key[d]] = -1;
-  // Where the targets read (see sine_rows).
-  const bool remap = distinct < groups;
+  // Where the targets read (see sine_rows): by group where argument g is group g.
+  bool remap = false;
+  for (int g = 0; g < groups; ++g) remap = remap || group_arg[g] != g;
   if (remap && !sines_in_registers) {
     for (int q = 0; q < nwm_pad; ++q) tm_dist[q] = group_arg[tm_group[q]];
   }
@@ -1382,7 +1391,7 @@ void FusedScene::Data::fill_rows(State* const* st) {
   const int n = filled * distinct;
   sine_fn(dist_arg.data(), dist_sin.data(), n);
   sines += n;
-  if (distinct < groups && sines_in_registers) {
+  if (sine_rows == row_sin.data()) { // remapped, by group
     for (int r = 0; r < filled; ++r) {
       const double* from = dist_sin.data() + static_cast<std::size_t>(r) * distinct;
       double* to = row_sin.data() + static_cast<std::size_t>(r) * groups;
