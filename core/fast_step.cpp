@@ -220,6 +220,8 @@ struct FusedScene::Data {
   int sine_stride = 0;
   const std::int32_t* sine_index = nullptr;
   std::vector<std::int32_t> tm_dist; ///< [nwm_pad]
+  AVec<std::int64_t> tm_dist_lane;   ///< [nwm_pad] tm_dist as permute indices
+  const std::int64_t* sine_lane = nullptr; ///< sine_index as permute indices (tm_group_lane or tm_dist_lane)
 
   std::vector<int> bar_a, bar_b; ///< 2 * working index (offset of x in pos), file order
 
@@ -527,6 +529,19 @@ void targets_kernel(Impl& s, const double* sine) {
     if (s.sines_in_registers) {
       const V row[2] = {O::loadu(sine), O::loadu(sine + O::W)}; // the row is padded to kRegisterPoints
       for (int q = 0; q < s.nwm_pad; q += O::W) O::store(s.target.data() + q, muscle_targets<O>(s, row, q));
+      return;
+    }
+    // A row of up to 96 sines in registers: each muscle's by permutes (O::pick).
+    // Rows are padded so that the loads may run 15 values past the row's end.
+    if (s.sine_stride <= O::W * O::kPickRegisters) {
+      const int pairs = (s.sine_stride + 2 * O::W - 1) / (2 * O::W);
+      V row[O::kPickRegisters];
+#pragma GCC unroll 12
+      for (int j = 0; j < O::kPickRegisters; ++j) row[j] = j < 2 * pairs ? O::loadu(sine + O::W * j) : one;
+      for (int q = 0; q < s.nwm_pad; q += O::W) {
+        const V power = O::mul(O::loadu(s.tm_power.data() + q), O::pick(row, pairs, s.sine_lane + q));
+        O::store(s.target.data() + q, O::mul(O::loadu(s.tm_rest.data() + q), O::add(one, power)));
+      }
       return;
     }
   }
@@ -1097,9 +1112,11 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   dist_sin.assign(row_values + Avx512Ops::kRegisterPoints, 0.0);
   row_sin.assign(row_values + Avx512Ops::kRegisterPoints, 0.0);
   tm_dist.assign(static_cast<std::size_t>(nwm_pad), 0);
+  tm_dist_lane.assign(static_cast<std::size_t>(nwm_pad), 0);
   sine_rows = dist_sin.data();
   sine_stride = groups;
   sine_index = tm_group.data();
+  sine_lane = tm_group_lane.data();
   std::map<std::uint64_t, int> u_of_phase;
   group_u.assign(static_cast<std::size_t>(groups), 0);
   for (int g = 0; g < groups; ++g) {
@@ -1338,11 +1355,12 @@ void FusedScene::Data::number_arguments(State* const* st) {
   bool remap = false;
   for (int g = 0; g < groups; ++g) remap = remap || group_arg[g] != g;
   if (remap && !sines_in_registers) {
-    for (int q = 0; q < nwm_pad; ++q) tm_dist[q] = group_arg[tm_group[q]];
+    for (int q = 0; q < nwm_pad; ++q) tm_dist_lane[q] = tm_dist[q] = group_arg[tm_group[q]];
   }
   sine_rows = !remap ? dist_sin.data() : sines_in_registers ? row_sin.data() : dist_sin.data();
   sine_stride = remap && !sines_in_registers ? distinct : groups;
   sine_index = remap && !sines_in_registers ? tm_dist.data() : tm_group.data();
+  sine_lane = remap && !sines_in_registers ? tm_dist_lane.data() : tm_group_lane.data();
   numbering_valid = true;
 }
 
