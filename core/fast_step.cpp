@@ -562,13 +562,18 @@ void args_kernel(Impl& s, int filled) {
   using V = typename O::V;
   const V two_pi = O::set1(kTwoPi);
   const std::size_t stride = s.creatures.size();
+  // Locals: the stores through arg could alias s's members, which would then be
+  // reloaded after each of them.
+  const int states = s.states, distinct = s.distinct;
+  const int* first = s.state_first.data();
+  const double* muscle_phase = s.dist_phase.data();
   for (int r = 0; r < filled; ++r) {
     const double* phase = s.row_phase.data() + static_cast<std::size_t>(r) * stride;
-    double* arg = s.dist_arg.data() + static_cast<std::size_t>(r) * s.distinct;
-    for (int k = 0; k < s.states; ++k) {
+    double* arg = s.dist_arg.data() + static_cast<std::size_t>(r) * distinct;
+    for (int k = 0; k < states; ++k) {
       const V wave = O::set1(phase[k]);
-      for (int d = s.state_first[k]; d < s.state_first[k + 1]; d += O::W) {
-        O::storeu(arg + d, O::mul(two_pi, O::sub(O::loadu(s.dist_phase.data() + d), wave)));
+      for (int d = first[k]; d < first[k + 1]; d += O::W) {
+        O::storeu(arg + d, O::mul(two_pi, O::sub(O::loadu(muscle_phase + d), wave)));
       }
     }
   }
