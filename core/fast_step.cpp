@@ -201,7 +201,7 @@ struct FusedScene::Data {
   std::vector<int> su_index;         ///< [creatures * uphases] distinct argument of (state, phase), -1: none
   std::vector<int> dist_key;         ///< [groups] (state, phase) key of each distinct argument
   std::vector<int> state_first;      ///< [states + 1] first argument of each wave state
-  std::vector<double> dist_phase;    ///< [groups] its muscle phase
+  std::vector<double> dist_phase;    ///< [groups, padded] the muscle phase of each distinct argument
   std::vector<int> group_arg;        ///< [groups] distinct argument of each group
   std::vector<std::uint64_t> row_phase_bits; ///< [creatures * rows] wave state k's phase in row r at k * rows + r
   std::vector<double> row_phase_after;        ///< [creatures * rows] rules::advance_wave_phase of it
@@ -511,20 +511,25 @@ bool mass_kernel(Impl& s) {
   return O::any(any_side);
 }
 
-/// Muscle targets from this frame's sines: rest * (1 + (Aw*Am) * sine), the second
-/// half of rules::muscle_target_length, for target slots [0, nwm_pad).
-/// The same for the W target slots from q, the row of sines held in two registers
-/// (sines_in_registers: one permute per muscle, not a gather).
+/// Muscle targets of the W target slots from q from their sines: rest * (1 +
+/// (Aw*Am) * sine), the second half of rules::muscle_target_length.
 template <class O>
-[[gnu::always_inline]] inline typename O::V muscle_targets(const Impl& s, const typename O::V (&row)[2], int q) {
-  const typename O::V power = O::mul(O::loadu(s.tm_power.data() + q), O::point(row, s.tm_group_lane.data() + q));
+[[gnu::always_inline]] inline typename O::V muscle_target(const Impl& s, int q, typename O::V sine) {
+  const typename O::V power = O::mul(O::loadu(s.tm_power.data() + q), sine);
   return O::mul(O::loadu(s.tm_rest.data() + q), O::add(O::set1(1.0), power));
 }
 
+/// The same from the row of sines held in two registers (sines_in_registers: one
+/// permute per muscle, not a gather).
+template <class O>
+[[gnu::always_inline]] inline typename O::V muscle_targets(const Impl& s, const typename O::V (&row)[2], int q) {
+  return muscle_target<O>(s, q, O::point(row, s.tm_group_lane.data() + q));
+}
+
+/// The targets of slots [0, nwm_pad) from this frame's row of sines.
 template <class O>
 void targets_kernel(Impl& s, const double* sine) {
   using V = typename O::V;
-  const V one = O::set1(1.0);
   if constexpr (O::kPointRegisters) {
     if (s.sines_in_registers) {
       const V row[2] = {O::loadu(sine), O::loadu(sine + O::W)}; // the row is padded to kRegisterPoints
@@ -537,17 +542,15 @@ void targets_kernel(Impl& s, const double* sine) {
       const int pairs = (s.sine_stride + 2 * O::W - 1) / (2 * O::W);
       V row[O::kPickRegisters];
 #pragma GCC unroll 12
-      for (int j = 0; j < O::kPickRegisters; ++j) row[j] = j < 2 * pairs ? O::loadu(sine + O::W * j) : one;
+      for (int j = 0; j < O::kPickRegisters; ++j) row[j] = j < 2 * pairs ? O::loadu(sine + O::W * j) : O::set1(0.0);
       for (int q = 0; q < s.nwm_pad; q += O::W) {
-        const V power = O::mul(O::loadu(s.tm_power.data() + q), O::pick(row, pairs, s.sine_lane + q));
-        O::store(s.target.data() + q, O::mul(O::loadu(s.tm_rest.data() + q), O::add(one, power)));
+        O::store(s.target.data() + q, muscle_target<O>(s, q, O::pick(row, pairs, s.sine_lane + q)));
       }
       return;
     }
   }
   for (int q = 0; q < s.nwm_pad; q += O::W) {
-    const V power = O::mul(O::loadu(s.tm_power.data() + q), O::gather(sine, s.sine_index + q));
-    O::store(s.target.data() + q, O::mul(O::loadu(s.tm_rest.data() + q), O::add(one, power)));
+    O::store(s.target.data() + q, muscle_target<O>(s, q, O::gather(sine, s.sine_index + q)));
   }
 }
 
