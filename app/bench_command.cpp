@@ -52,12 +52,31 @@ std::string csv(const bench::SpeedReport& r) {
 /// over the rounds of ratios formed from these.
 std::string rounds_csv(const bench::SpeedReport& r) {
   std::ostringstream o;
-  o << "round,work,threads,core,seconds\n";
+  o << "round,work,threads,core,seconds,steal_ms\n";
   for (const bench::PopulationRun& run : r.population_runs) {
     o << run.round << ',' << run.work << ',' << run.threads << ',' << (run.core < 0 ? "-" : std::to_string(run.core))
-      << ',' << soda::format_printf("%.6g", run.seconds) << '\n';
+      << ',' << soda::format_printf("%.6g", run.seconds) << ','
+      << (run.steal_ms < 0.0 ? std::string("-") : soda::format_printf("%.6g", run.steal_ms)) << '\n';
   }
   return o.str();
+}
+
+/// What the kernel's steal time says of the population runs: time the hypervisor
+/// gave the virtual CPUs' turn to something else (another guest), which a busy
+/// sibling hardware thread does not show.
+std::string steal_sentence(const std::vector<bench::PopulationRun>& runs) {
+  double steal = 0.0, seconds = 0.0;
+  int with_steal = 0;
+  for (const bench::PopulationRun& run : runs) {
+    if (run.steal_ms < 0.0) return "The kernel's steal time could not be read (/proc/stat).";
+    steal += run.steal_ms;
+    seconds += run.seconds;
+    if (run.steal_ms > 0.0) ++with_steal;
+  }
+  return "Steal time the kernel accounted to the virtual CPUs during the timed runs (hypervisor preemption; in "
+         "clock ticks): " +
+         soda::format_printf("%.0f", steal) + " ms over " + soda::format_printf("%.1f", seconds) + " s of runs, in " +
+         std::to_string(with_steal) + " of " + std::to_string(runs.size()) + " runs.";
 }
 
 std::string human(double v) { return format_tick(v); }
@@ -157,7 +176,8 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
       }
       o << "Rounds whose fast ratio exceeds " << fixed(bench::kAboveIdeal * r.population_threads, 2)
         << "x, which one host state cannot give (their runs saw different ones): " << r.above_ideal_rounds
-        << ". speed_rounds.csv lists every timed run (round, work, threads, core, seconds).\n";
+        << ". " << steal_sentence(r.population_runs)
+        << " speed_rounds.csv lists every timed run (round, work, threads, core, seconds, steal_ms).\n";
     }
   }
   if (!sweep.empty()) {

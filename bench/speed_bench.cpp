@@ -1,11 +1,13 @@
 #include "bench/speed_bench.hpp"
 
 #include <sched.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
 #include <functional>
 #include <map>
 #include <memory>
@@ -142,6 +144,22 @@ class CoreHold {
   cpu_set_t saved_{};
   bool held_ = false;
 };
+
+/// Steal time the kernel has accounted to this machine's virtual CPUs since boot,
+/// summed over them, in ms (the "steal" column of /proc/stat's cpu line: time the
+/// hypervisor ran something else while a virtual CPU had work), or -1 where it
+/// cannot be read. Counted in clock ticks (10 ms here).
+double steal_ms() {
+  std::ifstream stat("/proc/stat");
+  std::string cpu;
+  long long value[8];
+  if (!(stat >> cpu) || cpu != "cpu") return -1.0;
+  for (long long& v : value) {
+    if (!(stat >> v)) return -1.0;
+  }
+  const long ticks_per_second = sysconf(_SC_CLK_TCK);
+  return ticks_per_second > 0 ? static_cast<double>(value[7]) * 1000.0 / static_cast<double>(ticks_per_second) : -1.0;
+}
 
 /// The time a run would take at the mean of the rates of `per_core` runs.
 double at_mean_rate(const std::vector<double>& per_core) {
@@ -431,8 +449,14 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     const std::vector<int> one_thread_cores = cores.empty() ? std::vector<int>{-1} : cores;
     int held_runs = 0, hold_attempts = 0;
     std::vector<double> t1, tn, ratio, ratio_faster, b1, bn, batch_ratio, host_ratio, spread;
-    auto record = [&](int round, const char* work, int threads, int core, double seconds) {
-      report.population_runs.push_back({round, work, threads, core, seconds});
+    // Times one run (run() returns its seconds) and records it with the steal time
+    // accounted meanwhile.
+    auto record = [&](int round, const char* work, int threads, int core, const std::function<double()>& run) {
+      const double steal_before = steal_ms();
+      const double seconds = run();
+      const double steal_after = steal_before < 0.0 ? -1.0 : steal_ms();
+      report.population_runs.push_back(
+          {round, work, threads, core, seconds, steal_after < 0.0 ? -1.0 : steal_after - steal_before});
       return seconds;
     };
     // Control items timed in the same rounds: 1-thread time / all-thread time of
@@ -440,9 +464,11 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     auto control_speedup = [&](int round, const char* work, std::vector<double>& out,
                                const std::function<double(std::size_t)>& item) {
       auto timed = [&](int threads) {
-        const auto t0 = Clock::now();
-        parallel_for_index(out.size(), threads, [&](std::size_t i) { out[i] = item(i); });
-        return record(round, work, threads, -1, seconds_since(t0));
+        return record(round, work, threads, -1, [&] {
+          const auto t0 = Clock::now();
+          parallel_for_index(out.size(), threads, [&](std::size_t i) { out[i] = item(i); });
+          return seconds_since(t0);
+        });
       };
       const double one = timed(1);
       return one / timed(all);
@@ -458,9 +484,9 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
         const CoreHold hold(core);
         if (core >= 0) ++hold_attempts;
         if (hold.held()) ++held_runs;
-        per_core.push_back(record(round, work, 1, hold.held() ? core : -1, evaluate_on(1)));
+        per_core.push_back(record(round, work, 1, hold.held() ? core : -1, [&] { return evaluate_on(1); }));
       }
-      const double all_seconds = all > 1 ? record(round, work, all, -1, evaluate_on(all)) : per_core.front();
+      const double all_seconds = all > 1 ? record(round, work, all, -1, [&] { return evaluate_on(all); }) : per_core.front();
       return std::pair{per_core, all_seconds};
     };
     std::vector<double> arithmetic(count), divider_ratio;

@@ -73,6 +73,7 @@ struct PopulationRun {
   int threads = 1;
   int core = -1;      ///< the core a 1-thread population run was pinned to; -1: not pinned
   double seconds = 0.0;
+  double steal_ms = -1.0; ///< steal time accounted to the virtual CPUs during the run (all of them); -1: unknown
 };
 
 struct SpeedReport {

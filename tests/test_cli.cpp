@@ -232,7 +232,7 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
   // Every timed population run: the reported ratios are the medians over the rounds
   // of (1-thread time at the mean rate of the per-core runs) / (all-thread time).
   const CsvLines runs = read_csv_lines(out / "speed_rounds.csv");
-  CHECK(runs.header == "round,work,threads,core,seconds");
+  CHECK(runs.header == "round,work,threads,core,seconds,steal_ms");
   struct Round {
     std::vector<double> one_thread_rates;
     std::set<std::string> cores;
@@ -241,9 +241,12 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
   std::map<std::string, std::map<int, Round>> by_work;
   for (const std::string& line : runs.rows) {
     const std::vector<std::string> f = csv_cells(line);
-    REQUIRE(f.size() == 5);
+    REQUIRE(f.size() == 6);
     const double seconds = std::stod(f[4]);
     CHECK(seconds > 0.0);
+    // Steal time in ms, or "-" where /proc/stat has none (then for every run).
+    if (f[5] != "-") CHECK(std::stod(f[5]) >= 0.0);
+    CHECK((f[5] == "-") == (md.find("steal time could not be read") != std::string::npos));
     if (f[1] != "fast" && f[1] != "fast-batch") continue;
     Round& round = by_work[f[1]][std::stoi(f[0])];
     if (f[2] == "1") {
