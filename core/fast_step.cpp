@@ -181,7 +181,8 @@ struct FusedScene::Data {
   // and its direction the rows' (so it was when the row was checked or filled, and
   // each frame's advance is the next row's phase): a frame takes the next row and
   // the advance from it without comparing every creature's phase. leave_rows ends
-  // it wherever a direction may change or another state may come in.
+  // it wherever a direction may change, another state may come in, or the rows run
+  // out, and notes the phases the targets are for (what the check compares with).
   bool rows_synced = false;
   std::vector<int> wave_creatures;  ///< creatures with a wave muscle
   std::vector<int> still_creatures; ///< the others (their phases still advance)
@@ -251,6 +252,7 @@ struct FusedScene::Data {
       targets_valid = true;
       return sine_rows + static_cast<std::size_t>(current_row) * sine_stride;
     }
+    leave_rows(); // the rows ran out: targets_phase_bits must say what the targets are for
     bool changed = !targets_valid;
     for (std::size_t k = 0; k < wave_creatures.size() && !changed; ++k) {
       const int c = wave_creatures[k];
@@ -531,12 +533,8 @@ template <class O>
 void targets_kernel(Impl& s, const double* sine) {
   using V = typename O::V;
   if constexpr (O::kPointRegisters) {
-    if (s.sines_in_registers) {
-      const V row[2] = {O::loadu(sine), O::loadu(sine + O::W)}; // the row is padded to kRegisterPoints
-      for (int q = 0; q < s.nwm_pad; q += O::W) O::store(s.target.data() + q, muscle_targets<O>(s, row, q));
-      return;
-    }
-    // A row of up to 96 sines in registers: each muscle's by permutes (O::pick).
+    // A row of up to 96 sines in registers: each muscle's by permutes (O::pick; a
+    // row of sines_in_registers takes one).
     // Rows are padded so that the loads may run 15 values past the row's end.
     if (s.sine_stride <= O::W * O::kPickRegisters) {
       const int pairs = (s.sine_stride + 2 * O::W - 1) / (2 * O::W);
@@ -1362,13 +1360,15 @@ void FusedScene::Data::number_arguments(State* const* st) {
   // Where the targets read (see sine_rows): by group where argument g is group g.
   bool remap = false;
   for (int g = 0; g < groups; ++g) remap = remap || group_arg[g] != g;
-  if (remap && !sines_in_registers) {
+  // Remapped sines in registers are copied out by group per fill (row_sin).
+  const bool read_distinct = remap && !sines_in_registers;
+  if (read_distinct) {
     for (int q = 0; q < nwm_pad; ++q) tm_dist_lane[q] = tm_dist[q] = group_arg[tm_group[q]];
   }
-  sine_rows = !remap ? dist_sin.data() : sines_in_registers ? row_sin.data() : dist_sin.data();
-  sine_stride = remap && !sines_in_registers ? distinct : groups;
-  sine_index = remap && !sines_in_registers ? tm_dist.data() : tm_group.data();
-  sine_lane = remap && !sines_in_registers ? tm_dist_lane.data() : tm_group_lane.data();
+  sine_rows = remap && sines_in_registers ? row_sin.data() : dist_sin.data();
+  sine_stride = read_distinct ? distinct : groups;
+  sine_index = read_distinct ? tm_dist.data() : tm_group.data();
+  sine_lane = read_distinct ? tm_dist_lane.data() : tm_group_lane.data();
   numbering_valid = true;
 }
 
