@@ -377,8 +377,9 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     // ratio swung between 1.1x and 1.9x between invocations, while 31 rounds of 50 ms
     // runs gave 1.93-1.97x in five invocations where the host put the two virtual
     // cores on one physical core in at most 8 rounds (bench/README.md, Results).
-    // Two copies of each bundled creature per batch item and thread: enough items for
-    // the batch path to keep every thread busy.
+    // 16 copies of each bundled creature per two threads (48 creatures on this
+    // machine): about 50 ms on one thread, and enough batch items to keep every
+    // thread busy.
     const int copies = (options.quick ? 4 : 16) * std::max(1, all / 2);
     const long long frames = options.quick ? 1000 : 5000;
     const std::size_t count = creatures.size() * static_cast<std::size_t>(copies);

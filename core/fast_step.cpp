@@ -204,9 +204,9 @@ struct FusedScene::Data {
   std::vector<int> state_first;      ///< [states + 1] first argument of each wave state
   std::vector<double> dist_phase;    ///< [groups, padded] the muscle phase of each distinct argument
   std::vector<int> group_arg;        ///< [groups] distinct argument of each group
-  std::vector<std::uint64_t> row_phase_bits; ///< [creatures * rows] wave state k's phase in row r at k * rows + r
-  std::vector<double> row_phase_after;        ///< [creatures * rows] rules::advance_wave_phase of it
-  std::vector<double> row_phase;              ///< [rows * creatures] the same phases at r * creatures + k
+  /// [(rows + 1) * creatures] wave state k's phase in row r at r * creatures + k;
+  /// row r + 1 holds rules::advance_wave_phase of row r (the last one too)
+  std::vector<double> row_phase;
   AVec<double> dist_arg, dist_sin;   ///< [rows * distinct, padded] the arguments of each row, their sines
   AVec<double> row_sin;              ///< [rows * groups, padded] sines by group (remapped, in registers)
   // Where the targets read their sines: the row of a frame starts at sine_rows +
@@ -217,7 +217,7 @@ struct FusedScene::Data {
   // tm_group[q]): copying them out per group and row cost more than the targets (a
   // GA scene: 13 rows of 74 groups from 56 distinct sines). Scenes with their sines
   // in registers read by group (muscle_targets permutes by group).
-  const double* sine_rows = nullptr;
+  double* sine_rows = nullptr;
   int sine_stride = 0;
   const std::int32_t* sine_index = nullptr;
   std::vector<std::int32_t> tm_dist; ///< [nwm_pad]
@@ -262,7 +262,7 @@ struct FusedScene::Data {
     bool row_usable = row_next < row_count;
     for (std::size_t k = 0; k < wave_creatures.size() && row_usable; ++k) {
       const int c = wave_creatures[k];
-      row_usable = bits_of(st[c]->wave_phase) == row_phase_bits[row_at(c, row_next)] &&
+      row_usable = bits_of(st[c]->wave_phase) == bits_of(row_phase[row_at(c, row_next)]) &&
                    st[c]->wave_mode == creatures[c].rows_mode;
     }
     if (!row_usable) fill_rows(st);
@@ -271,9 +271,9 @@ struct FusedScene::Data {
     rows_synced = true;
     return sine_rows + static_cast<std::size_t>(current_row) * sine_stride;
   }
-  /// Index of wave creature c's row r in row_phase_bits and row_phase_after.
+  /// Index of wave creature c's phase in row r of row_phase (its advance: row r + 1).
   [[nodiscard]] std::size_t row_at(int c, int r) const {
-    return static_cast<std::size_t>(fill_slot[c]) * rows + static_cast<std::size_t>(r);
+    return static_cast<std::size_t>(r) * creatures.size() + static_cast<std::size_t>(fill_slot[c]);
   }
   /// Whether creatures a and b have their waves in the same state (phase and speed
   /// bit for bit, same direction): the same rows of phases.
@@ -285,7 +285,7 @@ struct FusedScene::Data {
   void leave_rows() {
     if (!rows_synced) return;
     rows_synced = false;
-    for (int c : wave_creatures) creatures[c].targets_phase_bits = row_phase_bits[row_at(c, current_row)];
+    for (int c : wave_creatures) creatures[c].targets_phase_bits = bits_of(row_phase[row_at(c, current_row)]);
   }
   void update_targets(State* const* st);
   void fill_rows(State* const* st);
@@ -296,13 +296,15 @@ struct FusedScene::Data {
     const Creature& cr = creatures[c];
     if (current_row >= 0 && cr.groups > 0) {
       const std::size_t at = row_at(c, current_row);
-      if (bits_of(st.wave_phase) == row_phase_bits[at] && st.wave_mode == cr.rows_mode) return row_phase_after[at];
+      if (bits_of(st.wave_phase) == bits_of(row_phase[at]) && st.wave_mode == cr.rows_mode) {
+        return row_phase[row_at(c, current_row + 1)];
+      }
     }
     return rules::advance_wave_phase(st.wave_phase, cr.model->wave_speed, st.wave_mode);
   }
   [[gnu::always_inline]] void advance_waves(State* const* st) {
     if (rows_synced) {
-      for (int c : wave_creatures) st[c]->wave_phase = row_phase_after[row_at(c, current_row)];
+      for (int c : wave_creatures) st[c]->wave_phase = row_phase[row_at(c, current_row + 1)];
       for (int c : still_creatures) {
         st[c]->wave_phase = rules::advance_wave_phase(st[c]->wave_phase, creatures[c].model->wave_speed, st[c]->wave_mode);
       }
@@ -1107,9 +1109,7 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   for (std::size_t c = 0; c < creatures.size(); ++c) {
     (creatures[c].groups > 0 ? wave_creatures : still_creatures).push_back(static_cast<int>(c));
   }
-  row_phase_bits.assign(creatures.size() * static_cast<std::size_t>(rows), 0);
-  row_phase_after.assign(creatures.size() * static_cast<std::size_t>(rows), 0.0);
-  row_phase.assign(creatures.size() * static_cast<std::size_t>(rows), 0.0);
+  row_phase.assign(creatures.size() * static_cast<std::size_t>(rows + 1), 0.0);
   sines_in_registers = simd == SimdLevel::Avx512 && groups <= Avx512Ops::kRegisterPoints;
   tm_group_lane.assign(static_cast<std::size_t>(nwm_pad), 0);
   for (int q = 0; q < nwm_pad; ++q) tm_group_lane[q] = tm_group[q];
@@ -1390,7 +1390,7 @@ void FusedScene::Data::fill_rows(State* const* st) {
     same_states = same_wave(st, c, slot_leader[fill_slot[c]]);
   }
   if (!same_states) number_arguments(st);
-  // Each state's rows of phases, the advance from each (rules::advance_wave_phase).
+  // Each state's rows of phases and the advance from the last (rules::advance_wave_phase).
   const std::size_t stride = creatures.size();
   bool all_standing = true;
   for (int k = 0; k < states; ++k) {
@@ -1398,14 +1398,11 @@ void FusedScene::Data::fill_rows(State* const* st) {
     double phase = st[c]->wave_phase;
     const WaveDirection mode = st[c]->wave_mode;
     const double speed = creatures[c].model->wave_speed;
-    std::uint64_t* phase_bits = row_phase_bits.data() + static_cast<std::size_t>(k) * rows;
-    double* phase_after = row_phase_after.data() + static_cast<std::size_t>(k) * rows;
-    for (int r = 0; r < rows; ++r) {
-      row_phase[r * stride + k] = phase;
-      phase_bits[r] = bits_of(phase);
+    row_phase[k] = phase;
+    for (int r = 1; r <= rows; ++r) {
       const double next = rules::advance_wave_phase(phase, speed, mode);
-      phase_after[r] = next;
-      all_standing = all_standing && bits_of(next) == phase_bits[r];
+      row_phase[r * stride + k] = next;
+      all_standing = all_standing && bits_of(next) == bits_of(phase);
       phase = next;
     }
   }
@@ -1424,9 +1421,8 @@ void FusedScene::Data::fill_rows(State* const* st) {
       for (int g = 0; g < groups; ++g) to[g] = from[group_arg[g]];
     }
   }
-  double* out_rows = const_cast<double*>(sine_rows);
   for (int r = filled; r < rows; ++r) {
-    std::copy(out_rows, out_rows + sine_stride, out_rows + static_cast<std::size_t>(r) * sine_stride);
+    std::copy(sine_rows, sine_rows + sine_stride, sine_rows + static_cast<std::size_t>(r) * sine_stride);
   }
   row_count = rows;
   row_next = 0;
