@@ -13,31 +13,16 @@
 #include <stdexcept>
 #include <vector>
 
+#include "aligned_vector.hpp"
 #include "exact_sines.hpp"
 #include "fused_scene.hpp"
 #include "physics_rules.hpp"
 #include "simd_ops.hpp"
+#include "simd_rules.hpp"
 
 namespace soda {
 
-// ---------------------------------------------------------------------------
-// Aligned scratch arrays.
-// ---------------------------------------------------------------------------
 namespace {
-
-template <class T>
-struct AlignedAllocator {
-  using value_type = T;
-  AlignedAllocator() = default;
-  template <class U>
-  AlignedAllocator(const AlignedAllocator<U>&) {}
-  T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t{64})); }
-  void deallocate(T* p, std::size_t) { ::operator delete(p, std::align_val_t{64}); }
-  template <class U>
-  bool operator==(const AlignedAllocator<U>&) const { return true; }
-};
-template <class T>
-using AVec = std::vector<T, AlignedAllocator<T>>;
 
 std::uint64_t bits_of(double v) {
   std::uint64_t b;
@@ -369,9 +354,8 @@ void link_kernel(Impl& s) {
     }
     const V dx = O::sub(xb, xa);
     const V dy = O::sub(yb, ya);
-    const V length = O::sqrt(O::add(O::mul(dx, dx), O::mul(dy, dy)));
-    // rules::link_impulse_factor: springyness * (length - target) / length
-    const V c = O::div(O::mul(O::load(link_k + i), O::sub(length, O::load(target + i))), length);
+    const V length = simd_rules::length<O>(dx, dy);
+    const V c = simd_rules::impulse_factor<O>(O::load(link_k + i), length, O::load(target + i));
     const V px = O::mul(c, dx);
     const V py = O::mul(c, dy);
     // End B: v -= p is v + (-p) exactly. A zero-length link is skipped: both its
@@ -397,75 +381,17 @@ template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
 [[gnu::always_inline]] inline void move_mass_block(Impl& s, int i, typename O::V& x, typename O::V& y, typename O::V& vx,
                             typename O::V& vy, typename O::M& any_side) {
   using V = typename O::V;
-  using M = typename O::M;
-  const V syrup = O::set1(kSyrupThreshold);
-  const V syrup2 = O::set1(kSyrupThreshold * kSyrupThreshold); // 400, exact
-  const V rest_limit = O::set1(kZeroVelocity);
-  const V zero = O::set1(0.0);
-  const V x0 = x, y0 = y;
-  if constexpr (Gravity) vy = O::sub(vy, O::load(s.mass_gd.data() + i)); // rules::apply_gravity
-  // rules::friction_factor: (1 - f), times (20 / speed) when speed > 20.
-  // The square-root/divide unit is the bottleneck of the whole step, so both are
-  // skipped when no lane can be above the limit: sqrt is correctly rounded and
-  // monotonic with sqrt(400) = 20, so vx^2 + vy^2 <= 400 gives speed <= 20
-  // exactly. The other lanes keep 1 - f either way.
-  const V speed2 = O::add(O::mul(vx, vx), O::mul(vy, vy));
-  const V one_minus_f = O::load(s.mass_keep.data() + i); // rules::friction_factor
-  V factor = one_minus_f;
-  if (O::any(O::gt(speed2, syrup2))) {
-    const V speed = O::sqrt(speed2);
-    factor = O::select(O::gt(speed, syrup), O::mul(one_minus_f, O::div(syrup, speed)), one_minus_f);
+  const simd_rules::MassParams<O> params{O::load(s.mass_gd.data() + i),    O::load(s.mass_keep.data() + i),
+                                         O::load(s.mass_width.data() + i), O::load(s.mass_height.data() + i),
+                                         O::load(s.mass_fs.data() + i),    O::load(s.mass_rs.data() + i)};
+  const simd_rules::SideHits<O> sides = simd_rules::move_mass<O, Gravity, Floor, Ceiling, Sides>(params, x, y, vx, vy);
+  // s.side is all zero between frames (replay_side_hits clears what it reads):
+  // only a block with a hit writes it.
+  if (O::any(sides.hit)) [[unlikely]] {
+    const V h = O::select(O::m_and(sides.hit, sides.left), O::set1(-1.0), O::select(sides.hit, O::set1(1.0), O::set1(0.0)));
+    O::store_pairs(s.side.data() + 2 * i, h, h);
+    any_side = O::m_or(any_side, sides.hit);
   }
-  vx = O::mul(factor, vx);
-  vy = O::mul(factor, vy);
-  // rules::is_at_rest
-  const M rest = O::m_and(O::lt(O::abs(vx), rest_limit), O::lt(O::abs(vy), rest_limit));
-  V nx = O::add(x0, vx), ny = O::add(y0, vy);
-  V cvx = vx, cvy = vy;
-  // rules::collide_with_container, without the walls no mass can reach.
-  M fc = O::m_none();
-  const V fs = O::load(s.mass_fs.data() + i), rs = O::load(s.mass_rs.data() + i);
-  // The clamps are max and min, not a compare and a blend: the same bits
-  // (max(0, y) is y < 0 ? 0 : y, NaN and -0.0 included) on the position's chain
-  // from frame to frame at a quarter of the latency; the masks only steer the
-  // velocities.
-  if constexpr (Floor) {
-    fc = O::lt(ny, zero);
-    ny = O::max(zero, ny);
-  }
-  if constexpr (Ceiling) {
-    const V height = O::load(s.mass_height.data() + i);
-    fc = O::m_or(fc, O::gt(ny, height)); // after the floor clamp: the "else if"
-    ny = O::min(height, ny);
-  }
-  if constexpr (Floor || Ceiling) {
-    cvy = O::select(fc, O::mul(cvy, rs), cvy);
-    cvx = O::select(fc, O::mul(cvx, fs), cvx);
-  }
-  if constexpr (Sides) {
-    const V left = O::set1(-1.0), right = O::set1(1.0);
-    const M lw = O::lt(nx, zero);
-    nx = O::max(zero, nx);
-    const V width = O::load(s.mass_width.data() + i);
-    const M rw = O::gt(nx, width);
-    nx = O::min(width, nx);
-    const M respond = O::m_andnot(O::m_or(lw, rw), fc); // the corner rule
-    cvx = O::select(respond, O::mul(cvx, rs), cvx);
-    cvy = O::select(respond, O::mul(cvy, fs), cvy);
-    const M hit = O::m_andnot(respond, rest);
-    // s.side is all zero between frames (replay_side_hits clears what it reads):
-    // only a block with a hit writes it.
-    if (O::any(hit)) [[unlikely]] {
-      const V h = O::select(O::m_and(hit, lw), left, O::select(hit, right, zero));
-      O::store_pairs(s.side.data() + 2 * i, h, h);
-      any_side = O::m_or(any_side, hit);
-    }
-  }
-  // A mass at rest keeps its position and its damped velocity (no collision).
-  x = O::select(rest, x0, nx);
-  y = O::select(rest, y0, ny);
-  vx = O::select(rest, vx, cvx);
-  vy = O::select(rest, vy, cvy);
 }
 
 /// The masses (spec 5.3) in SIMD over masses: first each mass's impulses added to
@@ -519,8 +445,7 @@ bool mass_kernel(Impl& s) {
 /// (Aw*Am) * sine), the second half of rules::muscle_target_length.
 template <class O>
 [[gnu::always_inline]] inline typename O::V muscle_target(const Impl& s, int q, typename O::V sine) {
-  const typename O::V power = O::mul(O::loadu(s.tm_power.data() + q), sine);
-  return O::mul(O::loadu(s.tm_rest.data() + q), O::add(O::set1(1.0), power));
+  return simd_rules::muscle_target<O>(O::loadu(s.tm_rest.data() + q), O::loadu(s.tm_power.data() + q), sine);
 }
 
 /// The same from the row of sines held in two registers (sines_in_registers: one
@@ -672,9 +597,8 @@ void register_chunk(Impl& s, State* const* st, long long frames) {
       const __m512i ib = _mm512_load_si512(s.rf_end_b.data() + W * b);
       const V dx = O::sub(_mm512_permutex2var_pd(x[0], ib, x[1]), _mm512_permutex2var_pd(x[0], ia, x[1]));
       const V dy = O::sub(_mm512_permutex2var_pd(y[0], ib, y[1]), _mm512_permutex2var_pd(y[0], ia, y[1]));
-      const V length = O::sqrt(O::add(O::mul(dx, dx), O::mul(dy, dy)));
-      // rules::link_impulse_factor: springyness * (length - target) / length
-      const V c = O::div(O::mul(O::load(s.link_k.data() + W * b), O::sub(length, target[b])), length);
+      const V length = simd_rules::length<O>(dx, dy);
+      const V c = simd_rules::impulse_factor<O>(O::load(s.link_k.data() + W * b), length, target[b]);
       px[b] = O::mul(c, dx);
       py[b] = O::mul(c, dy);
       zero_length = O::m_or(zero_length, O::m_and(O::eq(length, zero), s.rf_real[b]));

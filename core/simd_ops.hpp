@@ -277,6 +277,10 @@ struct Avx512Ops {
   static M le(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LE_OQ); }
   static M ge(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
   static M ne(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_NEQ_UQ); }
+  static V floor(V a) { return _mm512_roundscale_pd(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+  /// a + b in lanes m, a elsewhere (and a - b): one masked instruction.
+  static V add_where(M m, V a, V b) { return _mm512_mask_add_pd(a, m, a, b); }
+  static V sub_where(M m, V a, V b) { return _mm512_mask_sub_pd(a, m, a, b); }
   static unsigned lanes(M m) { return m; }
   static V loadu(const double* p) { return _mm512_loadu_pd(p); }
   static void storeu(double* p, V v) { _mm512_storeu_pd(p, v); }
