@@ -19,7 +19,36 @@ BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long fr
     pack_index.clear();
     pack_links = 0;
   };
+  // Models of one shape, enough of them, in lockstep; which ones is decided here,
+  // once, from the models alone.
+  std::vector<bool> in_lockstep(static_cast<std::size_t>(count_), false);
+  const bool lockstep = LockstepBatch::usable() && !options.force_ordered && options.vector_sines &&
+                        (options.simd == SimdLevel::Auto || options.simd == SimdLevel::Avx512);
+  if (lockstep) {
+    std::vector<std::vector<int>> shapes; // model indices by shape, in order of first appearance
+    for (int i = 0; i < count_; ++i) {
+      if (!LockstepBatch::can_take(*models[i])) continue;
+      auto same = std::find_if(shapes.begin(), shapes.end(), [&](const std::vector<int>& members) {
+        return LockstepBatch::same_shape(*models[members[0]], *models[i]);
+      });
+      if (same == shapes.end()) {
+        shapes.push_back({i});
+      } else {
+        same->push_back(i);
+      }
+    }
+    for (const std::vector<int>& members : shapes) {
+      if (static_cast<int>(members.size()) < kMinLockstep) continue;
+      std::vector<const Model*> lanes;
+      for (int i : members) {
+        lanes.push_back(models[i]);
+        in_lockstep[static_cast<std::size_t>(i)] = true;
+      }
+      locksteps_.push_back({LockstepBatch(lanes), members});
+    }
+  }
   for (int i = 0; i < count_; ++i) {
+    if (in_lockstep[static_cast<std::size_t>(i)]) continue;
     if (options.force_ordered || !FusedScene::can_fuse(*models[i])) {
       alone_.emplace_back(*models[i], frame_budget, options);
       alone_index_.push_back(i);
@@ -56,8 +85,19 @@ BatchStepper& BatchStepper::operator=(BatchStepper&&) noexcept = default;
 
 int BatchStepper::fused_count() const { return count_ - static_cast<int>(alone_index_.size()); }
 
+int BatchStepper::lockstep_count() const {
+  int n = 0;
+  for (const Lockstep& l : locksteps_) n += static_cast<int>(l.index.size());
+  return n;
+}
+
 void BatchStepper::run(const std::vector<State*>& states, long long frames) {
   if (static_cast<int>(states.size()) != count_) throw std::invalid_argument("BatchStepper::run: one state per model");
+  for (Lockstep& l : locksteps_) {
+    scratch_.clear();
+    for (int i : l.index) scratch_.push_back(states[i]);
+    l.batch.run(scratch_.data(), frames);
+  }
   for (Scene& s : scenes_) {
     scratch_.clear();
     for (int i : s.index) scratch_.push_back(states[i]);

@@ -1,0 +1,73 @@
+// LockstepBatch: creatures of one shape, one per SIMD lane.
+//
+// Why: a fused scene (fused_scene.hpp) takes any mix of creatures, at the price of
+// moving every impulse to its mass by permutes or index loads; and a small
+// creature alone is a short dependency chain per frame that leaves the core
+// mostly idle. Creatures of one shape (the same number of masses and fixed
+// nodes and the same links between them, in the same file order) can instead
+// sit one per lane: lane l of every vector is creature l, and the reference step
+// (step.cpp) runs as written, link by link in file order, each operation on 8
+// creatures at once. Nothing is gathered or reordered, so every lane does the
+// reference's operations in the reference's order: the same bits, by
+// construction (tests/test_lockstep_batch.cpp checks them).
+//
+// Everything else may differ per lane: positions, velocities, rest lengths,
+// which links are muscles and their phases and amplitudes, the wave, the world
+// (gravity, friction, springyness, container, surfaces). That is what a genetic
+// algorithm's population holds: most children are their parent's shape with
+// other numbers (batch_evaluation.cpp groups them by shape).
+//
+// Muscle sines: one per frame per distinct muscle phase of a lane (a column of
+// links whose phases agree in every lane shares it), glibc's sin in SIMD
+// (exact_sines.hpp), for all lanes at once. Walls are tested every frame (a max
+// and a min per coordinate: cheaper than knowing which are out of reach).
+//
+// AVX-512 only (usable()); models with fixed bars are not taken (a bar test needs
+// each mass against the others' new positions, fast_step's ordered kernel).
+// The Models must outlive the batch; one batch is used by one thread at a time.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "model.hpp"
+
+namespace soda {
+
+class LockstepBatch {
+ public:
+  /// Creatures per vector.
+  static constexpr int kLanes = 8;
+
+  /// Whether this machine runs the batch (AVX-512 with the exact vector sine).
+  static bool usable();
+  /// Whether `model` can be in a batch (no fixed bars).
+  static bool can_take(const Model& model);
+  /// Whether two models have one shape: the same masses and fixed nodes (by
+  /// count) and the same links, end for end, in file order. Fixed bars excluded.
+  static bool same_shape(const Model& a, const Model& b);
+
+  /// Throws std::invalid_argument when `models` is empty, a model has fixed bars,
+  /// or two models differ in shape, and std::runtime_error when !usable().
+  explicit LockstepBatch(const std::vector<const Model*>& models);
+  ~LockstepBatch();
+  LockstepBatch(LockstepBatch&&) noexcept;
+  LockstepBatch& operator=(LockstepBatch&&) noexcept;
+  LockstepBatch(const LockstepBatch&) = delete;
+  LockstepBatch& operator=(const LockstepBatch&) = delete;
+
+  /// Steps states[c] (a state of model c) by `frames` frames, for every c;
+  /// afterwards each equals, bit for bit, soda::run(*models[c], *states[c], frames).
+  void run(State* const* states, long long frames);
+
+  [[nodiscard]] int size() const;
+  /// Sine columns per lane and frame (distinct muscle phases with a moving wave).
+  [[nodiscard]] int sine_columns() const;
+
+  struct Data;
+
+ private:
+  std::unique_ptr<Data> d_;
+};
+
+} // namespace soda

@@ -1,0 +1,257 @@
+// The lockstep batch (creatures of one shape, one per SIMD lane) against the
+// reference step: every lane must equal, bit for bit, soda::run of its own model.
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/batch_step.hpp"
+#include "core/lockstep_batch.hpp"
+#include "core/model_file.hpp"
+#include "core/step.hpp"
+#include "evolve/rng.hpp"
+#include "evolve/run_config.hpp"
+#include "evolve/variation.hpp"
+#include "test_support.hpp"
+
+using namespace sodaevo::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+/// Models of one shape as `base`, each differing from it in what a lane may
+/// hold on its own: muscle phases and amplitudes, which links are muscles, rest
+/// lengths, positions, the wave (speed, start phase, direction, manual), the world
+/// (gravity up or off, friction, springyness, surfaces), a small box that makes
+/// masses hit the walls and turn the wave, and a link of length 0.
+std::vector<soda::Model> variants_of(const soda::Model& base) {
+  std::vector<soda::Model> out;
+  out.push_back(base);
+  for (int k = 1; k <= 3; ++k) {
+    soda::Model m = base;
+    for (std::size_t i = 0; i < m.link_phase.size(); ++i) {
+      if (m.link_muscle[i]) m.link_phase[i] = soda::wrap_phase(m.link_phase[i] + 0.0007 * k + 0.01 * static_cast<double>(i % 3));
+    }
+    out.push_back(m);
+  }
+  {
+    soda::Model m = base; // springs become muscles and muscles springs; other amplitudes
+    for (std::size_t i = 0; i < m.link_muscle.size(); ++i) {
+      if (i % 3 == 0) {
+        m.link_muscle[i] = m.link_muscle[i] ? 0 : 1;
+        m.link_amplitude[i] = m.link_muscle[i] ? 0.3 : 0.0;
+        m.link_phase[i] = 0.125 * static_cast<double>(i % 8);
+      } else if (m.link_muscle[i]) {
+        m.link_amplitude[i] *= 0.5;
+      }
+      m.link_rest[i] *= 1.0 + 0.01 * static_cast<double>(i % 5);
+    }
+    out.push_back(m);
+  }
+  {
+    soda::Model m = base; // another wave and world
+    m.wave_speed *= 1.7;
+    m.wave_phase0 = soda::wrap_phase(base.wave_phase0 + 0.37);
+    m.wave_direction0 = soda::WaveDirection::Reverse;
+    m.gravity_direction = soda::GravityDirection::Up;
+    m.friction = 0.07;
+    m.springyness = std::min(0.5, base.springyness * 1.3);
+    m.surface_friction = 1.0;
+    m.surface_reflection = -1.0;
+    out.push_back(m);
+  }
+  {
+    soda::Model m = base; // no gravity, manual wave
+    m.gravity_direction = soda::GravityDirection::Off;
+    m.wave_direction0 = soda::WaveDirection::Manual;
+    out.push_back(m);
+  }
+  {
+    soda::Model m = base; // a tight box: walls, corners, autoreverse
+    double min_x = 1e300, max_x = -1e300, min_y = 1e300, max_y = -1e300;
+    for (int p = 0; p < m.point_count; ++p) {
+      min_x = std::min(min_x, m.x0[p]), max_x = std::max(max_x, m.x0[p]);
+      min_y = std::min(min_y, m.y0[p]), max_y = std::max(max_y, m.y0[p]);
+    }
+    for (int p = 0; p < m.point_count; ++p) {
+      m.x0[p] += 4.0 - min_x;
+      m.y0[p] += 3.0 - min_y;
+    }
+    m.width = (max_x - min_x) + 12.0;
+    m.height = (max_y - min_y) + 10.0;
+    m.autoreverse = true;
+    for (int p = 0; p < m.mass_count; ++p) m.vx0[p] += (p % 2 == 0 ? 3.0 : -3.0);
+    out.push_back(m);
+  }
+  if (base.link_count() > 0 && base.is_mass(base.link_b[0])) {
+    soda::Model m = base; // the first link starts at length 0 (skipped until its ends part)
+    m.x0[m.link_b[0]] = m.x0[m.link_a[0]];
+    m.y0[m.link_b[0]] = m.y0[m.link_a[0]];
+    out.push_back(m);
+  }
+  {
+    soda::Model m = base; // fast: the syrup limit
+    for (int p = 0; p < m.mass_count; ++p) m.vx0[p] += 25.0;
+    out.push_back(m);
+  }
+  return out;
+}
+
+/// Runs the batch and the reference side by side in uneven pieces; returns the
+/// first mismatch, or an empty string.
+std::string run_lockstep_and_reference(const std::string& name, const std::vector<soda::Model>& models,
+                                       long long frames) {
+  std::vector<const soda::Model*> pointers;
+  std::vector<soda::State> ref, lanes;
+  for (const soda::Model& m : models) {
+    pointers.push_back(&m);
+    ref.push_back(soda::make_state(m));
+    lanes.push_back(soda::make_state(m));
+  }
+  soda::LockstepBatch batch(pointers);
+  std::vector<soda::State*> states;
+  for (soda::State& s : lanes) states.push_back(&s);
+  const long long pieces[] = {1, 1, 7, 100, 391};
+  long long done = 0;
+  std::size_t next = 0;
+  while (done < frames) {
+    const long long n = std::min(frames - done, next < std::size(pieces) ? pieces[next++] : frames);
+    batch.run(states.data(), n);
+    done += n;
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      soda::run(models[k], ref[k], n);
+      std::string diff = compare_states(models[k], ref[k], lanes[k]);
+      if (diff.empty() && (ref[k].wave_mode != lanes[k].wave_mode || ref[k].last_side_wall != lanes[k].last_side_wall ||
+                           ref[k].frame != lanes[k].frame)) {
+        diff = "wave direction, last side wall or frame count";
+      }
+      if (!diff.empty()) return name + " lane " + std::to_string(k) + " at frame " + std::to_string(done) + ": " + diff;
+    }
+  }
+  return {};
+}
+
+bool skip_without_avx512() {
+  if (soda::LockstepBatch::usable()) return false;
+  WARN("this CPU has no AVX-512: the lockstep batch is not used here (BatchStepper fuses instead)");
+  return true;
+}
+
+} // namespace
+
+TEST_CASE("lockstep batch: every bundled and test model, in variants of one shape, equals the reference",
+          "[lockstep]") {
+  if (skip_without_avx512()) return;
+  std::vector<fs::path> files = xml_files_under(models_dir());
+  for (const fs::path& f : xml_files_under(data_dir() / "soda")) files.push_back(f);
+  const fs::path shared = shared_models_dir();
+  if (shared.empty()) {
+    WARN("../shared is absent: the bundled and tests/data models only");
+  } else {
+    for (const fs::path& f : xml_files_under(shared)) files.push_back(f);
+  }
+  int batches = 0;
+  for (const fs::path& file : files) {
+    const std::optional<Scene> scene = load_scene_unless_race(file);
+    if (!scene || !soda::LockstepBatch::can_take(scene->model)) continue;
+    const std::vector<soda::Model> models = variants_of(scene->model);
+    const std::string diff = run_lockstep_and_reference(file.string(), models, 1500);
+    INFO(diff);
+    CHECK(diff.empty());
+    ++batches;
+  }
+  CHECK(batches >= 7);
+}
+
+TEST_CASE("lockstep batch: mutants of one parent (a GA's children) over a long run, 1 to 17 lanes", "[lockstep]") {
+  if (skip_without_avx512()) return;
+  const Scene walker = load_scene(models_dir() / "dainty_walker.xml");
+  sodaevo::RunConfig config;
+  config.mutation.add_link_rate = config.mutation.remove_link_rate = 0.0; // the shape stays
+  config.mutation.add_mass_rate = config.mutation.remove_mass_rate = 0.0;
+  config.mutation.toggle_muscle_rate = 0.0; // the canonical form moves a toggled link to its kind's group
+  std::vector<soda::Model> models;
+  for (int i = 0; i < 17; ++i) {
+    sodaevo::Rng rng = sodaevo::Rng::stream(99, static_cast<std::uint64_t>(i));
+    soda::ModelDef child = walker.def;
+    sodaevo::mutate(child, config, rng);
+    models.push_back(soda::build_model(child));
+    REQUIRE(soda::LockstepBatch::same_shape(models[0], models.back()));
+  }
+  for (std::size_t lanes : {1u, 8u, 17u}) {
+    const std::vector<soda::Model> some(models.begin(), models.begin() + static_cast<std::ptrdiff_t>(lanes));
+    const std::string diff = run_lockstep_and_reference("mutants", some, lanes == 17 ? 10000 : 2000);
+    INFO(lanes << " lanes: " << diff);
+    CHECK(diff.empty());
+  }
+}
+
+TEST_CASE("lockstep batch: each lane keeps its own parameters (a one-ulp twin differs)", "[lockstep]") {
+  if (skip_without_avx512()) return;
+  // The test must be able to fail: a lane that took its neighbour's springyness
+  // would match the neighbour's reference, not its own.
+  const soda::Model base = load_scene(models_dir() / "dainty_walker.xml").model;
+  soda::Model twin = base;
+  twin.springyness = std::nextafter(base.springyness, 0.0);
+  soda::State a = soda::make_state(base), b = soda::make_state(twin);
+  soda::run(base, a, 500);
+  soda::run(twin, b, 500);
+  REQUIRE_FALSE(compare_states(base, a, b).empty());
+  CHECK(run_lockstep_and_reference("twins", {base, twin, base, twin, twin, base, base, twin, twin}, 1000).empty());
+}
+
+TEST_CASE("lockstep batch: shapes", "[lockstep]") {
+  const soda::Model walker = load_scene(models_dir() / "dainty_walker.xml").model;
+  const soda::Model slug = load_scene(models_dir() / "carefulslug.xml").model;
+  soda::Model swapped = walker; // one link's ends the other way round: another shape
+  std::swap(swapped.link_a[0], swapped.link_b[0]);
+  soda::Model other_numbers = walker;
+  other_numbers.link_rest[0] *= 2.0;
+  other_numbers.link_muscle[1] = other_numbers.link_muscle[1] ? 0 : 1;
+  CHECK(soda::LockstepBatch::same_shape(walker, other_numbers));
+  CHECK_FALSE(soda::LockstepBatch::same_shape(walker, swapped));
+  CHECK_FALSE(soda::LockstepBatch::same_shape(walker, slug));
+  if (!soda::LockstepBatch::usable()) return;
+  CHECK_THROWS_AS(soda::LockstepBatch({&walker, &slug}), std::invalid_argument);
+  CHECK_THROWS_AS(soda::LockstepBatch({}), std::invalid_argument);
+  for (const fs::path& file : xml_files_under(data_dir() / "soda")) {
+    const std::optional<Scene> scene = load_scene_unless_race(file);
+    if (scene && scene->model.bar_count() > 0) {
+      CHECK_FALSE(soda::LockstepBatch::can_take(scene->model));
+      CHECK_THROWS_AS(soda::LockstepBatch({&scene->model}), std::invalid_argument);
+      break;
+    }
+  }
+}
+
+TEST_CASE("BatchStepper: five or more models of one shape go in lockstep, the rest fused, all exact", "[lockstep]") {
+  const soda::Model walker = load_scene(models_dir() / "dainty_walker.xml").model;
+  const soda::Model slug = load_scene(models_dir() / "carefulslug.xml").model;
+  const soda::Model wheel = load_scene(models_dir() / "wheel.xml").model;
+  const std::vector<soda::Model> walkers = variants_of(walker);
+  std::vector<const soda::Model*> models = {&slug};
+  for (std::size_t k = 0; k < 6; ++k) models.push_back(&walkers[k]);
+  models.push_back(&wheel);
+  models.push_back(&slug);
+  for (int k = 0; k < 3; ++k) models.push_back(&wheel); // four wheels in all: fused
+  std::vector<soda::State> ref, fast;
+  for (const soda::Model* m : models) {
+    ref.push_back(soda::make_state(*m));
+    fast.push_back(soda::make_state(*m));
+  }
+  soda::BatchStepper batch(models, 3000);
+  CHECK(batch.lockstep_count() == (soda::LockstepBatch::usable() ? 6 : 0));
+  CHECK(batch.fused_count() == static_cast<int>(models.size()));
+  std::vector<soda::State*> states;
+  for (soda::State& s : fast) states.push_back(&s);
+  batch.run(states, 1000);
+  batch.run(states, 2000);
+  for (std::size_t k = 0; k < models.size(); ++k) {
+    soda::run(*models[k], ref[k], 3000);
+    INFO("entry " << k);
+    CHECK(compare_states(*models[k], ref[k], fast[k]).empty());
+  }
+}
