@@ -87,12 +87,16 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
     << "; rates: medians of the runs; ratios: the median over the rounds of runs of the ratio within each "
        "round, all within this one invocation).\n\n";
   o << "\"fast\" steps one creature alone. \"fast-batch\" steps " << bench::kBenchBatch
-    << " different creatures (copies with their muscle phases shifted, no sine shared) on one core "
-       "(soda::BatchStepper: packed into fused scenes of at most "
-    << soda::kMaxFusedLinks << " links, whose links share SIMD batches) "
-       "and counts creature-frames: it is population throughput per core, what the genetic algorithm "
-       "gets, not the speed of a single creature. \"fast-batch-same\" steps " << bench::kBenchBatch
-    << " identical copies, which share every muscle sine (the best case of a population sharing genes). "
+    << " different creatures (copies with their muscle phases shifted, no sine shared) on one core as "
+       "soda::BatchStepper does and counts creature-frames: it is population throughput per core, what "
+       "the genetic algorithm gets, not the speed of a single creature. The copies have one shape, so "
+       "they run in lockstep, one creature per AVX-512 lane (soda::LockstepBatch), where the CPU has it. "
+       "\"fast-batch-fused\" steps the same "
+    << bench::kBenchBatch << " in fused scenes (lockstep off; at most " << soda::kMaxFusedLinks
+    << " links per scene, whose links share SIMD batches): the path of a population of mixed shapes. "
+       "\"fast-batch-same\" steps "
+    << bench::kBenchBatch
+    << " identical copies fused, which share every muscle sine (the fused path's best case). "
        "All are bit-exact against the reference step.\n\n";
   auto has = [&](const char* section) {
     const auto in_section = [&](const bench::SpeedRow& row) { return row.section == section; };

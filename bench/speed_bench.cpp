@@ -223,17 +223,27 @@ std::vector<Engine> make_engines(const soda::Model& model, bool with_reference, 
                        }});
   }
   if (with_batch) {
-    // kBenchBatch creatures fused on one core (population throughput): "fast-batch"
-    // 16 different ones (shifted_copy: no sine shared between them), and
-    // "fast-batch-same" 16 identical copies, which share every sine (the best case
-    // of a population sharing genes).
-    for (bool same : {false, true}) {
+    // kBenchBatch creatures on one core (population throughput), as
+    // soda::BatchStepper steps them: "fast-batch" 16 different ones (shifted_copy:
+    // no sine shared between them), one shape, so in lockstep where the CPU has
+    // AVX-512 (lockstep_batch.hpp); "fast-batch-fused" the same 16 fused
+    // (lockstep off: the path of a population of mixed shapes); "fast-batch-same"
+    // 16 identical copies fused, which share every sine (the fused path's best
+    // case: a population sharing genes).
+    struct BatchEngine {
+      const char* name;
+      bool same, lockstep;
+    };
+    for (const BatchEngine& e : {BatchEngine{"fast-batch", false, true}, BatchEngine{"fast-batch-fused", false, false},
+                                 BatchEngine{"fast-batch-same", true, false}}) {
       auto copies = std::make_shared<std::vector<soda::Model>>();
-      for (int k = 0; k < kBenchBatch; ++k) copies->push_back(same ? model : shifted_copy(model, k));
+      for (int k = 0; k < kBenchBatch; ++k) copies->push_back(e.same ? model : shifted_copy(model, k));
       std::vector<const soda::Model*> ptrs;
       for (const soda::Model& m : *copies) ptrs.push_back(&m);
-      auto stepper = std::make_shared<soda::BatchStepper>(ptrs, 1'000'000);
-      engines.push_back({same ? "fast-batch-same" : "fast-batch",
+      soda::FastStepOptions opt;
+      opt.lockstep = e.lockstep;
+      auto stepper = std::make_shared<soda::BatchStepper>(ptrs, 1'000'000, opt);
+      engines.push_back({e.name,
                          [stepper, copies](long long frames) {
                            std::vector<soda::State> states;
                            for (const soda::Model& m : *copies) states.push_back(soda::make_state(m));

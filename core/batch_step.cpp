@@ -22,7 +22,7 @@ BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long fr
   // Models of one shape, enough of them, in lockstep; which ones is decided here,
   // once, from the models alone.
   std::vector<bool> in_lockstep(static_cast<std::size_t>(count_), false);
-  const bool lockstep = LockstepBatch::usable() && !options.force_ordered && options.vector_sines &&
+  const bool lockstep = options.lockstep && LockstepBatch::usable() && !options.force_ordered && options.vector_sines &&
                         (options.simd == SimdLevel::Auto || options.simd == SimdLevel::Avx512);
   if (lockstep) {
     std::vector<std::vector<int>> shapes; // model indices by shape, in order of first appearance

@@ -69,6 +69,10 @@ struct FastStepOptions {
   /// registers (positions, velocities, impulses). Off: the general kernels. Both
   /// give the same bits.
   bool register_frames = true;
+  /// BatchStepper: models of one shape, enough of them, in a LockstepBatch (one
+  /// creature per AVX-512 lane; lockstep_batch.hpp). Off: fused scenes. Both give
+  /// the same bits.
+  bool lockstep = true;
 };
 
 /// The kernel a chunk of frames ran with, for tests and diagnostics.

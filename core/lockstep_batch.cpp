@@ -6,7 +6,6 @@
 #include <bit>
 #include <cstdint>
 #include <stdexcept>
-#include <cstdlib>
 
 #include "aligned_vector.hpp"
 #include "constants.hpp"
@@ -144,7 +143,7 @@ LockstepBatch::LockstepBatch(const std::vector<const Model*>& models) : d_(std::
   d.arguments.assign(static_cast<std::size_t>(d.groups) * d.columns * kW, 0.0);
   d.sines.assign(d.arguments.size(), 0.0);
   d.predicted.assign(static_cast<std::size_t>(d.groups) * kW, 0.0);
-  d.inline_sines = vector_sines_usable(SimdLevel::Avx512) && !std::getenv("LS_BULK");
+  d.inline_sines = vector_sines_usable(SimdLevel::Avx512);
   d.autoreverse.assign(lanes, 0);
   for (int lane = 0; lane < lanes; ++lane) {
     const Model& m = model_of(lane);
@@ -220,7 +219,7 @@ void LockstepBatch::Data::sines_for(int g, const double* phase) {
 }
 
 // Group g's wave links' targets from its sines: rest * (1 + power * sine).
-void LockstepBatch::Data::targets_from_sines(int g) {
+[[gnu::always_inline]] inline void LockstepBatch::Data::targets_from_sines(int g) {
   for (std::size_t w = 0; w < wave_links.size(); ++w) {
     const int j = wave_links[w];
     O::store(link_row(g, 2, j), simd_rules::muscle_target<O>(O::load(link_row(g, 0, j)), O::load(link_row(g, 1, j)),

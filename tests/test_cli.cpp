@@ -219,9 +219,9 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
     if (f[2] == "plain") CHECK(f[12] == "1.00");
   }
   // The three bundled creatures under every engine, a size sweep, 1 and 2 threads twice.
-  const std::map<std::string, int> three_each{{"fast", 3},      {"fast-batch", 3}, {"fast-batch-same", 3},
-                                              {"fast-sse2", 3}, {"plain", 3},      {"reference", 3},
-                                              {"seed", 3}};
+  const std::map<std::string, int> three_each{{"fast", 3},      {"fast-batch", 3}, {"fast-batch-fused", 3},
+                                              {"fast-batch-same", 3}, {"fast-sse2", 3}, {"plain", 3},
+                                              {"reference", 3},  {"seed", 3}};
   CHECK(creature_engines == three_each);
   CHECK(rows_per_section["size"] > 0);
   CHECK(rows_per_section["population"] == 4);
