@@ -226,6 +226,18 @@ TEST_CASE("batch and single evaluation give identical Evaluations", "[evolve]") 
   invalid.links.clear();
   creatures.insert(creatures.begin() + 3, invalid);
   creatures.push_back(creatures[2]); // a duplicate
+  // Children of the Dainty Walker that keep its shape: batched together and
+  // stepped in lockstep (plan_evaluation, soda::LockstepBatch) on AVX-512.
+  RunConfig keep_shape = config;
+  keep_shape.mutation.add_link_rate = keep_shape.mutation.remove_link_rate = 0.0;
+  keep_shape.mutation.add_mass_rate = keep_shape.mutation.remove_mass_rate = 0.0;
+  keep_shape.mutation.toggle_muscle_rate = 0.0;
+  for (std::uint64_t i = 0; i < 7; ++i) {
+    Rng rng = Rng::stream(7, i);
+    soda::ModelDef child = creatures[0];
+    mutate(child, keep_shape, rng);
+    creatures.insert(creatures.begin() + static_cast<std::ptrdiff_t>(2 + 3 * i), child);
+  }
   std::vector<const soda::ModelDef*> ptrs;
   for (const soda::ModelDef& c : creatures) ptrs.push_back(&c);
   auto same = [](const Evaluation& a, const Evaluation& b) {
@@ -241,8 +253,20 @@ TEST_CASE("batch and single evaluation give identical Evaluations", "[evolve]") 
     CHECK(same(batch[i], evaluate_creature(creatures[i], config)));
     ok += batch[i].ok() ? 1 : 0;
   }
-  CHECK(!batch[3].ok());
-  CHECK(ok >= 10);
+  CHECK(!batch[4].ok());
+  CHECK(ok >= 17);
+  // The plan: every creature once; the walker and its 7 children in one batch
+  // (or cut into nearly equal ones), first.
+  for (std::size_t size : {std::size_t{16}, std::size_t{5}}) {
+    const EvaluationPlan plan = plan_evaluation(ptrs, size);
+    std::vector<std::size_t> sorted = plan.order;
+    std::sort(sorted.begin(), sorted.end());
+    for (std::size_t i = 0; i < sorted.size(); ++i) CHECK(sorted[i] == i);
+    CHECK(plan.ends.back() == creatures.size());
+    CHECK(plan.ends[0] == (size == 16 ? 8u : 4u));
+    CHECK(plan.order[0] == 0); // the walker, then its children where they were put
+    for (std::size_t k = 1; k < 8; ++k) CHECK(plan.order[k] == 2 + 3 * (k - 1));
+  }
   for (int threads : {1, 2, 3}) {
     for (std::size_t size : {std::size_t{0}, std::size_t{1}, std::size_t{4}, std::size_t{7}}) {
       const std::vector<Evaluation> again = evaluate_creatures(ptrs, config, threads, size);
