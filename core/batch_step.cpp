@@ -37,8 +37,9 @@ BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long fr
         same->push_back(i);
       }
     }
-    for (const std::vector<int>& members : shapes) {
-      if (static_cast<int>(members.size()) < kMinLockstep) continue;
+    for (std::vector<int>& members : shapes) {
+      members.resize(static_cast<std::size_t>(lockstep_share(static_cast<int>(members.size()))));
+      if (members.empty()) continue;
       std::vector<const Model*> lanes;
       for (int i : members) {
         lanes.push_back(models[i]);

@@ -47,14 +47,15 @@ EvaluationPlan plan_evaluation(const std::vector<const soda::ModelDef*>& creatur
     }
   }
   EvaluationPlan plan;
-  // Shapes with enough creatures for a lockstep batch: cut into nearly equal
-  // batches of at most `batch`.
+  // Shapes with enough creatures for a lockstep batch: batches of `batch`, and
+  // the rest as a batch of its own if it is enough for one (else it joins the
+  // others).
   std::vector<bool> planned(creatures.size(), false);
+  const std::size_t enough = static_cast<std::size_t>(soda::kMinLockstep);
   for (const std::vector<std::size_t>& members : shapes) {
-    if (members.size() < static_cast<std::size_t>(soda::kMinLockstep)) continue;
-    const std::size_t parts = (members.size() + batch - 1) / batch;
-    for (std::size_t p = 0; p < parts; ++p) {
-      const std::size_t first = members.size() * p / parts, last = members.size() * (p + 1) / parts;
+    for (std::size_t first = 0; first < members.size() && members.size() - first >= enough; first += batch) {
+      const std::size_t last = std::min(members.size(), first + batch);
+      if (last - first < enough) break;
       for (std::size_t k = first; k < last; ++k) {
         plan.order.push_back(members[k]);
         planned[members[k]] = true;

@@ -29,9 +29,9 @@ inline constexpr std::size_t kMaxEvaluationBatch = 16;
 std::size_t evaluation_batch_size(std::size_t count, int threads);
 
 /// Which creatures each batch steps: batch b is creatures order[ends[b-1]..ends[b])
-/// (ends[-1] = 0). First the shapes with at least soda::kMinLockstep creatures, each
-/// cut into nearly equal batches of at most `batch`; then the others in their order,
-/// cut as soda::fused_batch_ends cuts them.
+/// (ends[-1] = 0). First the shapes with at least soda::kMinLockstep creatures, in
+/// batches of `batch` and the rest if it has kMinLockstep; then the others in their
+/// order, cut as soda::fused_batch_ends cuts them.
 struct EvaluationPlan {
   std::vector<std::size_t> order;
   std::vector<std::size_t> ends;

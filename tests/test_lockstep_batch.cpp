@@ -227,7 +227,15 @@ TEST_CASE("lockstep batch: shapes", "[lockstep]") {
   }
 }
 
-TEST_CASE("BatchStepper: five or more models of one shape go in lockstep, the rest fused, all exact", "[lockstep]") {
+TEST_CASE("BatchStepper: how many of a shape go in lockstep", "[lockstep]") {
+  CHECK(soda::lockstep_share(5) == 0);
+  CHECK(soda::lockstep_share(6) == 6);
+  CHECK(soda::lockstep_share(8) == 8);
+  CHECK(soda::lockstep_share(13) == 8); // 5 left over: fused
+  CHECK(soda::lockstep_share(14) == 14);
+}
+
+TEST_CASE("BatchStepper: six or more models of one shape go in lockstep, the rest fused, all exact", "[lockstep]") {
   const soda::Model walker = load_scene(models_dir() / "dainty_walker.xml").model;
   const soda::Model slug = load_scene(models_dir() / "carefulslug.xml").model;
   const soda::Model wheel = load_scene(models_dir() / "wheel.xml").model;
@@ -236,7 +244,7 @@ TEST_CASE("BatchStepper: five or more models of one shape go in lockstep, the re
   for (std::size_t k = 0; k < 6; ++k) models.push_back(&walkers[k]);
   models.push_back(&wheel);
   models.push_back(&slug);
-  for (int k = 0; k < 3; ++k) models.push_back(&wheel); // four wheels in all: fused
+  for (int k = 0; k < 4; ++k) models.push_back(&wheel); // five wheels in all: fused
   std::vector<soda::State> ref, fast;
   for (const soda::Model* m : models) {
     ref.push_back(soda::make_state(*m));
