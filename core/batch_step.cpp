@@ -1,11 +1,43 @@
 #include "batch_step.hpp"
 
 #include <algorithm>
+#include <array>
+#include <bit>
+#include <cstdint>
+#include <set>
 #include <stdexcept>
 
 #include "fused_scene.hpp"
 
 namespace soda {
+
+namespace {
+
+std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v); }
+
+} // namespace
+
+double shared_sine_fraction(const std::vector<const Model*>& models, const std::vector<int>& members) {
+  // A sine argument is 2pi * (muscle phase - wave phase): creatures whose waves
+  // start alike (phase, speed, direction) and whose muscles have one phase share
+  // it for as long as their waves move alike. Lockstep shares a sine between the
+  // muscles of one creature too (a column), so only sharing between creatures counts.
+  using Key = std::array<std::uint64_t, 4>;
+  std::set<Key> between;
+  std::size_t within = 0;
+  for (int i : members) {
+    const Model& m = *models[static_cast<std::size_t>(i)];
+    std::set<Key> mine;
+    for (int j = 0; j < m.link_count(); ++j) {
+      if (!m.link_muscle[j] || m.wave_amplitude * m.link_amplitude[j] == 0.0) continue;
+      mine.insert({bits(m.wave_phase0), bits(m.wave_speed), static_cast<std::uint64_t>(static_cast<int>(m.wave_direction0)),
+                   bits(m.link_phase[j])});
+    }
+    within += mine.size();
+    between.insert(mine.begin(), mine.end());
+  }
+  return within == 0 ? 0.0 : 1.0 - static_cast<double>(between.size()) / static_cast<double>(within);
+}
 
 BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options)
     : count_(static_cast<int>(models.size())) {
@@ -39,7 +71,7 @@ BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long fr
     }
     for (std::vector<int>& members : shapes) {
       members.resize(static_cast<std::size_t>(lockstep_share(static_cast<int>(members.size()))));
-      if (members.empty()) continue;
+      if (members.empty() || shared_sine_fraction(models, members) > kMaxSharedSines) continue;
       std::vector<const Model*> lanes;
       for (int i : members) {
         lanes.push_back(models[i]);

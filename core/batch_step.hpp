@@ -23,7 +23,8 @@
 // own FastStepper, in the same call.
 //
 // Models of one shape (LockstepBatch::same_shape: the same masses and links, any
-// numbers), kMinLockstep or more of them (lockstep_share), run instead in a LockstepBatch
+// numbers), kMinLockstep or more of them (lockstep_share), that share few muscle
+// sines (shared_sine_fraction), run instead in a LockstepBatch
 // (lockstep_batch.hpp), one creature per SIMD lane, where the CPU has AVX-512:
 // measured faster than fusing them (bench speed, fast-batch). Exact either way.
 //
@@ -48,6 +49,17 @@ inline constexpr int kMaxFusedLinks = 512;
 /// empty cost more than fusing would (Dainty Walkers, per creature-frame: 5 in
 /// lockstep 54 ns against 49 fused; 6: 46 against 49; 8: 34 against 48).
 inline constexpr int kMinLockstep = 6;
+
+/// The share of the muscle sines of models[members] (counted once per distinct
+/// phase in each model) that a fused scene computes once for several models (the
+/// same wave start and muscle phase), 0 to 1.
+double shared_sine_fraction(const std::vector<const Model*>& models, const std::vector<int>& members);
+
+/// Above this share a fused scene beats lockstep, whose lanes each compute their
+/// own sines: a GA's children of one parent share most of theirs (measured on the
+/// saved generations of a default run: 25.6 ns per creature-frame with such
+/// groups in lockstep, 24.5 fused).
+inline constexpr double kMaxSharedSines = 0.25;
 
 /// How many of `count` models of one shape BatchStepper runs in lockstep: whole
 /// vectors of LockstepBatch::kLanes, and the rest too if it fills kMinLockstep

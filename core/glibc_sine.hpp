@@ -100,29 +100,19 @@ template <class O, int N>
     reduced[k] = O::m_andnot(reducible[k], below_cos_end);
   }
 
-  // Each lane keeps one branch's result; a branch no lane takes is skipped (its
-  // values stay 0 and are never selected). Muscle arguments of one vector often
-  // share a branch: in a lockstep batch a vector is one muscle of 8 creatures.
-  bool any_reduced = false;
-  SODA_EACH any_reduced = any_reduced || O::any(reduced[k]);
-
   // reduce_sincos: n = round(x * 2/pi), x - n*pi/2 in four parts as b + db.
-  V tn[N], db[N], b[N];
-  SODA_EACH tn[k] = b[k] = db[k] = zero;
-  if (any_reduced) {
-    const V toint = O::set1(kToInt);
-    V xn[N], y[N];
-    SODA_EACH tn[k] = O::fma(x[k], O::set1(kHalfPiInverse), toint);
-    SODA_EACH xn[k] = O::sub(tn[k], toint);
-    SODA_EACH y[k] = O::fnma(xn[k], O::set1(kHalfPi1), x[k]);
-    SODA_EACH y[k] = O::fnma(xn[k], O::set1(kHalfPi2), y[k]);
-    const V pp3 = O::set1(kHalfPi3), pp4 = O::set1(kHalfPi4);
-    V t2[N];
-    SODA_EACH t2[k] = O::fnma(xn[k], pp3, y[k]);
-    SODA_EACH db[k] = O::fnma(pp3, xn[k], O::sub(y[k], t2[k]));
-    SODA_EACH b[k] = O::fnma(xn[k], pp4, t2[k]);
-    SODA_EACH db[k] = O::add(db[k], O::fnma(xn[k], pp4, O::sub(t2[k], b[k])));
-  }
+  const V toint = O::set1(kToInt);
+  V tn[N], xn[N], y[N];
+  SODA_EACH tn[k] = O::fma(x[k], O::set1(kHalfPiInverse), toint);
+  SODA_EACH xn[k] = O::sub(tn[k], toint);
+  SODA_EACH y[k] = O::fnma(xn[k], O::set1(kHalfPi1), x[k]);
+  SODA_EACH y[k] = O::fnma(xn[k], O::set1(kHalfPi2), y[k]);
+  const V pp3 = O::set1(kHalfPi3), pp4 = O::set1(kHalfPi4);
+  V t2[N], db[N], b[N];
+  SODA_EACH t2[k] = O::fnma(xn[k], pp3, y[k]);
+  SODA_EACH db[k] = O::fnma(pp3, xn[k], O::sub(y[k], t2[k]));
+  SODA_EACH b[k] = O::fnma(xn[k], pp4, t2[k]);
+  SODA_EACH db[k] = O::add(db[k], O::fnma(xn[k], pp4, O::sub(t2[k], b[k])));
 
   // Each lane's (a, da) and whether it takes do_cos.
   M use_cos[N], negate[N];
@@ -137,83 +127,62 @@ template <class O, int N>
     abs_a[k] = O::abs(a[k]);
   }
 
-  // Which results some lane takes: do_sin's Taylor polynomial (|a| < 0.126, not
-  // do_cos), do_cos, or do_sin from the table.
-  M taylor[N];
-  bool any_taylor = false, any_cos = false, any_table_sin = false;
-  SODA_EACH {
-    taylor[k] = O::m_andnot(O::lt(abs_a[k], O::set1(kTaylorBound)), use_cos[k]);
-    any_taylor = any_taylor || O::any(taylor[k]);
-    any_cos = any_cos || O::any(use_cos[k]);
-    any_table_sin = any_table_sin || O::any(O::m_andnot(O::eq(zero, zero), O::m_or(use_cos[k], taylor[k])));
-  }
-
-  // do_sin for |a| < 0.126: a + ((P(a^2)*a - da/2)*a^2 + da).
-  V taylor_result[N];
-  SODA_EACH taylor_result[k] = zero;
-  if (any_taylor) {
-    V aa[N], p[N];
-    SODA_EACH aa[k] = O::mul(a[k], a[k]);
-    SODA_EACH p[k] = O::fma(aa[k], O::set1(kS5), O::set1(kS4));
-    SODA_EACH p[k] = O::fma(aa[k], p[k], O::set1(kS3));
-    SODA_EACH p[k] = O::fma(aa[k], p[k], O::set1(kS2));
-    SODA_EACH p[k] = O::fma(aa[k], p[k], O::set1(kS1));
-    SODA_EACH taylor_result[k] = O::add(a[k], O::fma(aa[k], O::fms(p[k], a[k], O::mul(da[k], O::set1(0.5))), da[k]));
-  }
-
   // do_sin and do_cos: the table row nearest |a|, and a short polynomial in the
   // distance xr to it. do_sin negates da when a <= 0, do_cos when a < 0.
-  V sin_result[N], cos_result[N];
-  SODA_EACH sin_result[k] = cos_result[k] = zero;
-  if (any_cos || any_table_sin) {
-    const V big = O::set1(kBig);
-    V table_point[N];
-    alignas(64) std::int32_t row[N][kMaxWidth];
-    SODA_EACH {
-      table_point[k] = O::sub(O::add(abs_a[k], big), big); // i/128, exact
-      O::to_i32(O::mul(table_point[k], O::set1(128.0)), row[k]);
-    }
-    V cols[N][4];
-    SODA_EACH O::gather_rows4(&t.row[0][0], row[k], cols[k]);
+  const V big = O::set1(kBig);
+  V table_point[N];
+  alignas(64) std::int32_t row[N][kMaxWidth];
+  SODA_EACH {
+    table_point[k] = O::sub(O::add(abs_a[k], big), big); // i/128, exact
+    O::to_i32(O::mul(table_point[k], O::set1(128.0)), row[k]);
+  }
+  V cols[N][4];
+  SODA_EACH O::gather_rows4(&t.row[0][0], row[k], cols[k]);
 
-    V xr[N], xx[N], p1[N], xr_xx[N], c_cos[N];
-    SODA_EACH {
-      const M flip = O::m_or(O::m_and(use_cos[k], O::lt(a[k], zero)), O::m_andnot(O::le(a[k], zero), use_cos[k]));
-      const V dx = O::select(flip, O::bits_xor(da[k], sign), da[k]);
-      const V xr0 = O::sub(abs_a[k], table_point[k]);
-      xr[k] = O::select(use_cos[k], O::add(xr0, dx), xr0);
-      da[k] = dx;
-    }
-    SODA_EACH xx[k] = O::mul(xr[k], xr[k]);
-    SODA_EACH {
-      p1[k] = O::fma(xx[k], O::set1(kSn5), O::set1(kSn3));
-      xr_xx[k] = O::mul(xr[k], xx[k]);
-      const V p2 = O::fma(xx[k], O::fma(xx[k], O::set1(kCs6), O::set1(kCs4)), O::set1(kCs2));
-      c_cos[k] = O::mul(xx[k], p2);
-    }
-    if (any_table_sin) {
-      SODA_EACH {
-        const V sn = cols[k][0], ssn = cols[k][1], cs = cols[k][2], ccs = cols[k][3];
-        const V dx = da[k];
-        // do_sin: s = xr + (dx + xr^3 p1), c = xr*dx + xx*p2, cor = (ssn + s*ccs - sn*c) + cs*s.
-        const V s_sin = O::add(xr[k], O::fma(xr_xx[k], p1[k], dx));
-        const V c_sin = O::fma(xr[k], dx, c_cos[k]);
-        const V cor_sin = O::fma(s_sin, cs, O::fnma(c_sin, sn, O::fma(s_sin, ccs, ssn)));
-        sin_result[k] = O::bits_or(O::abs(O::add(sn, cor_sin)), O::bits_and(a[k], sign));
-      }
-    }
-    if (any_cos) {
-      SODA_EACH {
-        const V sn = cols[k][0], ssn = cols[k][1], cs = cols[k][2], ccs = cols[k][3];
-        // do_cos: s = xr + xr^3 p1, c = xx*p2, cor = (ccs - s*ssn - cs*c) - sn*s.
-        const V s_cos = O::fma(xr_xx[k], p1[k], xr[k]);
-        const V cor_cos = O::fnma(s_cos, sn, O::fnma(c_cos[k], cs, O::fnma(s_cos, ssn, ccs)));
-        cos_result[k] = O::add(cs, cor_cos);
-      }
-    }
+  // do_sin for |a| < 0.126: a + ((P(a^2)*a - da/2)*a^2 + da).
+  V aa[N], p[N], taylor_result[N];
+  SODA_EACH aa[k] = O::mul(a[k], a[k]);
+  SODA_EACH p[k] = O::fma(aa[k], O::set1(kS5), O::set1(kS4));
+  SODA_EACH p[k] = O::fma(aa[k], p[k], O::set1(kS3));
+  SODA_EACH p[k] = O::fma(aa[k], p[k], O::set1(kS2));
+  SODA_EACH p[k] = O::fma(aa[k], p[k], O::set1(kS1));
+  SODA_EACH taylor_result[k] = O::add(a[k], O::fma(aa[k], O::fms(p[k], a[k], O::mul(da[k], O::set1(0.5))), da[k]));
+
+  V xr[N], xx[N], p1[N], xr_xx[N], c_cos[N];
+  SODA_EACH {
+    const M flip = O::m_or(O::m_and(use_cos[k], O::lt(a[k], zero)), O::m_andnot(O::le(a[k], zero), use_cos[k]));
+    const V dx = O::select(flip, O::bits_xor(da[k], sign), da[k]);
+    const V xr0 = O::sub(abs_a[k], table_point[k]);
+    xr[k] = O::select(use_cos[k], O::add(xr0, dx), xr0);
+    da[k] = dx;
+  }
+  SODA_EACH xx[k] = O::mul(xr[k], xr[k]);
+  SODA_EACH {
+    p1[k] = O::fma(xx[k], O::set1(kSn5), O::set1(kSn3));
+    xr_xx[k] = O::mul(xr[k], xx[k]);
+    const V p2 = O::fma(xx[k], O::fma(xx[k], O::set1(kCs6), O::set1(kCs4)), O::set1(kCs2));
+    c_cos[k] = O::mul(xx[k], p2);
+  }
+  V sin_result[N], cos_result[N];
+  SODA_EACH {
+    const V sn = cols[k][0], ssn = cols[k][1], cs = cols[k][2], ccs = cols[k][3];
+    const V dx = da[k];
+    // do_sin: s = xr + (dx + xr^3 p1), c = xr*dx + xx*p2, cor = (ssn + s*ccs - sn*c) + cs*s.
+    const V s_sin = O::add(xr[k], O::fma(xr_xx[k], p1[k], dx));
+    const V c_sin = O::fma(xr[k], dx, c_cos[k]);
+    const V cor_sin = O::fma(s_sin, cs, O::fnma(c_sin, sn, O::fma(s_sin, ccs, ssn)));
+    sin_result[k] = O::bits_or(O::abs(O::add(sn, cor_sin)), O::bits_and(a[k], sign));
   }
   SODA_EACH {
-    V r = O::select(taylor[k], taylor_result[k], O::select(use_cos[k], cos_result[k], sin_result[k]));
+    const V sn = cols[k][0], ssn = cols[k][1], cs = cols[k][2], ccs = cols[k][3];
+    // do_cos: s = xr + xr^3 p1, c = xx*p2, cor = (ccs - s*ssn - cs*c) - sn*s.
+    const V s_cos = O::fma(xr_xx[k], p1[k], xr[k]);
+    const V cor_cos = O::fnma(s_cos, sn, O::fnma(c_cos[k], cs, O::fnma(s_cos, ssn, ccs)));
+    cos_result[k] = O::add(cs, cor_cos);
+  }
+  SODA_EACH {
+    const M taylor = O::m_andnot(O::lt(abs_a[k], O::set1(kTaylorBound)), use_cos[k]);
+    V r = O::select(taylor, taylor_result[k], O::select(use_cos[k], cos_result[k], sin_result[k]));
     r = O::select(cos_branch[k], O::bits_or(O::abs(r), O::bits_and(x[k], sign)), r);
     r = O::select(negate[k], O::bits_xor(r, sign), r);
     r = O::select(O::lt(ax[k], O::set1(kTinyBound)), x[k], r);

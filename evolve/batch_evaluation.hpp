@@ -3,9 +3,6 @@
 // Each thread takes batches of up to kMaxEvaluationBatch creatures and steps each
 // batch fused on one core (evaluate_creature_batch, soda::BatchStepper): small
 // creatures alone leave most of the core idle, fused they share its SIMD batches.
-// Creatures of one shape (most children keep their parent's) are batched together
-// first, so that the batch stepper can run them in lockstep, one per SIMD lane
-// (soda::LockstepBatch); the rest keep their order (plan_evaluation).
 // A batch gives every creature exactly the bits it gets alone, and results are
 // stored by index, so neither the batch size nor the thread count can change a
 // result (tests/test_evolve.cpp).
@@ -27,16 +24,6 @@ inline constexpr std::size_t kMaxEvaluationBatch = 16;
 /// kMaxEvaluationBatch, and small enough that every thread gets about two batches
 /// (evaluate_creatures cuts them further where a new fused scene starts).
 std::size_t evaluation_batch_size(std::size_t count, int threads);
-
-/// Which creatures each batch steps: batch b is creatures order[ends[b-1]..ends[b])
-/// (ends[-1] = 0). First the shapes with at least soda::kMinLockstep creatures, in
-/// batches of `batch` and the rest if it has kMinLockstep; then the others in their
-/// order, cut as soda::fused_batch_ends cuts them.
-struct EvaluationPlan {
-  std::vector<std::size_t> order;
-  std::vector<std::size_t> ends;
-};
-EvaluationPlan plan_evaluation(const std::vector<const soda::ModelDef*>& creatures, std::size_t batch);
 
 /// Result i is exactly evaluate_creature(*creatures[i], config), for any `threads`
 /// (0 = all cores) and `batch` size (0 = evaluation_batch_size).

@@ -239,12 +239,19 @@ TEST_CASE("BatchStepper: six or more models of one shape go in lockstep, the res
   const soda::Model walker = load_scene(models_dir() / "dainty_walker.xml").model;
   const soda::Model slug = load_scene(models_dir() / "carefulslug.xml").model;
   const soda::Model wheel = load_scene(models_dir() / "wheel.xml").model;
-  const std::vector<soda::Model> walkers = variants_of(walker);
+  const soda::Model truck = load_scene(models_dir() / "monster_truck.xml").model;
+  std::vector<soda::Model> walkers = variants_of(walker);
+  for (std::size_t k = 0; k < walkers.size(); ++k) { // each its own muscle phases: no sine shared
+    for (std::size_t i = 0; i < walkers[k].link_phase.size(); ++i) {
+      walkers[k].link_phase[i] = soda::wrap_phase(walkers[k].link_phase[i] + 0.01 * static_cast<double>(k));
+    }
+  }
   std::vector<const soda::Model*> models = {&slug};
   for (std::size_t k = 0; k < 6; ++k) models.push_back(&walkers[k]);
   models.push_back(&wheel);
   models.push_back(&slug);
   for (int k = 0; k < 4; ++k) models.push_back(&wheel); // five wheels in all: fused
+  for (int k = 0; k < 8; ++k) models.push_back(&truck); // eight identical trucks share every sine: fused
   std::vector<soda::State> ref, fast;
   for (const soda::Model* m : models) {
     ref.push_back(soda::make_state(*m));
@@ -252,6 +259,9 @@ TEST_CASE("BatchStepper: six or more models of one shape go in lockstep, the res
   }
   soda::BatchStepper batch(models, 3000);
   CHECK(batch.lockstep_count() == (soda::LockstepBatch::usable() ? 6 : 0));
+  CHECK(soda::shared_sine_fraction(models, {0}) == 0.0);
+  CHECK(soda::shared_sine_fraction(models, {1, 2, 3, 4, 5, 6}) == 0.0);
+  CHECK(soda::shared_sine_fraction(models, {13, 14, 15, 16, 17, 18, 19, 20}) == Approx(7.0 / 8.0));
   CHECK(batch.fused_count() == static_cast<int>(models.size()));
   std::vector<soda::State*> states;
   for (soda::State& s : fast) states.push_back(&s);
