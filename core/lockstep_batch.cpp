@@ -263,7 +263,7 @@ template <int N>
   double* const args = arguments_row(g0, 0); // the N groups' rows are consecutive
   double* const out = sines_row(g0, 0);
   unsigned far_lanes = 0; // lanes glibc's sin takes elsewhere (|x| >= 105414350, NaN): none from phases in [0, 1)
-  int sines_done = 0;
+  int sines_done = 0, sine_credit = 0; // sines due after link j: (j + 1) * sine_rows / links, by steps
   // Links in file order (step.cpp apply_links): each impulse goes into both
   // ends' velocities at once; a zero-length link adds nothing (masked).
   const int* la = link_a.data();
@@ -271,7 +271,7 @@ template <int N>
   for (int j = 0; j < links; ++j) {
     const int a = la[j], b = lb[j];
     // The next frame's sines, spread over the links.
-    for (const int due = static_cast<int>((static_cast<long long>(j) + 1) * sine_rows / links); sines_done < due; ++sines_done) {
+    for (sine_credit += sine_rows; sine_credit >= links; sine_credit -= links, ++sines_done) {
       unsigned far = 0;
       glibc_sine::glibc_sin<O, 1>(table, args + sines_done * kW, out + sines_done * kW, &far);
       far_lanes |= far;
