@@ -82,10 +82,9 @@ std::string run_batch_and_reference(const std::vector<std::pair<std::string, sod
                                     const std::vector<int>& picks, long long frames, soda::FastStepOptions options,
                                     int* fused_count = nullptr, int* scene_count = nullptr) {
   std::vector<const soda::Model*> batch_models;
-  std::vector<soda::State> ref, fast;
+  std::vector<soda::State> fast;
   for (int p : picks) {
     batch_models.push_back(&models[p].second);
-    ref.push_back(soda::make_state(models[p].second));
     fast.push_back(soda::make_state(models[p].second));
   }
   soda::BatchStepper batch(batch_models, frames, options);
@@ -93,23 +92,10 @@ std::string run_batch_and_reference(const std::vector<std::pair<std::string, sod
   if (scene_count) *scene_count = batch.scene_count();
   std::vector<soda::State*> states;
   for (soda::State& s : fast) states.push_back(&s);
-  const long long pieces[] = {1, 1, 7, 100, 391};
-  long long done = 0;
-  std::size_t next = 0;
-  while (done < frames) {
-    const long long n = std::min(frames - done, next < std::size(pieces) ? pieces[next++] : frames);
-    batch.run(states, n);
-    done += n;
-    for (std::size_t k = 0; k < picks.size(); ++k) {
-      soda::run(models[picks[k]].second, ref[k], n);
-      const std::string diff = compare_states(models[picks[k]].second, ref[k], fast[k]);
-      if (!diff.empty()) {
-        return models[picks[k]].first + " (batch entry " + std::to_string(k) + ") at frame " + std::to_string(done) +
-               ": " + diff;
-      }
-    }
-  }
-  return {};
+  const std::string diff = compare_in_pieces(batch_models, fast, frames, [&](long long n) { batch.run(states, n); });
+  if (diff.empty()) return diff;
+  const std::size_t k = std::stoul(diff.substr(diff.find(' ') + 1)); // "entry k at ..."
+  return models[picks[k]].first + " (batch " + diff + ")";
 }
 
 std::vector<int> all_indices(std::size_t n) {

@@ -105,33 +105,17 @@ std::vector<soda::Model> variants_of(const soda::Model& base) {
 std::string run_lockstep_and_reference(const std::string& name, const std::vector<soda::Model>& models,
                                        long long frames) {
   std::vector<const soda::Model*> pointers;
-  std::vector<soda::State> ref, lanes;
+  std::vector<soda::State> lanes;
   for (const soda::Model& m : models) {
     pointers.push_back(&m);
-    ref.push_back(soda::make_state(m));
     lanes.push_back(soda::make_state(m));
   }
   soda::LockstepBatch batch(pointers);
   std::vector<soda::State*> states;
   for (soda::State& s : lanes) states.push_back(&s);
-  const long long pieces[] = {1, 1, 7, 100, 391};
-  long long done = 0;
-  std::size_t next = 0;
-  while (done < frames) {
-    const long long n = std::min(frames - done, next < std::size(pieces) ? pieces[next++] : frames);
-    batch.run(states.data(), n);
-    done += n;
-    for (std::size_t k = 0; k < models.size(); ++k) {
-      soda::run(models[k], ref[k], n);
-      std::string diff = compare_states(models[k], ref[k], lanes[k]);
-      if (diff.empty() && (ref[k].wave_mode != lanes[k].wave_mode || ref[k].last_side_wall != lanes[k].last_side_wall ||
-                           ref[k].frame != lanes[k].frame)) {
-        diff = "wave direction, last side wall or frame count";
-      }
-      if (!diff.empty()) return name + " lane " + std::to_string(k) + " at frame " + std::to_string(done) + ": " + diff;
-    }
-  }
-  return {};
+  const std::string diff =
+      compare_in_pieces(pointers, lanes, frames, [&](long long n) { batch.run(states.data(), n); });
+  return diff.empty() ? diff : name + ", " + diff;
 }
 
 bool skip_without_avx512() {

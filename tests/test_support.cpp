@@ -13,6 +13,7 @@
 
 #include "core/input_error.hpp"
 #include "core/model_file.hpp"
+#include "core/step.hpp"
 
 namespace sodaevo::test {
 
@@ -29,6 +30,26 @@ std::string compare_states(const soda::Model& m, const soda::State& a, const sod
     if (!same_bits(a.x[p], b.x[p]) || !same_bits(a.y[p], b.y[p]) || !same_bits(a.vx[p], b.vx[p]) ||
         !same_bits(a.vy[p], b.vy[p])) {
       return "point " + std::to_string(p);
+    }
+  }
+  return {};
+}
+
+std::string compare_in_pieces(const std::vector<const soda::Model*>& models, std::vector<soda::State>& states,
+                              long long frames, const std::function<void(long long)>& step) {
+  std::vector<soda::State> ref;
+  for (const soda::State& s : states) ref.push_back(s);
+  const long long pieces[] = {1, 1, 7, 100, 391};
+  long long done = 0;
+  std::size_t next = 0;
+  while (done < frames) {
+    const long long n = std::min(frames - done, next < std::size(pieces) ? pieces[next++] : frames);
+    step(n);
+    done += n;
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      soda::run(*models[k], ref[k], n);
+      const std::string diff = compare_states(*models[k], ref[k], states[k]);
+      if (!diff.empty()) return "entry " + std::to_string(k) + " at frame " + std::to_string(done) + ": " + diff;
     }
   }
   return {};

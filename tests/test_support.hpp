@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -45,6 +46,13 @@ std::vector<double> state_values(const soda::Model& model, const soda::State& st
 /// Empty string if the two states of `model` are equal in every bit, else where
 /// they first differ.
 std::string compare_states(const soda::Model& model, const soda::State& a, const soda::State& b);
+
+/// Steps `states` (a state of each of `models`) with `step(frames)` and each
+/// model's reference (soda::run) side by side, in pieces of 1, 1, 7, 100 and 391
+/// frames and then the rest, up to `frames`; returns where they first differ
+/// ("entry k at frame f: ..."), or an empty string.
+std::string compare_in_pieces(const std::vector<const soda::Model*>& models, std::vector<soda::State>& states,
+                              long long frames, const std::function<void(long long)>& step);
 
 /// Loads a model file and builds it (fails the test on any error).
 struct Scene {
