@@ -1,5 +1,10 @@
 #include "lockstep_batch.hpp"
 
+// The SIMD templates (simd_rules.hpp) are instantiated with the default target
+// and always inlined into the AVX-512 kernels below: no call ever crosses the
+// vector ABI that this warning is about.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
 #include <immintrin.h>
 
 #include <algorithm>
@@ -15,11 +20,6 @@
 #include "simd_level.hpp"
 #include "simd_ops.hpp"
 #include "simd_rules.hpp"
-
-// The SIMD templates (simd_rules.hpp) are instantiated with the default target
-// and always inlined into the AVX-512 kernels below: no call ever crosses the
-// vector ABI that this warning is about.
-#pragma GCC diagnostic ignored "-Wpsabi"
 
 namespace soda {
 
