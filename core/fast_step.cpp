@@ -140,6 +140,12 @@ struct FusedScene::Data {
   std::vector<std::uint8_t> rf_real; ///< [link blocks] lanes of real links (not dummies, not padding)
   AVec<double> target;    ///< [nl_pad] desired length D, per block in kLaneLink order
   AVec<double> link_k;    ///< [nl_pad] springyness of the link's model, same order
+  // -1 where the link is computed from its end b (Acting::swapped), else +1, same
+  // order. Its impulse must come from the file's difference b - a, which for such
+  // a link is the pass's a - b: the pass's b - a negated, except where both are +0
+  // (equal coordinates), and that +0's sign reaches a velocity of -0. Each end
+  // then takes its pair by the file's ends (the slots).
+  AVec<double> link_swap;
 
   // Wave muscles (muscles whose power Aw*Am is not 0), first in the link order,
   // so target slots [0, nwm_pad) are the ones that change per frame:
@@ -330,6 +336,7 @@ void link_kernel(Impl& s) {
   const std::uint32_t* lb = s.lb.data();
   const std::int32_t* a_block = s.a_block.data();
   const double* link_k = s.link_k.data();
+  const double* link_swap = s.link_swap.data();
   const V zero = O::set1(0.0);
   const V neg_zero = O::set1(-0.0);
   [[maybe_unused]] V x[2], y[2];
@@ -356,8 +363,11 @@ void link_kernel(Impl& s) {
     const V dy = O::sub(yb, ya);
     const V length = simd_rules::length<O>(dx, dy);
     const V c = simd_rules::impulse_factor<O>(O::load(link_k + i), length, O::load(target + i));
-    const V px = O::mul(c, dx);
-    const V py = O::mul(c, dy);
+    // The impulse from the file's difference b - a (link_swap; the slots give each
+    // end its sign).
+    const auto swapped = O::lt(O::load(link_swap + i), zero);
+    const V px = O::mul(c, O::select(swapped, O::sub(xa, xb), dx));
+    const V py = O::mul(c, O::select(swapped, O::sub(ya, yb), dy));
     // End B: v -= p is v + (-p) exactly. A zero-length link is skipped: both its
     // ends then add -0.0, the identity of + (rare, so tested once per block).
     const auto skip = O::eq(length, zero);
@@ -595,12 +605,17 @@ void register_chunk(Impl& s, State* const* st, long long frames) {
       if (b >= link_blocks) break;
       const __m512i ia = _mm512_load_si512(s.rf_end_a.data() + W * b);
       const __m512i ib = _mm512_load_si512(s.rf_end_b.data() + W * b);
-      const V dx = O::sub(_mm512_permutex2var_pd(x[0], ib, x[1]), _mm512_permutex2var_pd(x[0], ia, x[1]));
-      const V dy = O::sub(_mm512_permutex2var_pd(y[0], ib, y[1]), _mm512_permutex2var_pd(y[0], ia, y[1]));
+      const V xa = _mm512_permutex2var_pd(x[0], ia, x[1]), xb = _mm512_permutex2var_pd(x[0], ib, x[1]);
+      const V ya = _mm512_permutex2var_pd(y[0], ia, y[1]), yb = _mm512_permutex2var_pd(y[0], ib, y[1]);
+      const V dx = O::sub(xb, xa);
+      const V dy = O::sub(yb, ya);
       const V length = simd_rules::length<O>(dx, dy);
       const V c = simd_rules::impulse_factor<O>(O::load(s.link_k.data() + W * b), length, target[b]);
-      px[b] = O::mul(c, dx);
-      py[b] = O::mul(c, dy);
+      // The impulse from the file's difference b - a (link_swap; the slots give
+      // each end its sign).
+      const M swapped = O::lt(O::load(s.link_swap.data() + W * b), zero);
+      px[b] = O::mul(c, O::select(swapped, O::sub(xa, xb), dx));
+      py[b] = O::mul(c, O::select(swapped, O::sub(ya, yb), dy));
       zero_length = O::m_or(zero_length, O::m_and(O::eq(length, zero), s.rf_real[b]));
     }
     M any_side = O::m_none();
@@ -927,6 +942,7 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   lb.assign(static_cast<std::size_t>(nl_pad), 0);
   target.assign(static_cast<std::size_t>(nl_pad), 0.0);
   link_k.assign(static_cast<std::size_t>(nl_pad), 0.0);
+  link_swap.assign(static_cast<std::size_t>(nl_pad), 1.0);
   imp.assign(4 * static_cast<std::size_t>(nl_pad) + 2, -0.0);
   // Per mass, its impulse pairs in file order of its model's links.
   std::vector<std::vector<std::pair<int, std::int32_t>>> per_mass_file(static_cast<std::size_t>(nm_pad));
@@ -942,8 +958,12 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
     const int b = acting[k].swapped ? m.link_a[i] : m.link_b[i];
     la[k] = 2 * static_cast<std::uint32_t>(cr.work_of_point[a]);
     lb[k] = 2 * static_cast<std::uint32_t>(cr.work_of_point[b]);
-    if (m.is_mass(a)) per_mass_file[cr.work_of_point[a]].emplace_back(i, k);
-    if (m.is_mass(b)) per_mass_file[cr.work_of_point[b]].emplace_back(i, nl_pad + k);
+    // The pass's end A gets +c*d and end B -c*d, d the file's difference b - a
+    // (link_swap): with the ends swapped, the file's end a (the pass's B) takes
+    // the +c*d pair and b the -c*d one.
+    const bool swapped = acting[k].swapped;
+    if (m.is_mass(a)) per_mass_file[cr.work_of_point[a]].emplace_back(i, swapped ? nl_pad + k : k);
+    if (m.is_mass(b)) per_mass_file[cr.work_of_point[b]].emplace_back(i, swapped ? k : nl_pad + k);
   }
   std::vector<std::vector<std::int32_t>> per_mass(static_cast<std::size_t>(nm_pad));
   for (int w = 0; w < nm_pad; ++w) {
@@ -1014,6 +1034,7 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
     const int q = slot_of_link[k];
     target[q] = m.link_rest[i]; // springs, and muscles of power 0: rest*(1 +- 0) = rest
     link_k[q] = m.springyness;
+    link_swap[q] = acting[k].swapped ? -1.0 : 1.0;
     if (q < nwm_pad) tm_rest[q] = m.link_rest[i];
     if (!acting[k].wave) continue;
     tm_power[q] = m.wave_amplitude * m.link_amplitude[i]; // the product muscle_target_length forms
@@ -1122,9 +1143,10 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
 
 // The order the link pass computes links in is free (only the order of the
 // additions into each velocity matters, and the slots keep each model's file
-// order for that), and so is which end is A: with the ends swapped, dx and dy
-// change sign exactly, the length and factor c are the same bits, and end A's
-// impulse +c*(-d) is bit for bit the -c*d end B had (and the other way round).
+// order for that), and so is which end is A: with the ends swapped the pass
+// still forms the file's difference d = b - a (link_swap: not the pass's b - a
+// negated, which is -0 where the file's is +0), so the length, the factor c and
+// c*d are the same bits, and the slots give the file's end a +c*d and b -c*d.
 // So blocks of W links are formed whose A ends are the W masses of one block of
 // masses, in slot order: the link pass then loads those ends as two whole
 // vectors instead of W pair loads with their offsets (about 10 % of the pass).
