@@ -24,7 +24,9 @@
 //
 // AVX-512 only (usable()); models with fixed bars are not taken (a bar test needs
 // each mass against the others' new positions, fast_step's ordered kernel).
-// The Models must outlive the batch; one batch is used by one thread at a time.
+// The batch copies what it needs of the Models when it is built (a Model changed
+// afterwards is not seen: build a new batch). One batch is used by one thread at a
+// time, and each state must be a different object.
 #pragma once
 
 #include <memory>
