@@ -138,7 +138,8 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
   if (has("population")) {
     o << "\nPopulation throughput (every creature stepped from scratch, results by index; fast = a "
          "FastStepper per creature, fast-batch = batches of at most "
-      << bench::kBenchBatch << " creatures fused on one core, cut where a new fused scene starts; "
+      << bench::kBenchBatch << " creatures on one core as soda::BatchStepper steps them, cut where a new fused "
+         "scene starts (here each batch is 16 copies of one creature: lockstep where the CPU has AVX-512); "
          "no two creatures share a sine):\n\n";
     o << "| engine | threads | creatures x frames | creature-frames/s | link updates/s |\n|---|---:|---|---:|---:|\n";
     for (const bench::SpeedRow& row : r.rows) {

@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <iterator>
 #include <sstream>
 
 namespace sodaevo::app {
@@ -163,28 +165,26 @@ std::string svg_escape(const std::string& text) {
 
 std::string format_tick(double v) {
   if (v == 0) return "0";
-  const double a = std::fabs(v);
   char buf[32];
-  const char* suffix = "";
-  double shown = v;
-  if (a >= 1e12) {
-    shown = v / 1e12;
-    suffix = "T";
-  } else if (a >= 1e9) {
-    shown = v / 1e9;
-    suffix = "G";
-  } else if (a >= 1e6) {
-    shown = v / 1e6;
-    suffix = "M";
-  } else if (a >= 1e3) {
-    shown = v / 1e3;
-    suffix = "k";
-  } else if (a < 1e-3) {
+  if (std::fabs(v) < 1e-3) {
     std::snprintf(buf, sizeof buf, "%.0e", v);
     return buf;
   }
-  std::snprintf(buf, sizeof buf, "%.3g%s", shown, suffix);
-  return buf;
+  struct Unit {
+    double scale;
+    const char* suffix;
+  };
+  static constexpr Unit kUnits[] = {{1.0, ""}, {1e3, "k"}, {1e6, "M"}, {1e9, "G"}, {1e12, "T"}};
+  // The largest unit not above |v|; the next one up where three significant
+  // digits round to 1000 (999.96M is 1G, not 1e+03M).
+  std::size_t u = 0;
+  while (u + 1 < std::size(kUnits) && std::fabs(v) >= kUnits[u + 1].scale) ++u;
+  std::snprintf(buf, sizeof buf, "%.3g", v / kUnits[u].scale);
+  if (std::fabs(std::strtod(buf, nullptr)) >= 1000 && u + 1 < std::size(kUnits)) {
+    ++u;
+    std::snprintf(buf, sizeof buf, "%.3g", v / kUnits[u].scale);
+  }
+  return std::string(buf) + kUnits[u].suffix;
 }
 
 std::string render_line_chart(const LineChart& chart) {

@@ -121,6 +121,9 @@ TEST_CASE("tick labels are compact", "[svg_chart]") {
   CHECK(sodaevo::app::format_tick(0) == "0");
   CHECK(sodaevo::app::format_tick(1500) == "1.5k");
   CHECK(sodaevo::app::format_tick(2e7) == "20M");
+  CHECK(sodaevo::app::format_tick(999.4e6) == "999M");
+  CHECK(sodaevo::app::format_tick(999.96e6) == "1G"); // not "1e+03M"
+  CHECK(sodaevo::app::format_tick(-999.96) == "-1k");
   CHECK(sodaevo::app::format_tick(3e9) == "3G");
   CHECK(sodaevo::app::format_tick(0.25) == "0.25");
   CHECK(sodaevo::app::svg_escape("a<b & \"c\"") == "a&lt;b &amp; &quot;c&quot;");
