@@ -2,20 +2,14 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cstdint>
 #include <set>
 #include <stdexcept>
 
+#include "bits.hpp"
 #include "fused_scene.hpp"
 
 namespace soda {
-
-namespace {
-
-std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v); }
-
-} // namespace
 
 double shared_sine_fraction(const std::vector<const Model*>& models, const std::vector<int>& members) {
   // A sine argument is 2pi * (muscle phase - wave phase): creatures whose waves
@@ -30,8 +24,8 @@ double shared_sine_fraction(const std::vector<const Model*>& models, const std::
     std::set<Key> mine;
     for (int j = 0; j < m.link_count(); ++j) {
       if (!m.link_muscle[j] || m.wave_amplitude * m.link_amplitude[j] == 0.0) continue;
-      mine.insert({bits(m.wave_phase0), bits(m.wave_speed), static_cast<std::uint64_t>(static_cast<int>(m.wave_direction0)),
-                   bits(m.link_phase[j])});
+      mine.insert({bits_of(m.wave_phase0), bits_of(m.wave_speed), static_cast<std::uint64_t>(static_cast<int>(m.wave_direction0)),
+                   bits_of(m.link_phase[j])});
     }
     within += mine.size();
     between.insert(mine.begin(), mine.end());

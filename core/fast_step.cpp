@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "aligned_vector.hpp"
+#include "bits.hpp"
 #include "exact_sines.hpp"
 #include "fused_scene.hpp"
 #include "physics_rules.hpp"
@@ -23,12 +24,6 @@
 namespace soda {
 
 namespace {
-
-std::uint64_t bits_of(double v) {
-  std::uint64_t b;
-  std::memcpy(&b, &v, sizeof b);
-  return b;
-}
 
 // move_mass_block is instantiated implicitly with the default target and always
 // inlined into the kernels of each level: no call ever crosses the vector ABI that
@@ -498,7 +493,6 @@ void targets_kernel(Impl& s, const double* sine) {
 template <class O>
 void args_kernel(Impl& s, int filled) {
   using V = typename O::V;
-  const V two_pi = O::set1(kTwoPi);
   const std::size_t stride = s.creatures.size();
   // Locals: the stores through arg could alias s's members, which would then be
   // reloaded after each of them.
@@ -511,7 +505,7 @@ void args_kernel(Impl& s, int filled) {
     for (int k = 0; k < states; ++k) {
       const V wave = O::set1(phase[k]);
       for (int d = first[k]; d < first[k + 1]; d += O::W) {
-        O::storeu(arg + d, O::mul(two_pi, O::sub(O::loadu(muscle_phase + d), wave)));
+        O::storeu(arg + d, simd_rules::sine_argument<O>(O::loadu(muscle_phase + d), wave));
       }
     }
   }

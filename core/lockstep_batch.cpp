@@ -8,11 +8,11 @@
 #include <immintrin.h>
 
 #include <algorithm>
-#include <bit>
 #include <cstdint>
 #include <stdexcept>
 
 #include "aligned_vector.hpp"
+#include "bits.hpp"
 #include "constants.hpp"
 #include "exact_sines.hpp"
 #include "glibc_sine.hpp"
@@ -27,8 +27,6 @@ namespace {
 using O = simd::Avx512Ops;
 constexpr int kW = LockstepBatch::kLanes;
 static_assert(O::W == kW);
-
-bool same_bits(double a, double b) { return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b); }
 } // namespace
 
 // Lane l of group g is creature 8g + l (padding lanes repeat the last creature;
@@ -41,6 +39,7 @@ struct LockstepBatch::Data {
   std::vector<int> column_of;          ///< [wave_links] its sine column
   int columns = 0;
   SinFn sine_fn = nullptr;
+  const glibc_sine::GlibcTable* sine_table = nullptr; ///< for the sines inlined into the link pass
 
   // Rows per group: points: x, y, vx, vy [4][points]; links: rest, power, target
   // [3][links]; columns: muscle phase [columns]; world: kWorldRows.
@@ -54,7 +53,7 @@ struct LockstepBatch::Data {
   // Sines of the next frame: computed during this frame's links (where the
   // square-root/divide unit is the bottleneck and the other units idle), for the
   // phase each wave will have if no lane's direction turns; a group whose phase
-  // came out otherwise gets them again after its frame (sines_for).
+  // came out otherwise gets them again after its frame (sines_now).
   AVec<double> arguments, sines; ///< [groups * columns] rows
   AVec<double> predicted;        ///< [groups] rows: the phase the sines are for
   bool inline_sines = false;     ///< the vector sine is glibc's here (exact_sines.hpp self-check)
@@ -70,7 +69,8 @@ struct LockstepBatch::Data {
   void store(State* const* st);
   double* arguments_row(int g, int q) { return arguments.data() + (static_cast<std::size_t>(g) * columns + q) * kW; }
   double* sines_row(int g, int q) { return sines.data() + (static_cast<std::size_t>(g) * columns + q) * kW; }
-  void sines_for(int g, const double* phase);
+  void arguments_for(int g, O::V phase);
+  void sines_now(int g);
   void targets_from_sines(int g);
   template <int N>
   void step_groups(int g0);
@@ -120,7 +120,7 @@ LockstepBatch::LockstepBatch(const std::vector<const Model*>& models) : d_(std::
     for (; column < static_cast<int>(column_link.size()); ++column) {
       bool same = true;
       for (int l = 0; l < lanes && same; ++l) {
-        same = same_bits(model_of(l).link_phase[j], model_of(l).link_phase[column_link[column]]);
+        same = bits_of(model_of(l).link_phase[j]) == bits_of(model_of(l).link_phase[column_link[column]]);
       }
       if (same) break;
     }
@@ -144,6 +144,7 @@ LockstepBatch::LockstepBatch(const std::vector<const Model*>& models) : d_(std::
   d.sines.assign(d.arguments.size(), 0.0);
   d.predicted.assign(static_cast<std::size_t>(d.groups) * kW, 0.0);
   d.inline_sines = vector_sines_usable(SimdLevel::Avx512);
+  d.sine_table = &glibc_sine::glibc_table();
   d.autoreverse.assign(lanes, 0);
   for (int lane = 0; lane < lanes; ++lane) {
     const Model& m = model_of(lane);
@@ -175,7 +176,6 @@ int LockstepBatch::size() const { return d_->count; }
 int LockstepBatch::sine_columns() const { return d_->columns; }
 
 void LockstepBatch::Data::load(State* const* st) {
-  lane_state.resize(static_cast<std::size_t>(groups) * kW);
   for (int lane = 0; lane < groups * kW; ++lane) {
     const State& s = *st[std::min(lane, count - 1)];
     const int g = lane / kW, l = lane % kW;
@@ -201,6 +201,7 @@ void LockstepBatch::Data::store(State* const* st) {
       s.vy[p] = point_row(g, 3, p)[l];
     }
     s.wave_phase = world_row(g, kPhase)[l];
+    s.wave_mode = static_cast<WaveDirection>(static_cast<int>(world_row(g, kMode)[l]));
   }
 }
 
@@ -208,13 +209,15 @@ void LockstepBatch::Data::store(State* const* st) {
 #pragma GCC push_options
 #pragma GCC target("avx512f,avx512dq")
 
-// The sine arguments of group g's columns at wave phase `phase` (a row), as
-// rules::muscle_target_length forms them: 2pi * (muscle phase - wave phase).
-void LockstepBatch::Data::sines_for(int g, const double* phase) {
-  const O::V two_pi = O::set1(kTwoPi);
-  const O::V wave_phase = O::load(phase);
-  for (int q = 0; q < columns; ++q) O::store(arguments_row(g, q), O::mul(two_pi, O::sub(O::load(column_row(g, q)), wave_phase)));
-  O::store(predicted.data() + static_cast<std::size_t>(g) * kW, wave_phase);
+// Group g's sine arguments for wave phase `phase`, noted in `predicted`.
+[[gnu::always_inline]] inline void LockstepBatch::Data::arguments_for(int g, O::V phase) {
+  O::store(predicted.data() + static_cast<std::size_t>(g) * kW, phase);
+  for (int q = 0; q < columns; ++q) O::store(arguments_row(g, q), simd_rules::sine_argument<O>(O::load(column_row(g, q)), phase));
+}
+
+// Group g's sines for the phase it has now.
+void LockstepBatch::Data::sines_now(int g) {
+  arguments_for(g, O::load(world_row(g, kPhase)));
   sine_fn(arguments_row(g, 0), sines_row(g, 0), columns * kW);
 }
 
@@ -249,17 +252,14 @@ template <int N>
   // the next frame's at the phase the waves will have if no direction turns.
   const int sine_rows = inline_sines ? N * columns : 0;
   if (columns > 0) {
-    const V two_pi = O::set1(kTwoPi);
     for (int n = 0; n < N; ++n) {
       const int g = g0 + n;
       targets_from_sines(g);
-      const V next = simd_rules::advance_wave_phase<O>(O::load(world_row(g, kPhase)), O::load(world_row(g, kSpeed)),
-                                                       O::load(world_row(g, kMode)));
-      O::store(predicted.data() + static_cast<std::size_t>(g) * kW, next);
-      for (int q = 0; q < columns; ++q) O::store(arguments_row(g, q), O::mul(two_pi, O::sub(O::load(column_row(g, q)), next)));
+      arguments_for(g, simd_rules::advance_wave_phase<O>(O::load(world_row(g, kPhase)), O::load(world_row(g, kSpeed)),
+                                                         O::load(world_row(g, kMode))));
     }
   }
-  const glibc_sine::GlibcTable& table = glibc_sine::glibc_table();
+  const glibc_sine::GlibcTable& table = *sine_table;
   double* const args = arguments_row(g0, 0); // the N groups' rows are consecutive
   double* const out = sines_row(g0, 0);
   unsigned far_lanes = 0; // lanes glibc's sin takes elsewhere (|x| >= 105414350, NaN): none from phases in [0, 1)
@@ -331,7 +331,7 @@ template <int N>
     const double* expected = predicted.data() + static_cast<std::size_t>(g) * kW;
     if (sine_rows == 0 || far_lanes != 0 ||
         _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(phase), _mm512_load_si512(expected)) != 0) {
-      sines_for(g, world_row(g, kPhase));
+      sines_now(g);
     }
   }
 }
@@ -343,6 +343,7 @@ void LockstepBatch::run(State* const* states, long long frames) {
   // Padding lanes autoreverse into a scratch copy of the last state, not into it.
   std::vector<State> padding;
   padding.reserve(static_cast<std::size_t>(d.groups) * kW - d.count);
+  d.lane_state.resize(static_cast<std::size_t>(d.groups) * kW);
   for (int lane = 0; lane < d.groups * kW; ++lane) {
     if (lane < d.count) {
       d.lane_state[lane] = states[lane];
@@ -352,7 +353,7 @@ void LockstepBatch::run(State* const* states, long long frames) {
     }
   }
   if (d.columns > 0) {
-    for (int g = 0; g < d.groups; ++g) d.sines_for(g, d.world_row(g, Data::kPhase));
+    for (int g = 0; g < d.groups; ++g) d.sines_now(g);
   }
   for (long long f = 0; f < frames; ++f) {
     int g = 0;
@@ -360,10 +361,7 @@ void LockstepBatch::run(State* const* states, long long frames) {
     if (g < d.groups) d.step_groups<1>(g);
   }
   d.store(states);
-  for (int c = 0; c < d.count; ++c) {
-    states[c]->wave_mode = static_cast<WaveDirection>(static_cast<int>(d.world_row(c / kW, Data::kMode)[c % kW]));
-    states[c]->frame += frames;
-  }
+  for (int c = 0; c < d.count; ++c) states[c]->frame += frames;
 }
 
 #pragma GCC pop_options

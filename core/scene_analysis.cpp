@@ -3,8 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <set>
+
+#include "bits.hpp"
 
 namespace soda {
 
@@ -14,12 +15,6 @@ long long frames_for_distance(double distance) {
   if (!(distance >= 0.0)) return 0; // negative or NaN: may be hit at once
   const double frames = std::floor(distance / kMaxMovePerFrame);
   return frames >= static_cast<double>(kSafeFramesCap) ? kSafeFramesCap : static_cast<long long>(frames);
-}
-
-std::uint64_t bits_of(double v) {
-  std::uint64_t b;
-  std::memcpy(&b, &v, sizeof b);
-  return b;
 }
 
 } // namespace

@@ -34,6 +34,13 @@ template <class O>
   return O::div(O::mul(springyness, O::sub(length, target)), length);
 }
 
+/// The sine's argument in rules::muscle_target_length: 2pi * (muscle phase - wave
+/// phase).
+template <class O>
+[[gnu::always_inline]] inline typename O::V sine_argument(typename O::V muscle_phase, typename O::V wave_phase) {
+  return O::mul(O::set1(kTwoPi), O::sub(muscle_phase, wave_phase));
+}
+
 /// The second half of rules::muscle_target_length: rest * (1 + power * sine), with
 /// power = Aw*Am formed beforehand (the same product every frame). A spring in a
 /// muscle's lane has power 0: rest * (1 + (+-0)) = rest exactly.
