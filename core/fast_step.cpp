@@ -222,6 +222,7 @@ struct FusedScene::Data {
 
   void build(const std::vector<const Model*>& models, long long budget, FastStepOptions opt);
   void arrange_links(std::vector<Acting>& acting);
+  void order_by_need(std::vector<Acting>& acting);
   void load_state(State* const* st);
   void store_state(State* const* st);
   // Muscle targets: rules::muscle_target_length split in two so that the sine is
@@ -637,8 +638,10 @@ void register_chunk(Impl& s, State* const* st, long long frames) {
           V ix = _mm512_maskz_permutex2var_pd(*valid, px[0], idx, px[1]);
           V iy = _mm512_maskz_permutex2var_pd(*valid, py[0], idx, py[1]);
           if (link_blocks == 3) {
+            if (*upper == 0) {} else {
             ix = _mm512_mask_permutexvar_pd(ix, *upper, idx, px[2]);
             iy = _mm512_mask_permutexvar_pd(iy, *upper, idx, py[2]);
+            }
           } else if (link_blocks == 4) {
             ix = O::select(*upper, _mm512_permutex2var_pd(px[2], idx, px[3]), ix);
             iy = O::select(*upper, _mm512_permutex2var_pd(py[2], idx, py[3]), iy);
@@ -930,6 +933,10 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
     if (pass == 0) nwm = static_cast<int>(acting.size());
   }
   arrange_links(acting); // sets nwm_pad
+  if (opt.register_frames && simd == SimdLevel::Avx512 && nm_pad + nf <= Avx512Ops::kRegisterPoints &&
+      acting.size() <= 4 * static_cast<std::size_t>(kMaxWidth) && bars == BarKind::None && !opt.force_ordered) {
+    order_by_need(acting);
+  }
   nl = static_cast<int>(acting.size());
   nl_pad = (nl + kMaxWidth - 1) / kMaxWidth * kMaxWidth;
   la.assign(static_cast<std::size_t>(nl_pad), 0);
@@ -1148,6 +1155,52 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
 // Layout: the wave muscles first, formed blocks then the others, filled up to a
 // multiple of kMaxWidth with other links (target slots [0, nwm_pad) are the ones
 // that change per frame); then the other links, formed blocks first.
+// The frame in registers (register_chunk) computes its link blocks in order, one
+// square root per block a few cycles after the other, and a mass adds its
+// impulses in rounds, one round per link in file order. A link whose impulse is
+// added early in a long list holds up more additions after it than one added last,
+// so the links are ordered by how many rounds still follow their first use (the
+// most first) within the wave slots and within the others; a round that takes no
+// impulse of the last block then does not wait for it (register_chunk).
+void FusedScene::Data::order_by_need(std::vector<Acting>& acting) {
+  std::vector<std::vector<std::pair<int, int>>> incident(static_cast<std::size_t>(nm_pad)); // (file link, acting)
+  const auto end_of = [&](const Acting& l, bool b_end) {
+    const Creature& cr = creatures[l.creature];
+    const Model& m = *cr.model;
+    return std::pair{cr.work_of_point[b_end ? m.link_b[l.link] : m.link_a[l.link]],
+                     m.is_mass(b_end ? m.link_b[l.link] : m.link_a[l.link])};
+  };
+  for (std::size_t k = 0; k < acting.size(); ++k) {
+    if (acting[k].creature < 0) continue;
+    for (bool b_end : {false, true}) {
+      const auto [w, is_mass] = end_of(acting[k], b_end);
+      if (is_mass) incident[w].emplace_back(acting[k].link, static_cast<int>(k));
+    }
+  }
+  std::vector<int> after(acting.size(), -1); // rounds that follow the link's first use
+  for (int blk = 0; blk < nm_pad; blk += kMaxWidth) {
+    std::size_t rounds = 0;
+    for (int w = blk; w < blk + kMaxWidth; ++w) rounds = std::max(rounds, incident[w].size());
+    for (int w = blk; w < blk + kMaxWidth; ++w) {
+      auto& list = incident[w];
+      std::sort(list.begin(), list.end());
+      for (std::size_t r = 0; r < list.size(); ++r) {
+        int& a = after[static_cast<std::size_t>(list[r].second)];
+        a = std::max(a, static_cast<int>(rounds - r));
+      }
+    }
+  }
+  std::vector<int> index(acting.size());
+  for (std::size_t k = 0; k < acting.size(); ++k) index[k] = static_cast<int>(k);
+  const auto by_need = [&](int x, int y) { return after[x] > after[y]; };
+  std::stable_sort(index.begin(), index.begin() + nwm_pad, by_need);
+  std::stable_sort(index.begin() + nwm_pad, index.end(), by_need);
+  std::vector<Acting> ordered;
+  for (int k : index) ordered.push_back(acting[k]);
+  acting = ordered;
+  std::fill(a_block.begin(), a_block.end(), -1); // the blocks no longer follow the masses
+}
+
 void FusedScene::Data::arrange_links(std::vector<Acting>& acting) {
   const auto end_of = [&](const Acting& l, bool b_end) {
     const Creature& cr = creatures[l.creature];
