@@ -223,6 +223,12 @@ struct FusedScene::Data {
   void build(const std::vector<const Model*>& models, long long budget, FastStepOptions opt);
   void arrange_links(std::vector<Acting>& acting);
   void order_by_need(std::vector<Acting>& acting);
+  /// Whether whole frames of this scene with `links` link slots run in registers
+  /// (register_chunk): AVX-512, at most 16 points and 32 link slots, no bars.
+  [[nodiscard]] bool frames_fit_registers(int links) const {
+    return options.register_frames && simd == SimdLevel::Avx512 && nm_pad + nf <= Avx512Ops::kRegisterPoints &&
+           links <= 4 * kMaxWidth && bars == BarKind::None && !options.force_ordered;
+  }
   void load_state(State* const* st);
   void store_state(State* const* st);
   // Muscle targets: rules::muscle_target_length split in two so that the sine is
@@ -638,9 +644,11 @@ void register_chunk(Impl& s, State* const* st, long long frames) {
           V ix = _mm512_maskz_permutex2var_pd(*valid, px[0], idx, px[1]);
           V iy = _mm512_maskz_permutex2var_pd(*valid, py[0], idx, py[1]);
           if (link_blocks == 3) {
-            if (*upper == 0) {} else {
-            ix = _mm512_mask_permutexvar_pd(ix, *upper, idx, px[2]);
-            iy = _mm512_mask_permutexvar_pd(iy, *upper, idx, py[2]);
+            // A round without an impulse of the last block (order_by_need puts
+            // those late) does not wait for it: the same branch every frame.
+            if (*upper != 0) {
+              ix = _mm512_mask_permutexvar_pd(ix, *upper, idx, px[2]);
+              iy = _mm512_mask_permutexvar_pd(iy, *upper, idx, py[2]);
             }
           } else if (link_blocks == 4) {
             ix = O::select(*upper, _mm512_permutex2var_pd(px[2], idx, px[3]), ix);
@@ -933,10 +941,7 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
     if (pass == 0) nwm = static_cast<int>(acting.size());
   }
   arrange_links(acting); // sets nwm_pad
-  if (opt.register_frames && simd == SimdLevel::Avx512 && nm_pad + nf <= Avx512Ops::kRegisterPoints &&
-      acting.size() <= 4 * static_cast<std::size_t>(kMaxWidth) && bars == BarKind::None && !opt.force_ordered) {
-    order_by_need(acting);
-  }
+  if (frames_fit_registers(static_cast<int>(acting.size()))) order_by_need(acting);
   nl = static_cast<int>(acting.size());
   nl_pad = (nl + kMaxWidth - 1) / kMaxWidth * kMaxWidth;
   la.assign(static_cast<std::size_t>(nl_pad), 0);
@@ -1095,8 +1100,7 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
   }
 
   // The frame in registers: the register lane of working point (or link slot) p.
-  frame_in_registers = opt.register_frames && points_in_registers && nl_pad <= 4 * kMaxWidth &&
-                       bars == BarKind::None && !opt.force_ordered;
+  frame_in_registers = frames_fit_registers(nl_pad);
   rf_end_a.clear();
   rf_end_b.clear();
   rf_index.clear();
