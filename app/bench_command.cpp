@@ -88,9 +88,10 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
        "round, all within this one invocation).\n\n";
   o << "\"fast\" steps one creature alone. \"fast-batch\" steps " << bench::kBenchBatch
     << " different creatures (copies with their muscle phases shifted, no sine shared) on one core as "
-       "soda::BatchStepper does and counts creature-frames: it is population throughput per core, what "
-       "the genetic algorithm gets, not the speed of a single creature. The copies have one shape, so "
-       "they run in lockstep, one creature per AVX-512 lane (soda::LockstepBatch), where the CPU has it. "
+       "soda::BatchStepper does and counts creature-frames: it is the throughput per core of a population "
+       "of one shape, not the speed of a single creature. The copies have one shape, so they run in "
+       "lockstep, one creature per AVX-512 lane (soda::LockstepBatch), where the CPU has it; the genetic "
+       "algorithm's populations, of mixed shapes, take the fused path. "
        "\"fast-batch-fused\" steps the same "
     << bench::kBenchBatch << " in fused scenes (lockstep off; at most " << soda::kMaxFusedLinks
     << " links per scene, whose links share SIMD batches): the path of a population of mixed shapes. "

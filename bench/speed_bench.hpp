@@ -7,10 +7,12 @@
 // plain SoA reference step), "fast-sse2" (FastStepper on the portable x86-64
 // level) and "fast" (FastStepper on the best level of this CPU): each steps ONE
 // creature alone. "fast-batch" (BatchStepper) steps kBenchBatch different
-// creatures (copies with shifted muscle phases, so no sine is shared) fused on one
-// core and counts creature-frames: it measures population throughput per core
-// (what the GA gets), not the speed of one creature. "fast-batch-same" steps
-// kBenchBatch identical copies, which share every sine (the best case).
+// creatures (copies with shifted muscle phases, so no sine is shared) on one core
+// and counts creature-frames: the throughput per core of a population of one shape
+// (lockstep where the CPU has AVX-512), not the speed of one creature.
+// "fast-batch-fused" steps the same copies fused (lockstep off: the path of the
+// GA's populations of mixed shapes); "fast-batch-same" steps kBenchBatch identical
+// copies fused, which share every sine (the fused path's best case).
 //
 // Method: every figure is the median of `runs` timed runs; a run steps the engine
 // from the model's initial state for a frame count calibrated so that one run takes
