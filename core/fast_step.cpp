@@ -223,6 +223,13 @@ struct FusedScene::Data {
   void build(const std::vector<const Model*>& models, long long budget, FastStepOptions opt);
   void arrange_links(std::vector<Acting>& acting);
   void order_by_need(std::vector<Acting>& acting);
+  /// Working index of end a (or b) of acting link l of a creature: below nm for a
+  /// mass, from nm_pad on for a fixed node.
+  [[nodiscard]] int working_end(const Acting& l, bool b_end) const {
+    const Creature& cr = creatures[l.creature];
+    const Model& m = *cr.model;
+    return cr.work_of_point[b_end ? m.link_b[l.link] : m.link_a[l.link]];
+  }
   /// Whether whole frames of this scene with `links` link slots run in registers
   /// (register_chunk): AVX-512, at most 16 points and 32 link slots, no bars.
   [[nodiscard]] bool frames_fit_registers(int links) const {
@@ -1168,17 +1175,11 @@ void FusedScene::Data::build(const std::vector<const Model*>& models, long long 
 // impulse of the last block then does not wait for it (register_chunk).
 void FusedScene::Data::order_by_need(std::vector<Acting>& acting) {
   std::vector<std::vector<std::pair<int, int>>> incident(static_cast<std::size_t>(nm_pad)); // (file link, acting)
-  const auto end_of = [&](const Acting& l, bool b_end) {
-    const Creature& cr = creatures[l.creature];
-    const Model& m = *cr.model;
-    return std::pair{cr.work_of_point[b_end ? m.link_b[l.link] : m.link_a[l.link]],
-                     m.is_mass(b_end ? m.link_b[l.link] : m.link_a[l.link])};
-  };
   for (std::size_t k = 0; k < acting.size(); ++k) {
     if (acting[k].creature < 0) continue;
     for (bool b_end : {false, true}) {
-      const auto [w, is_mass] = end_of(acting[k], b_end);
-      if (is_mass) incident[w].emplace_back(acting[k].link, static_cast<int>(k));
+      const int w = working_end(acting[k], b_end);
+      if (w < nm) incident[w].emplace_back(acting[k].link, static_cast<int>(k)); // a mass
     }
   }
   std::vector<int> after(acting.size(), -1); // rounds that follow the link's first use
@@ -1206,11 +1207,6 @@ void FusedScene::Data::order_by_need(std::vector<Acting>& acting) {
 }
 
 void FusedScene::Data::arrange_links(std::vector<Acting>& acting) {
-  const auto end_of = [&](const Acting& l, bool b_end) {
-    const Creature& cr = creatures[l.creature];
-    const Model& m = *cr.model;
-    return cr.work_of_point[b_end ? m.link_b[l.link] : m.link_a[l.link]];
-  };
   struct Arranged {
     std::vector<Acting> formed; ///< W per block
     std::vector<std::int32_t> blocks;
@@ -1221,7 +1217,7 @@ void FusedScene::Data::arrange_links(std::vector<Acting>& acting) {
     std::vector<std::vector<int>> incident(static_cast<std::size_t>(nm_pad));
     std::vector<int> left(static_cast<std::size_t>(nm_pad), 0); // unplaced links at each mass
     for (std::size_t g = 0; g < pool.size(); ++g) {
-      const int a = end_of(pool[g], false), b = end_of(pool[g], true);
+      const int a = working_end(pool[g], false), b = working_end(pool[g], true);
       if (a < nm) incident[a].push_back(static_cast<int>(g));
       if (b < nm && b != a) incident[b].push_back(static_cast<int>(g));
     }
@@ -1248,7 +1244,7 @@ void FusedScene::Data::arrange_links(std::vector<Acting>& acting) {
           for (std::size_t q = from; q < list.size() && q < from + kLook; ++q) {
             const int g = list[q];
             if (placed[g]) continue;
-            const int a = end_of(pool[g], false), b = end_of(pool[g], true);
+            const int a = working_end(pool[g], false), b = working_end(pool[g], true);
             const int other = a == m ? b : a;
             const int other_left = other < nm ? left[other] : std::numeric_limits<int>::max();
             if (other_left > best_left) best = g, best_left = other_left;
@@ -1258,7 +1254,7 @@ void FusedScene::Data::arrange_links(std::vector<Acting>& acting) {
             slot.dummy = m;
           } else {
             slot = pool[best];
-            const int a = end_of(slot, false), b = end_of(slot, true);
+            const int a = working_end(slot, false), b = working_end(slot, true);
             slot.swapped = a != m;
             placed[best] = 1;
             --left[m];
