@@ -81,6 +81,38 @@ std::string steal_sentence(const std::vector<bench::PopulationRun>& runs) {
 
 std::string human(double v) { return format_tick(v); }
 
+/// What bounds one creature alone, from the creature rows: its frame with and
+/// without the sines (fast, fast-no-wave) against the time 20x the seed allows.
+std::string one_creature_bound(const bench::SpeedReport& r) {
+  std::map<std::string, std::map<std::string, const bench::SpeedRow*>> by_creature;
+  std::vector<std::string> order;
+  for (const bench::SpeedRow& row : r.rows) {
+    if (row.section != "creature") continue;
+    if (!by_creature.count(row.creature)) order.push_back(row.creature);
+    by_creature[row.creature][row.engine] = &row;
+  }
+  std::ostringstream o;
+  const auto ns = [](double frames_per_second) { return fixed(1e9 / frames_per_second, 1) + " ns"; };
+  for (const std::string& name : order) {
+    const auto& e = by_creature[name];
+    if (!e.count("fast") || !e.count("fast-no-wave") || !e.count("seed")) continue;
+    if (o.tellp() == 0) {
+      o << "\nOne creature alone runs its frames one after the other: each frame's positions depend on the "
+           "last through the links' lengths (a square root), their impulse factors (a division), each mass's "
+           "additions in file order and the mass update. Its muscles' sines do not depend on them (they are "
+           "computed ahead, in rows) and take their own time. A frame with and without the sines:\n\n";
+    }
+    const bench::SpeedRow& fast = *e.at("fast");
+    const bench::SpeedRow& still = *e.at("fast-no-wave");
+    const bench::SpeedRow& seed = *e.at("seed");
+    o << "- " << name << ": " << ns(fast.frames_per_second) << " (fast, " << fixed(fast.speedup_vs_seed, 1)
+      << "x the seed); " << ns(still.frames_per_second) << " without the sines (fast-no-wave, "
+      << fixed(still.speedup_vs_seed, 1) << "x); 20x the seed would take " << ns(20.0 * seed.frames_per_second)
+      << ".\n";
+  }
+  return o.str();
+}
+
 std::string markdown(const bench::SpeedReport& r, const std::string& command) {
   std::ostringstream o;
   o << "Measured with `" << command << "` (fast = " << r.simd
@@ -98,7 +130,9 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
        "\"fast-batch-same\" steps "
     << bench::kBenchBatch
     << " identical copies fused, which share every muscle sine (the fused path's best case). "
-       "All are bit-exact against the reference step.\n\n";
+       "All are bit-exact against the reference step. \"fast-no-wave\" steps the creature alone with its wave "
+       "amplitude set to 0: no sines, the muscles held at their rest lengths. It is not the creature's motion "
+       "but the cost of its frame without the sines (below).\n\n";
   auto has = [&](const char* section) {
     const auto in_section = [&](const bench::SpeedRow& row) { return row.section == section; };
     return std::any_of(r.rows.begin(), r.rows.end(), in_section);
@@ -113,6 +147,7 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
       << " | " << human(row.link_updates_per_second) << " | " << fixed(row.speedup_vs_seed, 1) << "x | "
       << fixed(row.speedup_vs_plain, 2) << "x |\n";
   }
+  o << one_creature_bound(r);
   std::map<int, std::map<std::string, double>> sweep;
   std::vector<std::string> engines;
   for (const bench::SpeedRow& row : r.rows) {

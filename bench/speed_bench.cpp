@@ -191,7 +191,14 @@ struct Engine {
   int creatures = 1; ///< creatures one run steps (each by `frames`)
 };
 
-std::vector<Engine> make_engines(const soda::Model& model, bool with_reference, bool with_batch) {
+/// Which engines besides seed, plain, fast-sse2 and fast.
+struct EngineChoice {
+  bool reference = false;
+  bool batch = false;   ///< fast-batch, fast-batch-fused, fast-batch-same
+  bool no_wave = false; ///< fast-no-wave (creatures with a wave)
+};
+
+std::vector<Engine> make_engines(const soda::Model& model, const EngineChoice& choice) {
   std::vector<Engine> engines;
   auto seed = std::make_shared<SeedBaseline>(model);
   engines.push_back({"seed", [seed](long long frames) {
@@ -205,7 +212,7 @@ std::vector<Engine> make_engines(const soda::Model& model, bool with_reference, 
                        plain->run(s, frames);
                        g_sink = g_sink + s.x[0];
                      }});
-  if (with_reference) {
+  if (choice.reference) {
     engines.push_back({"reference", [&model](long long frames) {
                          soda::State s = soda::make_state(model);
                          soda::run(model, s, frames);
@@ -222,7 +229,23 @@ std::vector<Engine> make_engines(const soda::Model& model, bool with_reference, 
                          g_sink = g_sink + s.x[0];
                        }});
   }
-  if (with_batch) {
+  // "fast-no-wave": the same creature with its wave amplitude at 0, so no sines
+  // (its muscles hold their rest lengths). Not this creature's motion: one frame
+  // of it is the same dependent chain (the same links, masses and walls) without
+  // the sines, which is what one creature alone would cost if its sines were
+  // free (speed.md's bound on one creature alone).
+  if (choice.no_wave && model.wave_amplitude != 0.0 &&
+      std::any_of(model.link_muscle.begin(), model.link_muscle.end(), [](std::uint8_t m) { return m != 0; })) {
+    auto still = std::make_shared<soda::Model>(model);
+    still->wave_amplitude = 0.0;
+    auto stepper = std::make_shared<soda::FastStepper>(*still, 1'000'000);
+    engines.push_back({"fast-no-wave", [stepper, still](long long frames) {
+                         soda::State s = soda::make_state(*still);
+                         stepper->run(s, frames);
+                         g_sink = g_sink + s.x[0];
+                       }});
+  }
+  if (choice.batch) {
     // kBenchBatch creatures on one core (population throughput), as
     // soda::BatchStepper steps them: "fast-batch" 16 different ones (shifted_copy:
     // no sine shared between them), one shape, so in lockstep where the CPU has
@@ -354,7 +377,8 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     if (!options.creature_section) break; // the models are still read: the population needs them
     say("creature " + name + " (" + std::to_string(model.mass_count) + " masses, " +
         std::to_string(model.link_count()) + " links)");
-    for (SpeedRow& r : time_engines("creature", name, model, make_engines(model, true, true), runs, target)) {
+    const EngineChoice every{.reference = true, .batch = true, .no_wave = true};
+    for (SpeedRow& r : time_engines("creature", name, model, make_engines(model, every), runs, target)) {
       report.rows.push_back(r);
     }
   }
@@ -366,7 +390,7 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     if (!options.size_section) break;
     const soda::Model model = soda::build_model(synthetic_creature(links));
     say("synthetic " + std::to_string(links) + " links");
-    for (SpeedRow& r : time_engines("size", "synthetic", model, make_engines(model, false, false), runs, target)) {
+    for (SpeedRow& r : time_engines("size", "synthetic", model, make_engines(model, {}), runs, target)) {
       if (r.engine == "fast" && r.link_updates_per_second > report.best_link_updates_per_second) {
         report.best_link_updates_per_second = r.link_updates_per_second;
         report.best_links = r.links;

@@ -220,9 +220,16 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
   }
   // The three bundled creatures under every engine, a size sweep, 1 and 2 threads twice.
   const std::map<std::string, int> three_each{{"fast", 3},      {"fast-batch", 3}, {"fast-batch-fused", 3},
-                                              {"fast-batch-same", 3}, {"fast-sse2", 3}, {"plain", 3},
-                                              {"reference", 3},  {"seed", 3}};
+                                              {"fast-batch-same", 3}, {"fast-no-wave", 3}, {"fast-sse2", 3},
+                                              {"plain", 3},      {"reference", 3},  {"seed", 3}};
   CHECK(creature_engines == three_each);
+  // The bound on one creature alone, for each of the three (all have a wave).
+  const std::string md_text = soda::read_whole_file(out / "speed.md");
+  for (const char* name : {"- dainty_walker: ", "- carefulslug: ", "- monster_truck: "}) {
+    const std::size_t at = md_text.find(name);
+    REQUIRE(at != std::string::npos);
+    CHECK(md_text.find("without the sines (fast-no-wave, ", at) < md_text.find('\n', at));
+  }
   CHECK(rows_per_section["size"] > 0);
   CHECK(rows_per_section["population"] == 4);
   const std::string md = soda::read_whole_file(out / "speed.md");
