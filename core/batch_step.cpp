@@ -35,6 +35,7 @@ double shared_sine_fraction(const std::vector<const Model*>& models, const std::
 
 BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options)
     : count_(static_cast<int>(models.size())) {
+  for (const Model* m : models) point_count_.push_back(m->point_count);
   std::vector<const Model*> pack;
   std::vector<int> pack_index;
   int pack_links = 0;
@@ -120,6 +121,9 @@ int BatchStepper::lockstep_count() const {
 
 void BatchStepper::run(const std::vector<State*>& states, long long frames) {
   if (static_cast<int>(states.size()) != count_) throw std::invalid_argument("BatchStepper::run: one state per model");
+  // A State given twice is found here even where its two uses run in different
+  // parts (a lockstep batch, a fused scene, alone); the parts check the sizes.
+  require_batch_states(states.data(), count_, [&](int c) { return point_count_[c]; }, "BatchStepper::run");
   for (Lockstep& l : locksteps_) {
     scratch_.clear();
     for (int i : l.index) scratch_.push_back(states[i]);

@@ -124,6 +124,7 @@ class BatchStepper {
   std::vector<FastStepper> alone_;    ///< models with fixed bars
   std::vector<int> alone_index_;
   std::vector<State*> scratch_;
+  std::vector<int> point_count_; ///< [count_] points of models[i] (run checks the states)
 };
 
 } // namespace soda

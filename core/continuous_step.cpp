@@ -26,6 +26,11 @@ ContinuousStepper::ContinuousStepper(const Model& model, ContinuousSettings sett
 }
 
 void ContinuousStepper::step(State& s) {
+  require_state_size(s, model_.point_count, "ContinuousStepper::step");
+  step_unchecked(s);
+}
+
+void ContinuousStepper::step_unchecked(State& s) {
   for (int k = 0; k < settings_.substeps; ++k) {
     switch (settings_.integrator) {
       case Integrator::Euler: euler_step(s); break;
@@ -37,7 +42,8 @@ void ContinuousStepper::step(State& s) {
 }
 
 void ContinuousStepper::run(State& s, long long frames) {
-  for (long long f = 0; f < frames; ++f) step(s);
+  require_state_size(s, model_.point_count, "ContinuousStepper::run");
+  for (long long f = 0; f < frames; ++f) step_unchecked(s);
 }
 
 void ContinuousStepper::advance_wave(State& s) const {

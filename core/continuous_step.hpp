@@ -67,6 +67,7 @@ public:
   [[nodiscard]] double dt() const { return dt_; }
 
 private:
+  void step_unchecked(State& s); ///< step() after its check of the state
   void euler_step(State& s);
   void verlet_step(State& s);
   void rk4_step(State& s);

@@ -1544,8 +1544,11 @@ bool FusedScene::points_in_registers() const { return d_->points_in_registers; }
 bool FusedScene::frame_in_registers() const { return d_->frame_in_registers; }
 
 void FusedScene::run(State* const* states, long long frames) {
-  if (frames <= 0) return;
   Data& s = *d_;
+  require_batch_states(
+      states, static_cast<int>(s.creatures.size()), [&](int c) { return s.creatures[c].model->point_count; },
+      s.creatures.size() == 1 ? "FastStepper::run" : "FusedScene::run");
+  if (frames <= 0) return;
   s.load_state(states);
   s.leave_rows(); // the states may be others, or changed since
   KernelChoice k;

@@ -1,7 +1,12 @@
 #include "model.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "input_error.hpp"
 #include "number_text.hpp"
@@ -147,6 +152,52 @@ State make_state(const Model& model) {
   s.wave_phase = model.wave_phase0;
   s.wave_mode = model.wave_direction0;
   return s;
+}
+
+namespace {
+bool fits(const State& s, int points) {
+  const auto n = static_cast<std::size_t>(points);
+  return s.x.size() == n && s.y.size() == n && s.vx.size() == n && s.vy.size() == n;
+}
+} // namespace
+
+void require_state_size(const State& state, int points, const char* who) {
+  if (fits(state, points)) return;
+  throw std::invalid_argument(std::string(who) + ": the state does not fit the model: expected " +
+                              std::to_string(points) + " points in x, y, vx and vy, got " +
+                              std::to_string(state.x.size()) + ", " + std::to_string(state.y.size()) + ", " +
+                              std::to_string(state.vx.size()) + " and " + std::to_string(state.vy.size()));
+}
+
+// Called before every run, also of one frame (FastStepper::step): nothing is
+// allocated unless something is wrong, or the batch is large.
+void require_batch_states(State* const* states, int count, const std::function<int(int)>& points_of,
+                          const char* who) {
+  const auto which = [&](int c) { return std::string(who) + ": states[" + std::to_string(c) + "]"; };
+  const auto twice = [&](int first, int again) {
+    throw std::invalid_argument(which(again) + " is the same State as states[" + std::to_string(first) +
+                                "]: each creature needs its own");
+  };
+  for (int c = 0; c < count; ++c) {
+    if (states[c] == nullptr) throw std::invalid_argument(which(c) + " is null");
+    if (!fits(*states[c], points_of(c))) require_state_size(*states[c], points_of(c), which(c).c_str());
+  }
+  constexpr int kPairwiseUpTo = 32;
+  if (count <= kPairwiseUpTo) {
+    for (int c = 1; c < count; ++c) {
+      for (int e = 0; e < c; ++e) {
+        if (states[e] == states[c]) twice(e, c);
+      }
+    }
+    return;
+  }
+  std::vector<std::pair<std::uintptr_t, int>> sorted; // integers: pointers of different objects do not order
+  sorted.reserve(static_cast<std::size_t>(count));
+  for (int c = 0; c < count; ++c) sorted.emplace_back(reinterpret_cast<std::uintptr_t>(states[c]), c);
+  std::sort(sorted.begin(), sorted.end());
+  for (std::size_t k = 1; k < sorted.size(); ++k) {
+    if (sorted[k].first == sorted[k - 1].first) twice(sorted[k - 1].second, sorted[k].second);
+  }
 }
 
 ModelDef def_with_state(const ModelDef& def, const Model& model, const State& state) {

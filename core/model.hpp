@@ -12,6 +12,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "model_def.hpp"
@@ -79,6 +80,19 @@ Model build_model(const ModelDef& def);
 
 /// The state as loaded (frame 0).
 State make_state(const Model& model);
+
+/// The steppers index a state's arrays by the model's points without bounds
+/// checks (the frame loops cannot afford them), so each run() checks its states
+/// once before its frames. This throws std::invalid_argument, naming `who`, unless
+/// `state` has `points` entries in each of x, y, vx and vy (a state of a model of
+/// that many points, as make_state gives).
+void require_state_size(const State& state, int points, const char* who);
+
+/// The same for a batch of `count` states: none null, none given twice (one State
+/// for two creatures would be stepped twice per frame and end with one of their
+/// results), states[c] of points_of(c) points. Messages name the state's index.
+void require_batch_states(State* const* states, int count, const std::function<int(int)>& points_of,
+                          const char* who);
 
 /// `def` with the positions, velocities and wave of `state` (for writing the final
 /// state). `model` must have been built from `def`.

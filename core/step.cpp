@@ -69,14 +69,22 @@ namespace {
 
 void euler_step(const Model& model, State& state, const EulerStep& e) { euler_step_inline(model, state, e); }
 
-void step(const Model& model, State& state) {
+namespace {
+void step_unchecked(const Model& model, State& state) {
   euler_step_inline(model, state,
                     {1.0, model.gravity, 1.0 - model.friction, model.surface_friction, model.wave_speed});
   ++state.frame;
 }
+} // namespace
+
+void step(const Model& model, State& state) {
+  require_state_size(state, model.point_count, "soda::step");
+  step_unchecked(model, state);
+}
 
 void run(const Model& model, State& state, long long frames) {
-  for (long long f = 0; f < frames; ++f) step(model, state);
+  require_state_size(state, model.point_count, "soda::run");
+  for (long long f = 0; f < frames; ++f) step_unchecked(model, state);
 }
 
 } // namespace soda

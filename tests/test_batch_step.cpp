@@ -6,13 +6,16 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/batch_step.hpp"
+#include "core/continuous_step.hpp"
 #include "core/fast_step.hpp"
 #include "core/fused_scene.hpp"
 #include "core/input_error.hpp"
+#include "core/lockstep_batch.hpp"
 #include "core/model_file.hpp"
 #include "core/step.hpp"
 #include "evolve/fitness.hpp"
@@ -275,5 +278,66 @@ TEST_CASE("batch: standing waves shared between creatures stay exact", "[batch_s
     const std::string diff = run_batch_and_reference(models, all_indices(models.size()), 3000, opt);
     INFO(soda::simd_level_name(level) << ": " << diff);
     CHECK(diff.empty());
+  }
+}
+
+// Every stepper's run() checks the states it is given before its frames: the frame
+// loops index them by the model's points without bounds checks, and one State
+// given for two creatures would be stepped twice per frame. Each case fails if
+// the check is missing: a wrong size is then read out of bounds (AddressSanitizer
+// in CI, or no exception), a State given twice runs without an error.
+TEST_CASE("steppers refuse a state of another model, a null state and one State given twice", "[batch_step]") {
+  const Scene walker = load_scene(models_dir() / "dainty_walker.xml");
+  const Scene slug = load_scene(models_dir() / "carefulslug.xml");
+  const soda::Model& m = walker.model;
+  REQUIRE(m.point_count != slug.model.point_count);
+  const auto refuses = [](auto&& call, const std::string& says) {
+    try {
+      call();
+    } catch (const std::invalid_argument& e) {
+      INFO(e.what());
+      CHECK(std::string(e.what()).find(says) != std::string::npos);
+      return true;
+    }
+    return false;
+  };
+  const std::string size_message = "expected " + std::to_string(m.point_count) + " points in x, y, vx and vy, got " +
+                                   std::to_string(slug.model.point_count);
+  soda::State other = soda::make_state(slug.model);
+  CHECK(refuses([&] { soda::run(m, other, 10); }, "soda::run: the state does not fit the model: " + size_message));
+  CHECK(refuses([&] { soda::step(m, other); }, "soda::step: "));
+  soda::FastStepper fast(m, 100);
+  CHECK(refuses([&] { fast.run(other, 10); }, "FastStepper::run: states[0]: the state does not fit"));
+  CHECK(refuses([&] { fast.step(other); }, "FastStepper::run: "));
+  soda::ContinuousSettings settings;
+  soda::ContinuousStepper continuous(m, settings);
+  CHECK(refuses([&] { continuous.run(other, 10); }, "ContinuousStepper::run: the state does not fit the model: " + size_message));
+
+  // Batches: a State twice (checked pairwise up to 32 states, sorted above), null,
+  // of another model.
+  for (int count : {2, 7, 40}) {
+    INFO("batch of " << count);
+    std::vector<const soda::Model*> models(static_cast<std::size_t>(count), &m);
+    std::vector<soda::State> states(static_cast<std::size_t>(count), soda::make_state(m));
+    std::vector<soda::State*> ptrs;
+    for (soda::State& s : states) ptrs.push_back(&s);
+    soda::BatchStepper batch(models, 100);
+    const std::vector<soda::State*> good = ptrs;
+    ptrs.back() = ptrs.front();
+    CHECK(refuses([&] { batch.run(ptrs, 10); },
+                  "BatchStepper::run: states[" + std::to_string(count - 1) + "] is the same State as states[0]"));
+    ptrs.back() = nullptr;
+    CHECK(refuses([&] { batch.run(ptrs, 10); }, "states[" + std::to_string(count - 1) + "] is null"));
+    ptrs.back() = &other;
+    CHECK(refuses([&] { batch.run(ptrs, 10); }, "states[" + std::to_string(count - 1) + "]: the state does not fit"));
+    // The refused calls changed nothing; the good batch still runs.
+    CHECK_NOTHROW(batch.run(good, 10));
+    CHECK(states.front().frame == 10);
+    if (soda::LockstepBatch::usable()) {
+      soda::LockstepBatch lockstep(models);
+      ptrs = good;
+      ptrs[1] = ptrs[0];
+      CHECK(refuses([&] { lockstep.run(ptrs.data(), 10); }, "LockstepBatch::run: states[1] is the same State"));
+    }
   }
 }
