@@ -20,6 +20,7 @@
 #include "core/fast_step.hpp"
 #include "core/model.hpp"
 #include "core/model_file.hpp"
+#include "core/scene_analysis.hpp"
 #include "core/simd_level.hpp"
 #include "core/simd_ops.hpp"
 #include "core/step.hpp"
@@ -195,7 +196,7 @@ struct Engine {
 struct EngineChoice {
   bool reference = false;
   bool batch = false;   ///< fast-batch, fast-batch-fused, fast-batch-same
-  bool no_wave = false; ///< fast-no-wave (creatures with a wave)
+  bool no_wave = false; ///< fast-no-wave (creatures whose muscles need the wave)
 };
 
 std::vector<Engine> make_engines(const soda::Model& model, const EngineChoice& choice) {
@@ -234,8 +235,7 @@ std::vector<Engine> make_engines(const soda::Model& model, const EngineChoice& c
   // of it is the same dependent chain (the same links, masses and walls) without
   // the sines, which is what one creature alone would cost if its sines were
   // free (speed.md's bound on one creature alone).
-  if (choice.no_wave && model.wave_amplitude != 0.0 &&
-      std::any_of(model.link_muscle.begin(), model.link_muscle.end(), [](std::uint8_t m) { return m != 0; })) {
+  if (choice.no_wave && soda::analyse_scene(model, 1).wave) {
     auto still = std::make_shared<soda::Model>(model);
     still->wave_amplitude = 0.0;
     auto stepper = std::make_shared<soda::FastStepper>(*still, 1'000'000);
