@@ -130,7 +130,12 @@ std::string markdown(const bench::SpeedReport& r, const std::string& command) {
        "\"fast-batch-same\" steps "
     << bench::kBenchBatch
     << " identical copies fused, which share every muscle sine (the fused path's best case). "
-       "All are bit-exact against the reference step. \"fast-no-wave\" steps the creature alone with its wave "
+       "All are bit-exact against the reference step. \"seed-batch\" and \"plain-batch\" step the same "
+    << bench::kBenchBatch
+    << " different creatures as fast-batch one after the other with the seed baseline and the plain loop (a "
+       "population as those programs evaluate it); the ratios of the batched engines (fast-batch, "
+       "fast-batch-fused, fast-batch-same) are taken against these, so that both sides of each ratio step the "
+       "same creatures. \"fast-no-wave\" steps the creature alone with its wave "
        "amplitude set to 0: no sines, the muscles held at their rest lengths. It is not the creature's motion "
        "but the cost of its frame without the sines (below).\n\n";
   auto has = [&](const char* section) {

@@ -246,6 +246,36 @@ std::vector<Engine> make_engines(const soda::Model& model, const EngineChoice& c
                        }});
   }
   if (choice.batch) {
+    // The baselines on the same kBenchBatch creatures as the batched engines below,
+    // one after the other on one core (a population as a seed or plain program
+    // evaluates it): the batched engines' ratios are taken against these, so that
+    // both sides of a ratio step the same creatures (time_engines).
+    auto shifted = std::make_shared<std::vector<soda::Model>>();
+    for (int k = 0; k < kBenchBatch; ++k) shifted->push_back(shifted_copy(model, k));
+    auto seeds = std::make_shared<std::vector<std::unique_ptr<SeedBaseline>>>();
+    auto plains = std::make_shared<std::vector<std::unique_ptr<PlainLoop>>>();
+    for (const soda::Model& m : *shifted) {
+      seeds->push_back(std::make_unique<SeedBaseline>(m));
+      plains->push_back(std::make_unique<PlainLoop>(m));
+    }
+    engines.push_back({"seed-batch",
+                       [seeds, shifted](long long frames) {
+                         for (auto& s : *seeds) {
+                           s->reset();
+                           s->run(frames);
+                           g_sink = g_sink + s->checksum();
+                         }
+                       },
+                       kBenchBatch});
+    engines.push_back({"plain-batch",
+                       [plains, shifted](long long frames) {
+                         for (std::size_t k = 0; k < plains->size(); ++k) {
+                           soda::State s = soda::make_state((*shifted)[k]);
+                           (*plains)[k]->run(s, frames);
+                           g_sink = g_sink + s.x[0];
+                         }
+                       },
+                       kBenchBatch});
     // kBenchBatch creatures on one core (population throughput), as
     // soda::BatchStepper steps them: "fast-batch" 16 different ones (shifted_copy:
     // no sine shared between them), one shape, so in lockstep where the CPU has
@@ -347,10 +377,14 @@ std::vector<SpeedRow> time_engines(const std::string& section, const std::string
     }
     return median(per_round);
   };
+  // An engine that steps a batch is measured against the baselines stepping the
+  // same batch (seed-batch, plain-batch) where they ran, else against one creature.
   const std::size_t seed = index_of("seed"), plain = index_of("plain");
+  const std::size_t seed_batch = index_of("seed-batch"), plain_batch = index_of("plain-batch");
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    rows[i].speedup_vs_seed = ratio_to(seed, i);
-    rows[i].speedup_vs_plain = ratio_to(plain, i);
+    const bool on_batch = engines[i].creatures > 1 && seed_batch != engines.size() && plain_batch != engines.size();
+    rows[i].speedup_vs_seed = ratio_to(on_batch ? seed_batch : seed, i);
+    rows[i].speedup_vs_plain = ratio_to(on_batch ? plain_batch : plain, i);
   }
   return rows;
 }

@@ -13,6 +13,9 @@
 // "fast-batch-fused" steps the same copies fused (lockstep off: the path of the
 // GA's populations of mixed shapes); "fast-batch-same" steps kBenchBatch identical
 // copies fused, which share every sine (the fused path's best case).
+// "seed-batch" and "plain-batch" step fast-batch's creatures one after the other
+// with the baselines; the batched engines' ratios are taken against them (the same
+// creatures on both sides of a ratio).
 // "fast-no-wave" (creature section) steps the creature alone with its wave
 // amplitude at 0: not its motion, but its frame without the sines, which tells
 // how much of one creature's time alone is the sines and how much the frame.
