@@ -217,6 +217,31 @@ void write_manifest(const fs::path& dir, const RunConfig& config, const std::str
   soda::write_file_atomically(dir / "manifest.json", manifest.dump(2) + "\n");
 }
 
+/// Copies the seed models into the run folder (seeds/) and returns the config
+/// with their paths as config.json names them: relative to the folder, so that a
+/// run moved, cloned or shared can still be read, replayed, reported and resumed
+/// (config.json's paths resolve against its own folder). Files of one name from
+/// different folders get a number.
+RunConfig with_seeds_in_folder(const fs::path& dir, const RunConfig& config, RunConfig& as_loaded) {
+  RunConfig saved = config;
+  as_loaded = config;
+  if (config.population.seed_models.empty()) return saved;
+  std::error_code ec;
+  fs::create_directories(dir / "seeds", ec);
+  if (ec) throw soda::InputError(dir.string() + ": cannot create the run folder's seeds/: " + ec.message());
+  std::set<std::string> taken;
+  for (std::size_t i = 0; i < config.population.seed_models.size(); ++i) {
+    const fs::path from(config.population.seed_models[i]);
+    std::string name = from.filename().string();
+    for (int n = 2; taken.count(name); ++n) name = from.stem().string() + "-" + std::to_string(n) + from.extension().string();
+    taken.insert(name);
+    soda::write_file_atomically(dir / "seeds" / name, soda::read_whole_file(from));
+    saved.population.seed_models[i] = "seeds/" + name;
+    as_loaded.population.seed_models[i] = fs::absolute(dir / "seeds" / name, ec).lexically_normal().string();
+  }
+  return saved;
+}
+
 } // namespace
 
 RunStore RunStore::create(const fs::path& dir, const RunConfig& config, bool force, const std::string& command_line) {
@@ -230,14 +255,17 @@ RunStore RunStore::create(const fs::path& dir, const RunConfig& config, bool for
     }
     fs::remove_all(dir / "best", ec);
     fs::remove_all(dir / "generations", ec);
+    fs::remove_all(dir / "seeds", ec);
   }
   fs::create_directories(dir / "best", ec);
   if (ec) throw soda::InputError(dir.string() + ": cannot create the run folder: " + ec.message());
   fs::create_directories(dir / "generations", ec);
   if (ec) throw soda::InputError(dir.string() + ": cannot create the run folder: " + ec.message());
 
-  RunStore store(dir, config);
-  soda::write_file_atomically(dir / "config.json", to_json(config).dump(2) + "\n");
+  RunConfig as_loaded;
+  const RunConfig saved = with_seeds_in_folder(dir, config, as_loaded);
+  RunStore store(dir, as_loaded);
+  soda::write_file_atomically(dir / "config.json", to_json(saved).dump(2) + "\n");
   write_manifest(dir, config, command_line);
   store.write_logs();
   return store;

@@ -35,7 +35,9 @@ struct Checkpoint {
 class RunStore {
  public:
   /// A new run folder. Refuses an existing non-empty folder unless `force` (then
-  /// its run files are replaced). Writes config.json and manifest.json.
+  /// its run files are replaced). Writes config.json and manifest.json, and copies
+  /// the seed models into seeds/, which config.json names relative to the folder:
+  /// the folder is self-contained.
   static RunStore create(const std::filesystem::path& dir, const RunConfig& config, bool force,
                          const std::string& command_line);
   /// An existing run folder: reads config.json; the rows of the CSV logs after the

@@ -133,7 +133,7 @@ void require_complete_files(const fs::path& run) {
       while (std::getline(in, line)) CHECK(std::count(line.begin(), line.end(), ',') + 1 == columns);
     } else if (name == "report.html") {
       CHECK(text.find("</html>") != std::string::npos);
-    } else if (name.rfind("best/", 0) == 0) {
+    } else if (name.rfind("best/", 0) == 0 || name.rfind("seeds/", 0) == 0) {
       CHECK_NOTHROW(soda::read_model_file(path));
     } else if (name.rfind("generations/", 0) == 0) {
       CHECK_NOTHROW(generation_from_xml(text, path.string()));

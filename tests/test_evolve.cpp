@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include <nlohmann/json.hpp>
+
 #include "core/atomic_file.hpp"
 #include "core/model.hpp"
 #include "core/model_file.hpp"
@@ -158,13 +160,68 @@ TEST_CASE("an interrupted run resumes to exactly the uninterrupted result", "[ev
   }
   {
     RunStore store = RunStore::open(dir);
-    CHECK(store.config() == config);
+    // The run folder carries its seed model; the rest of the config is as given.
+    RunConfig expected = config;
+    expected.population.seed_models = {(fs::absolute(dir) / "seeds" / "dainty_walker.xml").lexically_normal().string()};
+    CHECK(store.config() == expected);
     ThreadEvaluator evaluator(1);
     const EvolutionOutcome o = run_evolution(store, evaluator, {});
     CHECK(o.stopped_because == "completed");
   }
   require_same_results(whole, dir);
   fs::remove_all(dir.parent_path());
+}
+
+TEST_CASE("a run folder is self-contained: moved away from its seed models it is read, replayed and resumed",
+          "[evolve]") {
+  // The seed model lives in a folder of its own, which is deleted after the run
+  // started: the run folder must not need it (it keeps a copy in seeds/).
+  const fs::path base = fresh_dir("moved");
+  fs::create_directories(base / "mine");
+  fs::copy_file(fs::path(SODAEVO_MODELS_DIR) / "dainty_walker.xml", base / "mine" / "dainty_walker.xml");
+  RunConfig config = small_config();
+  config.budget.generations = 3;
+  config.save.generation_every = 1;
+  config.population.seed_models = {(base / "mine" / "dainty_walker.xml").string()};
+  {
+    RunStore store = RunStore::create(base / "run", config, false, "test");
+    ThreadEvaluator evaluator(2);
+    std::atomic<bool> stop{false};
+    EvolutionOptions options;
+    options.stop_requested = &stop;
+    options.on_generation = [&](const Progress& p) {
+      if (p.generation == 1) stop = true;
+    };
+    run_evolution(store, evaluator, options);
+  }
+  CHECK(soda::read_whole_file(base / "run" / "seeds" / "dainty_walker.xml") ==
+        soda::read_whole_file(fs::path(SODAEVO_MODELS_DIR) / "dainty_walker.xml"));
+  CHECK(nlohmann::json::parse(soda::read_whole_file(base / "run" / "config.json"))["population"]["seed_models"] ==
+        nlohmann::json::array({"seeds/dainty_walker.xml"}));
+  fs::remove_all(base / "mine");
+  fs::rename(base / "run", base / "moved_run");
+  const fs::path moved = base / "moved_run";
+  REQUIRE_NOTHROW(read_run_config(moved / "config.json"));
+  // Resumed where it was moved to, the run ends as one that was never interrupted
+  // nor moved.
+  {
+    RunStore store = RunStore::open(moved);
+    ThreadEvaluator evaluator(1);
+    CHECK(run_evolution(store, evaluator, {}).stopped_because == "completed");
+  }
+  RunConfig plain = small_config();
+  plain.budget.generations = 3;
+  plain.save.generation_every = 1;
+  const fs::path whole = run_to_end(plain, "moved_whole", 2);
+  require_same_results(whole, moved);
+  // Replayed there: every saved creature gives its logged fitness.
+  const RunConfig read_back = read_run_config(moved / "config.json");
+  for (int g : saved_generations(moved)) {
+    for (const Individual& ind : read_saved_generation(moved, g).individuals) {
+      CHECK(evaluate_creature(ind.creature, read_back).fitness == ind.evaluation.fitness);
+    }
+  }
+  fs::remove_all(base);
 }
 
 TEST_CASE("replay and export reproduce the logged fitness exactly", "[evolve]") {
