@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -24,7 +25,11 @@
 #include "core/simd_level.hpp"
 #include "core/simd_ops.hpp"
 #include "core/step.hpp"
+#include "evolve/batch_evaluation.hpp"
+#include "evolve/fitness.hpp"
 #include "evolve/parallel_for.hpp"
+#include "evolve/run_config.hpp"
+#include "evolve/run_reader.hpp"
 #include "core/number_text.hpp"
 
 namespace sodaevo::bench {
@@ -311,6 +316,72 @@ std::vector<Engine> make_engines(const soda::Model& model, const EngineChoice& c
   return engines;
 }
 
+/// The engines of the GA section, on `models` (the creatures of a saved run as the
+/// GA steps them): "seed" and "plain" step them one after the other, "fast" with a
+/// FastStepper each, "fast-batch" in the batches the GA's evaluation cuts on one
+/// thread (evaluation_batch_size, fused_batch_ends), each a soda::BatchStepper.
+std::vector<Engine> make_ga_engines(std::shared_ptr<const std::vector<soda::Model>> models) {
+  const int count = static_cast<int>(models->size());
+  std::vector<Engine> engines;
+  auto seeds = std::make_shared<std::vector<std::unique_ptr<SeedBaseline>>>();
+  auto plains = std::make_shared<std::vector<std::unique_ptr<PlainLoop>>>();
+  auto fasts = std::make_shared<std::vector<std::unique_ptr<soda::FastStepper>>>();
+  for (const soda::Model& m : *models) {
+    seeds->push_back(std::make_unique<SeedBaseline>(m));
+    plains->push_back(std::make_unique<PlainLoop>(m));
+    fasts->push_back(std::make_unique<soda::FastStepper>(m, 1'000'000));
+  }
+  engines.push_back({"seed",
+                     [seeds](long long frames) {
+                       for (auto& s : *seeds) {
+                         s->reset();
+                         s->run(frames);
+                         g_sink = g_sink + s->checksum();
+                       }
+                     },
+                     count});
+  engines.push_back({"plain",
+                     [plains, models](long long frames) {
+                       for (std::size_t k = 0; k < plains->size(); ++k) {
+                         soda::State s = soda::make_state((*models)[k]);
+                         (*plains)[k]->run(s, frames);
+                         g_sink = g_sink + s.x[0];
+                       }
+                     },
+                     count});
+  engines.push_back({"fast",
+                     [fasts, models](long long frames) {
+                       for (std::size_t k = 0; k < fasts->size(); ++k) {
+                         soda::State s = soda::make_state((*models)[k]);
+                         (*fasts)[k]->run(s, frames);
+                         g_sink = g_sink + s.x[0];
+                       }
+                     },
+                     count});
+  std::vector<int> links;
+  for (const soda::Model& m : *models) links.push_back(m.link_count());
+  const std::vector<std::size_t> ends = soda::fused_batch_ends(links, evaluation_batch_size(models->size(), 1));
+  auto batches = std::make_shared<std::vector<std::pair<std::size_t, std::unique_ptr<soda::BatchStepper>>>>();
+  for (std::size_t b = 0, first = 0; b < ends.size(); first = ends[b], ++b) {
+    std::vector<const soda::Model*> ptrs;
+    for (std::size_t k = first; k < ends[b]; ++k) ptrs.push_back(&(*models)[k]);
+    batches->emplace_back(first, std::make_unique<soda::BatchStepper>(ptrs, 1'000'000));
+  }
+  engines.push_back({"fast-batch",
+                     [batches, models, ends](long long frames) {
+                       std::vector<soda::State> states;
+                       for (const soda::Model& m : *models) states.push_back(soda::make_state(m));
+                       for (std::size_t b = 0; b < batches->size(); ++b) {
+                         std::vector<soda::State*> sp;
+                         for (std::size_t k = (*batches)[b].first; k < ends[b]; ++k) sp.push_back(&states[k]);
+                         (*batches)[b].second->run(sp, frames);
+                       }
+                       g_sink = g_sink + states.back().x[0];
+                     },
+                     count});
+  return engines;
+}
+
 /// Frames for one run of about `target` seconds (at least 1).
 long long calibrate(const Engine& e, double target) {
   long long frames = 1;
@@ -327,7 +398,16 @@ long long calibrate(const Engine& e, double target) {
 }
 
 /// Times every engine on one model: calibrated frames, interleaved runs, medians.
-std::vector<SpeedRow> time_engines(const std::string& section, const std::string& creature, const soda::Model& model,
+/// Per creature stepped: the masses and links a row reports; link updates per
+/// second are frames per second times `links` (a mean over a set of creatures).
+struct Size {
+  int masses = 0;
+  double links = 0.0;
+};
+
+Size size_of(const soda::Model& model) { return {model.mass_count, static_cast<double>(model.link_count())}; }
+
+std::vector<SpeedRow> time_engines(const std::string& section, const std::string& creature, Size size,
                                    std::vector<Engine> engines, int runs, double target) {
   std::vector<long long> frames;
   for (const Engine& e : engines) {
@@ -349,13 +429,13 @@ std::vector<SpeedRow> time_engines(const std::string& section, const std::string
     row.creature = creature;
     row.engine = engines[i].name;
     row.batch = engines[i].creatures;
-    row.masses = model.mass_count;
-    row.links = model.link_count();
+    row.masses = size.masses;
+    row.links = static_cast<int>(std::lround(size.links));
     row.frames = frames[i];
     row.runs = runs;
     row.median_seconds = median(times[i]);
     row.frames_per_second = static_cast<double>(frames[i]) * engines[i].creatures / row.median_seconds;
-    row.link_updates_per_second = row.frames_per_second * model.link_count();
+    row.link_updates_per_second = row.frames_per_second * size.links;
     rows.push_back(row);
   }
   // Ratios: the median over the rounds of the ratio within each round (the two
@@ -412,7 +492,7 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     say("creature " + name + " (" + std::to_string(model.mass_count) + " masses, " +
         std::to_string(model.link_count()) + " links)");
     const EngineChoice every{.reference = true, .batch = true, .no_wave = true};
-    for (SpeedRow& r : time_engines("creature", name, model, make_engines(model, every), runs, target)) {
+    for (SpeedRow& r : time_engines("creature", name, size_of(model), make_engines(model, every), runs, target)) {
       report.rows.push_back(r);
     }
   }
@@ -424,11 +504,49 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     if (!options.size_section) break;
     const soda::Model model = soda::build_model(synthetic_creature(links));
     say("synthetic " + std::to_string(links) + " links");
-    for (SpeedRow& r : time_engines("size", "synthetic", model, make_engines(model, {}), runs, target)) {
+    for (SpeedRow& r : time_engines("size", "synthetic", size_of(model), make_engines(model, {}), runs, target)) {
       if (r.engine == "fast" && r.link_updates_per_second > report.best_link_updates_per_second) {
         report.best_link_updates_per_second = r.link_updates_per_second;
         report.best_links = r.links;
       }
+      report.rows.push_back(r);
+    }
+  }
+
+  // 4. The GA's own creatures (run before 3, which may end the bench early): every
+  //    creature of the saved generations, prepared as the GA evaluates them.
+  if (options.ga_section && !options.ga_run.empty()) {
+    const std::filesystem::path run(options.ga_run);
+    const RunConfig config = read_run_config(run / "config.json");
+    std::vector<int> generations = saved_generations(run);
+    if (generations.empty()) throw std::runtime_error(options.ga_run + ": the run has no saved generation");
+    if (options.quick && generations.size() > 2) generations = {generations.front(), generations.back()};
+    auto models = std::make_shared<std::vector<soda::Model>>();
+    double links = 0.0;
+    for (int g : generations) {
+      for (const Individual& individual : read_saved_generation(run, g).individuals) {
+        // As evaluate_creature_batch: a creature the GA refuses is not stepped.
+        if (check_creature(individual.creature, config.limits)) {
+          ++report.ga_refused;
+          continue;
+        }
+        try {
+          models->push_back(soda::build_model(prepare_for_evaluation(individual.creature, config.fitness, config.world)));
+          links += models->back().link_count();
+        } catch (const std::exception&) {
+          ++report.ga_refused;
+        }
+      }
+    }
+    if (models->empty()) throw std::runtime_error(options.ga_run + ": no creature of the saved generations can be stepped");
+    report.ga_run = options.ga_run;
+    report.ga_generations = static_cast<int>(generations.size());
+    report.ga_creatures = static_cast<int>(models->size());
+    report.ga_mean_links = links / static_cast<double>(models->size());
+    say("the GA's creatures: " + std::to_string(report.ga_creatures) + " from " +
+        std::to_string(report.ga_generations) + " saved generations of " + options.ga_run);
+    for (SpeedRow& r : time_engines("ga", "ga_run", {0, report.ga_mean_links},
+                                    make_ga_engines(models), runs, target)) {
       report.rows.push_back(r);
     }
   }

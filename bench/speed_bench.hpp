@@ -25,7 +25,11 @@
 // about `target_seconds`. The engines' runs are interleaved (run 1 of every engine,
 // then run 2, ...) so that a slow phase of the machine hits all of them, and a
 // ratio is the median over the rounds of the ratio within each round (11 rounds,
-// 3 with --quick). The population section runs 31 rounds of short runs, its
+// 3 with --quick). The GA section steps every creature of a saved run's
+// generations, prepared as the GA evaluates them, with the seed baseline and the
+// plain loop one after the other, a FastStepper each, and the GA's own batches
+// (fast-batch): the exact mode's speed on the creatures it is used for. The
+// population section runs 31 rounds of short runs, its
 // 1-thread runs held to each core in turn (speed_bench.cpp says why).
 #pragma once
 
@@ -41,12 +45,16 @@ struct SpeedOptions {
   bool creature_section = true;   ///< 1. the bundled creatures, every engine
   bool size_section = true;       ///< 2. the size sweep
   bool population_section = true; ///< 3. population throughput, 1 and all threads
+  bool ga_section = true;         ///< 4. the GA's own creatures from a saved run
+  /// The saved run whose creatures the GA section steps (every saved generation;
+  /// the first and the last with `quick`); empty: no GA section.
+  std::string ga_run;
   std::vector<std::pair<std::string, std::string>> creatures; ///< name, model path
   std::function<void(const std::string&)> progress;          ///< one line per step
 };
 
 struct SpeedRow {
-  std::string section;  ///< "creature", "size" or "population"
+  std::string section;  ///< "creature", "size", "population" or "ga"
   std::string creature; ///< creature name (or "synthetic")
   std::string engine;
   int threads = 1;
@@ -116,6 +124,13 @@ struct SpeedReport {
   int shared_core_rounds = 0; ///< rounds whose divider-bound items got below kSharedCoreBelow
   double best_link_updates_per_second = 0.0; ///< fast, one thread, any size
   int best_links = 0;
+  /// GA section: the run, its saved generations stepped, their creatures (prepared
+  /// as the GA evaluates them), those the GA refuses, and their mean link count.
+  std::string ga_run;
+  int ga_generations = 0;
+  int ga_creatures = 0;
+  int ga_refused = 0;
+  double ga_mean_links = 0.0;
 };
 
 SpeedReport run_speed_bench(const SpeedOptions& options);

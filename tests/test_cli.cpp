@@ -197,22 +197,61 @@ TEST_CASE("bench evolve compares the three search methods at equal evaluations",
   fs::remove_all(out);
 }
 
+TEST_CASE("bench speed: the ga section without a saved run, or without generations, is a clear error", "[cli]") {
+  const fs::path out = fresh_temp_dir("cli_bench_speed_no_run");
+  const ShellResult asked = run_sodaevo("bench speed --quick --sections ga --ga-run " + (out / "no_such_run").string());
+  INFO(asked.output);
+  CHECK(asked.exit_code != 0);
+  CHECK(asked.output.find((out / "no_such_run").string() + ": no saved run here (config.json missing)") !=
+        std::string::npos);
+  // A run directory without its generations: named too.
+  fs::create_directories(out / "empty_run");
+  // A config that reads (its seed model found), in a folder with no generations.
+  fs::create_directories(out / "models");
+  fs::copy_file(fs::path(SODAEVO_MODELS_DIR) / "dainty_walker.xml", out / "models" / "dainty_walker.xml");
+  fs::copy_file(fs::path(SODAEVO_MODELS_DIR).parent_path() / "configs" / "quick.json", out / "empty_run" / "config.json");
+  const ShellResult empty = run_sodaevo("bench speed --quick --sections ga --ga-run " + (out / "empty_run").string());
+  INFO(empty.output);
+  CHECK(empty.exit_code != 0);
+  CHECK(empty.output.find("empty_run: the run has no saved generation") != std::string::npos);
+  fs::remove_all(out);
+}
+
 TEST_CASE("bench speed --quick writes every engine's row, the population ratios and the files", "[cli]") {
   const fs::path out = fresh_temp_dir("cli_bench_speed");
   const fs::path root = fs::path(SODAEVO_MODELS_DIR).parent_path();
+  // A small saved run for the GA section: 3 generations of 24, all saved.
+  const fs::path ga_run = out / "ga_run";
+  {
+    std::ofstream config(out / "ga.json");
+    config << R"({"name": "ga", "seed": 3, "generations": 3,
+      "population": {"size": 24, "seed_models": [")"
+           << (root / "models" / "dainty_walker.xml").string() << R"("], "random_fraction": 0.5},
+      "fitness": {"frames": 300, "settle_frames": 50},
+      "save": {"generation_every": 1, "checkpoint_every": 1}})";
+  }
+  const ShellResult evolved = run_sodaevo("evolve " + (out / "ga.json").string() + " --quiet --out " + ga_run.string());
+  INFO(evolved.output);
+  REQUIRE(evolved.exit_code == 0);
   const ShellResult r = run_sodaevo("bench speed --quick --threads 2 --models " + (root / "models").string() +
-                                    " --out " + out.string());
+                                    " --ga-run " + ga_run.string() + " --out " + out.string());
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   const CsvLines csv = read_csv_lines(out / "speed.csv");
   CHECK(csv.header.rfind("section,creature,engine,threads,", 0) == 0);
   std::map<std::string, int> rows_per_section;
   std::map<std::string, int> creature_engines;
+  std::map<std::string, int> ga_engines; // engine -> creatures stepped
   for (const std::string& line : csv.rows) {
     const std::vector<std::string> f = csv_cells(line);
     REQUIRE(f.size() == 14);
     rows_per_section[f[0]]++;
     CHECK(std::stod(f[9]) > 0.0); // frames per second
+    if (f[0] == "ga") {
+      ga_engines[f[2]] = std::stoi(f[13]);
+      if (f[2] == "seed") CHECK(f[11] == "1.00");
+      if (f[2] == "plain") CHECK(f[12] == "1.00");
+    }
     if (f[0] != "creature") continue;
     creature_engines[f[2]]++;
     if (f[2] == "seed") CHECK(f[11] == "1.00"); // a ratio to itself
@@ -238,6 +277,11 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
     REQUIRE(at != std::string::npos);
     CHECK(md_text.find("without the sines (fast-no-wave, ", at) < md_text.find('\n', at));
   }
+  // The GA section: the first and the last saved generation of the run (--quick),
+  // 24 creatures each, every engine on all of them.
+  const std::map<std::string, int> ga_expected{{"fast", 48}, {"fast-batch", 48}, {"plain", 48}, {"seed", 48}};
+  CHECK(ga_engines == ga_expected);
+  CHECK(md_text.find("The GA's own creatures, one core: the 48 creatures of 2 saved generations") != std::string::npos);
   CHECK(rows_per_section["size"] > 0);
   CHECK(rows_per_section["population"] == 4);
   const std::string md = soda::read_whole_file(out / "speed.md");
