@@ -204,6 +204,47 @@ struct EngineChoice {
   bool no_wave = false; ///< fast-no-wave (creatures whose muscles need the wave)
 };
 
+/// An engine that steps each of `models` in turn from its initial state with its
+/// own stepper (PlainLoop, FastStepper: run(State&, frames)).
+template <class Stepper>
+Engine each_in_turn(const char* name, std::shared_ptr<const std::vector<soda::Model>> models,
+                    std::shared_ptr<std::vector<std::unique_ptr<Stepper>>> steppers) {
+  return {name,
+          [steppers, models](long long frames) {
+            for (std::size_t k = 0; k < steppers->size(); ++k) {
+              soda::State s = soda::make_state((*models)[k]);
+              (*steppers)[k]->run(s, frames);
+              g_sink = g_sink + s.x[0];
+            }
+          },
+          static_cast<int>(models->size())};
+}
+
+/// The seed baseline and the plain loop stepping `models` one after the other (a
+/// population as those programs evaluate it), named `seed_name` and `plain_name`.
+std::vector<Engine> sequential_baselines(std::shared_ptr<const std::vector<soda::Model>> models,
+                                         const char* seed_name, const char* plain_name) {
+  const int count = static_cast<int>(models->size());
+  auto seeds = std::make_shared<std::vector<std::unique_ptr<SeedBaseline>>>();
+  auto plains = std::make_shared<std::vector<std::unique_ptr<PlainLoop>>>();
+  for (const soda::Model& m : *models) {
+    seeds->push_back(std::make_unique<SeedBaseline>(m));
+    plains->push_back(std::make_unique<PlainLoop>(m));
+  }
+  std::vector<Engine> engines;
+  engines.push_back({seed_name,
+                     [seeds, models](long long frames) {
+                       for (auto& s : *seeds) {
+                         s->reset();
+                         s->run(frames);
+                         g_sink = g_sink + s->checksum();
+                       }
+                     },
+                     count});
+  engines.push_back(each_in_turn(plain_name, models, plains));
+  return engines;
+}
+
 std::vector<Engine> make_engines(const soda::Model& model, const EngineChoice& choice) {
   std::vector<Engine> engines;
   auto seed = std::make_shared<SeedBaseline>(model);
@@ -257,30 +298,7 @@ std::vector<Engine> make_engines(const soda::Model& model, const EngineChoice& c
     // both sides of a ratio step the same creatures (time_engines).
     auto shifted = std::make_shared<std::vector<soda::Model>>();
     for (int k = 0; k < kBenchBatch; ++k) shifted->push_back(shifted_copy(model, k));
-    auto seeds = std::make_shared<std::vector<std::unique_ptr<SeedBaseline>>>();
-    auto plains = std::make_shared<std::vector<std::unique_ptr<PlainLoop>>>();
-    for (const soda::Model& m : *shifted) {
-      seeds->push_back(std::make_unique<SeedBaseline>(m));
-      plains->push_back(std::make_unique<PlainLoop>(m));
-    }
-    engines.push_back({"seed-batch",
-                       [seeds, shifted](long long frames) {
-                         for (auto& s : *seeds) {
-                           s->reset();
-                           s->run(frames);
-                           g_sink = g_sink + s->checksum();
-                         }
-                       },
-                       kBenchBatch});
-    engines.push_back({"plain-batch",
-                       [plains, shifted](long long frames) {
-                         for (std::size_t k = 0; k < plains->size(); ++k) {
-                           soda::State s = soda::make_state((*shifted)[k]);
-                           (*plains)[k]->run(s, frames);
-                           g_sink = g_sink + s.x[0];
-                         }
-                       },
-                       kBenchBatch});
+    for (Engine& e : sequential_baselines(shifted, "seed-batch", "plain-batch")) engines.push_back(std::move(e));
     // kBenchBatch creatures on one core (population throughput), as
     // soda::BatchStepper steps them: "fast-batch" 16 different ones (shifted_copy:
     // no sine shared between them), one shape, so in lockstep where the CPU has
@@ -322,42 +340,10 @@ std::vector<Engine> make_engines(const soda::Model& model, const EngineChoice& c
 /// thread (evaluation_batch_size, fused_batch_ends), each a soda::BatchStepper.
 std::vector<Engine> make_ga_engines(std::shared_ptr<const std::vector<soda::Model>> models) {
   const int count = static_cast<int>(models->size());
-  std::vector<Engine> engines;
-  auto seeds = std::make_shared<std::vector<std::unique_ptr<SeedBaseline>>>();
-  auto plains = std::make_shared<std::vector<std::unique_ptr<PlainLoop>>>();
+  std::vector<Engine> engines = sequential_baselines(models, "seed", "plain");
   auto fasts = std::make_shared<std::vector<std::unique_ptr<soda::FastStepper>>>();
-  for (const soda::Model& m : *models) {
-    seeds->push_back(std::make_unique<SeedBaseline>(m));
-    plains->push_back(std::make_unique<PlainLoop>(m));
-    fasts->push_back(std::make_unique<soda::FastStepper>(m, 1'000'000));
-  }
-  engines.push_back({"seed",
-                     [seeds](long long frames) {
-                       for (auto& s : *seeds) {
-                         s->reset();
-                         s->run(frames);
-                         g_sink = g_sink + s->checksum();
-                       }
-                     },
-                     count});
-  engines.push_back({"plain",
-                     [plains, models](long long frames) {
-                       for (std::size_t k = 0; k < plains->size(); ++k) {
-                         soda::State s = soda::make_state((*models)[k]);
-                         (*plains)[k]->run(s, frames);
-                         g_sink = g_sink + s.x[0];
-                       }
-                     },
-                     count});
-  engines.push_back({"fast",
-                     [fasts, models](long long frames) {
-                       for (std::size_t k = 0; k < fasts->size(); ++k) {
-                         soda::State s = soda::make_state((*models)[k]);
-                         (*fasts)[k]->run(s, frames);
-                         g_sink = g_sink + s.x[0];
-                       }
-                     },
-                     count});
+  for (const soda::Model& m : *models) fasts->push_back(std::make_unique<soda::FastStepper>(m, 1'000'000));
+  engines.push_back(each_in_turn("fast", models, fasts));
   std::vector<int> links;
   for (const soda::Model& m : *models) links.push_back(m.link_count());
   const std::vector<std::size_t> ends = soda::fused_batch_ends(links, evaluation_batch_size(models->size(), 1));

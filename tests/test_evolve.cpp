@@ -43,6 +43,19 @@ fs::path fresh_dir(const std::string& name) {
   return d;
 }
 
+/// A new run in `dir` stopped (as Ctrl-C does) after generation `stop_after`.
+EvolutionOutcome run_until(const fs::path& dir, const RunConfig& config, int stop_after) {
+  RunStore store = RunStore::create(dir, config, false, "test");
+  ThreadEvaluator evaluator(2);
+  std::atomic<bool> stop{false};
+  EvolutionOptions options;
+  options.stop_requested = &stop;
+  options.on_generation = [&](const Progress& p) {
+    if (p.generation == stop_after) stop = true;
+  };
+  return run_evolution(store, evaluator, options);
+}
+
 fs::path run_to_end(const RunConfig& config, const std::string& name, int threads) {
   const fs::path dir = fresh_dir(name);
   RunStore store = RunStore::create(dir, config, false, "test");
@@ -146,15 +159,7 @@ TEST_CASE("an interrupted run resumes to exactly the uninterrupted result", "[ev
 
   const fs::path dir = fresh_dir("interrupted");
   {
-    RunStore store = RunStore::create(dir, config, false, "test");
-    ThreadEvaluator evaluator(2);
-    std::atomic<bool> stop{false};
-    EvolutionOptions options;
-    options.stop_requested = &stop;
-    options.on_generation = [&](const Progress& p) {
-      if (p.generation == 2) stop = true;
-    };
-    const EvolutionOutcome o = run_evolution(store, evaluator, options);
+    const EvolutionOutcome o = run_until(dir, config, 2);
     CHECK(o.stopped_because == "interrupted");
     CHECK(o.last_generation == 2);
   }
@@ -183,17 +188,7 @@ TEST_CASE("a run folder is self-contained: moved away from its seed models it is
   config.budget.generations = 3;
   config.save.generation_every = 1;
   config.population.seed_models = {(base / "mine" / "dainty_walker.xml").string()};
-  {
-    RunStore store = RunStore::create(base / "run", config, false, "test");
-    ThreadEvaluator evaluator(2);
-    std::atomic<bool> stop{false};
-    EvolutionOptions options;
-    options.stop_requested = &stop;
-    options.on_generation = [&](const Progress& p) {
-      if (p.generation == 1) stop = true;
-    };
-    run_evolution(store, evaluator, options);
-  }
+  CHECK(run_until(base / "run", config, 1).stopped_because == "interrupted");
   CHECK(soda::read_whole_file(base / "run" / "seeds" / "dainty_walker.xml") ==
         soda::read_whole_file(fs::path(SODAEVO_MODELS_DIR) / "dainty_walker.xml"));
   CHECK(nlohmann::json::parse(soda::read_whole_file(base / "run" / "config.json"))["population"]["seed_models"] ==
