@@ -372,8 +372,8 @@ void add_bench_command(CLI::App& app) {
       "speed",
       "Frames and link updates per second: seed paper baseline, plain loop, reference and fast step\n"
       "on the bundled creatures, a size sweep (10..100,000 links) and population throughput on\n"
-      "1 and all threads, and the GA's own creatures from a saved run. Writes speed.csv, speed.svg, speed_creatures.svg, speed_rounds.csv (every\n"
-      "timed run of the population section) and speed.md.");
+      "1 and all threads, and the GA's own creatures from a saved run. Writes speed.csv, speed.svg,\n"
+      "speed_creatures.svg, speed_rounds.csv (every timed run of the population section) and speed.md.");
   speed->add_flag("--quick", opt->quick, "Short runs (a few seconds) for a smoke test");
   CLI::Option* out = speed->add_option("--out", opt->out, "Output directory")->default_val("results/bench");
   speed->add_option("--models", opt->models, "Directory with the bundled creatures")->default_val("models");
@@ -391,7 +391,7 @@ void add_bench_command(CLI::App& app) {
           ->add_option("--ga-run", opt->ga_run,
                        "A run directory of `sodaevo evolve` whose saved generations the ga section steps (every "
                        "creature, as the GA evaluates it)")
-          ->default_val("results/bench/evolve-run-default");
+          ->default_val(opt->ga_run);
   add_bench_accuracy_commands(*bench);
   speed->callback([opt, out, ga_run] {
     std::string command = "sodaevo bench speed";

@@ -12,6 +12,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 
 #include "bench/baselines.hpp"
@@ -383,7 +384,6 @@ long long calibrate(const Engine& e, double target) {
   }
 }
 
-/// Times every engine on one model: calibrated frames, interleaved runs, medians.
 /// Per creature stepped: the masses and links a row reports; link updates per
 /// second are frames per second times `links` (a mean over a set of creatures).
 struct Size {
@@ -393,6 +393,8 @@ struct Size {
 
 Size size_of(const soda::Model& model) { return {model.mass_count, static_cast<double>(model.link_count())}; }
 
+/// Times every engine on one model (or set of models): calibrated frames,
+/// interleaved runs, medians.
 std::vector<SpeedRow> time_engines(const std::string& section, const std::string& creature, Size size,
                                    std::vector<Engine> engines, int runs, double target) {
   std::vector<long long> frames;
@@ -512,16 +514,14 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     for (int g : generations) {
       for (const Individual& individual : read_saved_generation(run, g).individuals) {
         // As evaluate_creature_batch: a creature the GA refuses is not stepped.
-        if (check_creature(individual.creature, config.limits)) {
+        std::string why;
+        const std::optional<soda::ModelDef> prepared = prepare_creature(individual.creature, config, why);
+        if (!prepared) {
           ++report.ga_refused;
           continue;
         }
-        try {
-          models->push_back(soda::build_model(prepare_for_evaluation(individual.creature, config.fitness, config.world)));
-          links += models->back().link_count();
-        } catch (const std::exception&) {
-          ++report.ga_refused;
-        }
+        models->push_back(soda::build_model(*prepared));
+        links += models->back().link_count();
       }
     }
     if (models->empty()) throw std::runtime_error(options.ga_run + ": no creature of the saved generations can be stepped");

@@ -286,6 +286,20 @@ Evaluation evaluate_watched(const soda::ModelDef& prepared, const FitnessConfig&
 } // namespace
 
 
+std::optional<soda::ModelDef> prepare_creature(const soda::ModelDef& creature, const RunConfig& config,
+                                               std::string& why) {
+  if (std::optional<std::string> invalid = check_creature(creature, config.limits)) {
+    why = "creature " + *invalid;
+    return std::nullopt;
+  }
+  try {
+    return prepare_for_evaluation(creature, config.fitness, config.world);
+  } catch (const std::exception& ex) {
+    why = ex.what();
+    return std::nullopt;
+  }
+}
+
 std::vector<Evaluation> evaluate_creature_batch(const std::vector<const soda::ModelDef*>& creatures,
                                                 const RunConfig& config) {
   std::vector<Evaluation> results(creatures.size());
@@ -293,15 +307,9 @@ std::vector<Evaluation> evaluate_creature_batch(const std::vector<const soda::Mo
   prepared.reserve(creatures.size());
   std::vector<std::size_t> index; // result index of prepared[k]
   for (std::size_t i = 0; i < creatures.size(); ++i) {
-    if (std::optional<std::string> why = check_creature(*creatures[i], config.limits)) {
-      results[i].reason = "creature " + *why;
-      continue;
-    }
-    try {
-      prepared.push_back(prepare_for_evaluation(*creatures[i], config.fitness, config.world));
+    if (std::optional<soda::ModelDef> p = prepare_creature(*creatures[i], config, results[i].reason)) {
+      prepared.push_back(std::move(*p));
       index.push_back(i);
-    } catch (const std::exception& ex) {
-      results[i].reason = ex.what();
     }
   }
   std::vector<const soda::ModelDef*> ptrs;

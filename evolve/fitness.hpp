@@ -51,6 +51,12 @@ std::optional<double> sodarace_scale(const soda::ModelDef& creature);
 soda::ModelDef prepare_for_evaluation(const soda::ModelDef& creature, const FitnessConfig& fitness,
                                       const WorldConfig& world);
 
+/// check_creature, then prepare_for_evaluation: the model the GA steps for
+/// `creature`, or nullopt with the reason it is refused in `why` (as
+/// Evaluation::reason gives it).
+std::optional<soda::ModelDef> prepare_creature(const soda::ModelDef& creature, const RunConfig& config,
+                                               std::string& why);
+
 /// The prepared model with name = `id` and a comment stating the score and how it
 /// was measured: what `export` and the run store's best/ files hold.
 soda::ModelDef export_form(const soda::ModelDef& creature, const std::string& id, const Evaluation& evaluation,

@@ -217,14 +217,13 @@ void write_manifest(const fs::path& dir, const RunConfig& config, const std::str
   soda::write_file_atomically(dir / "manifest.json", manifest.dump(2) + "\n");
 }
 
-/// Copies the seed models into the run folder (seeds/) and returns the config
-/// with their paths as config.json names them: relative to the folder, so that a
-/// run moved, cloned or shared can still be read, replayed, reported and resumed
-/// (config.json's paths resolve against its own folder). Files of one name from
-/// different folders get a number.
-RunConfig with_seeds_in_folder(const fs::path& dir, const RunConfig& config, RunConfig& as_loaded) {
+/// Copies the seed models into the run folder (seeds/) and returns the config as
+/// config.json gives them: relative to the folder, so that a run moved, cloned or
+/// shared can still be read, replayed, reported and resumed (config.json's paths
+/// resolve against its own folder). Files of one name from different folders get
+/// a number.
+RunConfig with_seeds_in_folder(const fs::path& dir, const RunConfig& config) {
   RunConfig saved = config;
-  as_loaded = config;
   if (config.population.seed_models.empty()) return saved;
   std::error_code ec;
   fs::create_directories(dir / "seeds", ec);
@@ -233,11 +232,12 @@ RunConfig with_seeds_in_folder(const fs::path& dir, const RunConfig& config, Run
   for (std::size_t i = 0; i < config.population.seed_models.size(); ++i) {
     const fs::path from(config.population.seed_models[i]);
     std::string name = from.filename().string();
-    for (int n = 2; taken.count(name); ++n) name = from.stem().string() + "-" + std::to_string(n) + from.extension().string();
+    for (int n = 2; taken.count(name); ++n) {
+      name = from.stem().string() + "-" + std::to_string(n) + from.extension().string();
+    }
     taken.insert(name);
     soda::write_file_atomically(dir / "seeds" / name, soda::read_whole_file(from));
     saved.population.seed_models[i] = "seeds/" + name;
-    as_loaded.population.seed_models[i] = fs::absolute(dir / "seeds" / name, ec).lexically_normal().string();
   }
   return saved;
 }
@@ -262,10 +262,9 @@ RunStore RunStore::create(const fs::path& dir, const RunConfig& config, bool for
   fs::create_directories(dir / "generations", ec);
   if (ec) throw soda::InputError(dir.string() + ": cannot create the run folder: " + ec.message());
 
-  RunConfig as_loaded;
-  const RunConfig saved = with_seeds_in_folder(dir, config, as_loaded);
-  RunStore store(dir, as_loaded);
-  soda::write_file_atomically(dir / "config.json", to_json(saved).dump(2) + "\n");
+  soda::write_file_atomically(dir / "config.json", to_json(with_seeds_in_folder(dir, config)).dump(2) + "\n");
+  // The run goes on with the config as a resume reads it: the seed models in seeds/.
+  RunStore store(dir, read_run_config(dir / "config.json"));
   write_manifest(dir, config, command_line);
   store.write_logs();
   return store;
