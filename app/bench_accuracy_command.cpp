@@ -16,10 +16,10 @@
 #include "app/svg_chart.hpp"
 #include "bench/accuracy_bench.hpp"
 #include "bench/extreme_creatures.hpp"
-#include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
-#include "evolve/parallel_for.hpp"
 #include "core/number_text.hpp"
+#include "evolve/parallel_for.hpp"
+#include "formats/atomic_file.hpp"
 
 namespace sodaevo::app {
 

@@ -14,9 +14,9 @@
 #include "app/svg_chart.hpp"
 #include "bench/speed_bench.hpp"
 #include "core/batch_step.hpp"
-#include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
+#include "formats/atomic_file.hpp"
 
 namespace sodaevo::app {
 

@@ -15,13 +15,13 @@
 #include "app/fixed_text.hpp"
 #include "app/svg_chart.hpp"
 #include "bench/evolve_bench.hpp"
-#include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
 #include "evolve/run_reader.hpp"
 #include "evolve/run_store.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/model_file.hpp"
 
 namespace sodaevo::app {
 

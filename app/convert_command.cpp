@@ -4,7 +4,7 @@
 
 #include "app/commands.hpp"
 #include "core/model.hpp"
-#include "core/model_file.hpp"
+#include "formats/model_file.hpp"
 
 namespace sodaevo::app {
 

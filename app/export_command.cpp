@@ -6,11 +6,11 @@
 
 #include "app/commands.hpp"
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
 #include "core/number_text.hpp"
 #include "evolve/fitness.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_reader.hpp"
+#include "formats/model_file.hpp"
 
 namespace sodaevo::app {
 

@@ -10,10 +10,10 @@
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
 #include "app/stepping_options.hpp"
-#include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
 #include "core/number_text.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/model_file.hpp"
 
 namespace sodaevo::app {
 

@@ -17,14 +17,14 @@
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
 #include "app/svg_chart.hpp"
-#include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
 #include "core/number_text.hpp"
 #include "evolve/fitness.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_store.hpp"
 #include "evolve/variation.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/model_file.hpp"
 
 namespace sodaevo::app {
 

@@ -10,16 +10,16 @@
 
 #include "app/commands.hpp"
 #include "app/stepping_options.hpp"
+#include "core/divergence.hpp"
+#include "core/fast_step.hpp"
 #include "core/input_error.hpp"
 #include "core/model.hpp"
-#include "core/model_file.hpp"
-#include "core/fast_step.hpp"
-#include "core/divergence.hpp"
 #include "core/number_text.hpp"
 #include "core/step.hpp"
 #include "core/stepping.hpp"
-#include "core/trace_csv.hpp"
 #include "evolve/honesty.hpp"
+#include "formats/model_file.hpp"
+#include "formats/trace_csv.hpp"
 
 namespace sodaevo::app {
 

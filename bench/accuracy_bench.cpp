@@ -10,11 +10,11 @@
 #include "bench/median.hpp"
 #include "core/divergence.hpp"
 #include "core/model.hpp"
-#include "core/model_file.hpp"
 #include "evolve/fitness.hpp"
 #include "evolve/rng.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/variation.hpp"
+#include "formats/model_file.hpp"
 
 namespace sodaevo::bench {
 

@@ -21,7 +21,7 @@
 #include "core/batch_step.hpp"
 #include "core/fast_step.hpp"
 #include "core/model.hpp"
-#include "core/model_file.hpp"
+#include "core/number_text.hpp"
 #include "core/scene_analysis.hpp"
 #include "core/simd_level.hpp"
 #include "core/simd_ops.hpp"
@@ -31,7 +31,7 @@
 #include "evolve/parallel_for.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_reader.hpp"
-#include "core/number_text.hpp"
+#include "formats/model_file.hpp"
 
 namespace sodaevo::bench {
 

@@ -3,9 +3,9 @@
 #include <chrono>
 
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
 #include "evolve/genetic_algorithm.hpp"
 #include "evolve/variation.hpp"
+#include "formats/model_file.hpp"
 
 namespace sodaevo {
 

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cstdlib>
 
-#include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
 #include "evolve/run_store.hpp"
+#include "formats/atomic_file.hpp"
 
 namespace sodaevo {
 

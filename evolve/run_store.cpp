@@ -10,14 +10,14 @@
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
-#include <pugixml.hpp>
 
-#include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
 #include "core/number_text.hpp"
 #include "evolve/fitness.hpp"
 #include "evolve/input_limits.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/generation_xml.hpp"
+#include "formats/model_file.hpp"
 
 namespace sodaevo {
 
@@ -56,15 +56,15 @@ std::string fitness_attribute(const Evaluation& e) {
   return e.ok() ? " fitness=\"" + soda::format_double_plain(e.fitness) + "\"" : std::string();
 }
 
-double parse_fitness(const pugi::xml_node& m, const Evaluation& e, const std::string& where) {
-  const pugi::xml_attribute a = m.attribute("fitness");
+/// `written`: the fitness attribute's value, nullptr if the element has none.
+double parse_fitness(const std::string* written, const Evaluation& e, const std::string& where) {
   if (!e.ok()) {
-    if (a) throw soda::InputError(where + ": fitness: expected none for a creature that was not scored, got '" +
-                                  std::string(a.value()) + "'");
+    if (written) throw soda::InputError(where + ": fitness: expected none for a creature that was not scored, got '" +
+                                        *written + "'");
     return kWorstFitness;
   }
-  if (!a) throw soda::InputError(where + ": fitness: expected a number for a scored creature, got none");
-  return parse_number(a.value(), where + ": fitness");
+  if (!written) throw soda::InputError(where + ": fitness: expected a number for a scored creature, got none");
+  return parse_number(*written, where + ": fitness");
 }
 
 // A generation with no scored creature has no best, mean, median or worst: the
@@ -154,34 +154,20 @@ std::string generation_to_xml(const Generation& g) {
 }
 
 Generation generation_from_xml(const std::string& text, const std::string& source) {
-  pugi::xml_document doc;
-  const pugi::xml_parse_result parsed = doc.load_buffer(text.data(), text.size());
-  if (!parsed) {
-    const soda::TextLocation at = soda::locate_offset(text, parsed.offset);
-    throw soda::InputError(source + ":" + std::to_string(at.line) + ":" + std::to_string(at.column) +
-                           ": not a saved generation: XML syntax error: " + parsed.description());
-  }
-  const pugi::xml_node root = doc.child("generation");
-  if (!root) throw soda::InputError(source + ": expected a <generation> root element");
-  const soda::LineIndex lines(text); // every creature's position is named: no scan per creature
-  const auto where_of = [&](pugi::xml_node node) {
-    std::ptrdiff_t offset = node.offset_debug(); // the name, just after '<'
-    if (offset > 0 && text[static_cast<std::size_t>(offset - 1)] == '<') --offset;
-    const soda::TextLocation at = lines.locate(offset);
-    return source + ":" + std::to_string(at.line) + ":" + std::to_string(at.column);
-  };
+  const soda::GenerationXml xml(text, source);
   Generation g;
-  const std::optional<long long> index = soda::parse_integer(root.attribute("index").value());
+  const std::string index_text = xml.index_text();
+  const std::optional<long long> index = soda::parse_integer(index_text);
   if (!index || *index < 0 || *index >= kMaxGenerations) {
-    throw soda::InputError(where_of(root) + ": <generation> attribute 'index': expected an integer in [0, " +
-                           std::to_string(kMaxGenerations - 1) + "], got '" + root.attribute("index").value() + "'");
+    throw soda::InputError(xml.where() + ": <generation> attribute 'index': expected an integer in [0, " +
+                           std::to_string(kMaxGenerations - 1) + "], got '" + index_text + "'");
   }
   g.index = static_cast<int>(*index);
   std::set<std::string> ids;
-  for (pugi::xml_node m : root.children("model")) {
+  xml.for_each_model([&](const soda::SavedModelElement& m) {
     Individual ind;
-    ind.id = m.attribute("id").value();
-    const std::string where = where_of(m) + ": <model id=\"" + ind.id + "\">";
+    ind.id = m.value("id");
+    const std::string where = m.where + ": <model id=\"" + ind.id + "\">";
     if (static_cast<int>(g.individuals.size()) >= kMaxPopulation) {
       throw soda::InputError(where + ": expected at most " + std::to_string(kMaxPopulation) +
                              " creatures in a generation (the largest population), got more");
@@ -190,18 +176,16 @@ Generation generation_from_xml(const std::string& text, const std::string& sourc
     if (!ids.insert(ind.id).second) {
       throw soda::InputError(where + ": attribute 'id': expected an id not used before, got '" + ind.id + "'");
     }
-    ind.parents = split(m.attribute("parents").value(), ' ');
-    ind.evaluation.status = parse_status(m.attribute("status").value(), where);
-    ind.evaluation.fitness = parse_fitness(m, ind.evaluation, where);
-    ind.evaluation.distance = parse_number(m.attribute("distance").value(), where + ": distance");
-    ind.evaluation.reason = m.attribute("reason").value();
+    ind.parents = split(m.value("parents"), ' ');
+    ind.evaluation.status = parse_status(m.value("status"), where);
+    ind.evaluation.fitness = parse_fitness(m.find("fitness"), ind.evaluation, where);
+    ind.evaluation.distance = parse_number(m.value("distance"), where + ": distance");
+    ind.evaluation.reason = m.value("reason");
     ind.evaluated = true;
-    std::ostringstream element;
-    m.print(element, "\t", pugi::format_raw);
     // Positions in messages from here on are within the model element.
-    ind.creature = soda::read_model_text(element.str(), where).def;
+    ind.creature = soda::read_model_text(m.xml, where).def;
     g.individuals.push_back(std::move(ind));
-  }
+  });
   return g;
 }
 

@@ -2,9 +2,9 @@
 
 #include "core/input_error.hpp"
 #include "core/model.hpp"
-#include "core/model_file.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_store.hpp"
+#include "formats/model_file.hpp"
 
 namespace sodaevo::fuzz {
 

@@ -16,12 +16,12 @@
 #include "core/fused_scene.hpp"
 #include "core/input_error.hpp"
 #include "core/lockstep_batch.hpp"
-#include "core/model_file.hpp"
 #include "core/step.hpp"
 #include "evolve/fitness.hpp"
 #include "evolve/rng.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/variation.hpp"
+#include "formats/model_file.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo::test;

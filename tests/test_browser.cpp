@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "core/atomic_file.hpp"
+#include "formats/atomic_file.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;

@@ -13,8 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.hpp"
-#include "core/model_file.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/model_file.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo::test;

@@ -24,10 +24,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.hpp"
-#include "core/model_file.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_store.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/model_file.hpp"
 #include "test_support.hpp"
 
 extern char** environ;

@@ -9,9 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.hpp"
 #include "core/model.hpp"
-#include "core/model_file.hpp"
 #include "core/step.hpp"
 #include "evolve/batch_evaluation.hpp"
 #include "evolve/creature_graph.hpp"
@@ -22,6 +20,8 @@
 #include "evolve/run_reader.hpp"
 #include "evolve/run_store.hpp"
 #include "evolve/variation.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/model_file.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo;

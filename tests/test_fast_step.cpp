@@ -15,11 +15,11 @@
 #include "core/exact_sines.hpp"
 #include "core/fast_step.hpp"
 #include "core/fused_scene.hpp"
-#include "core/model_file.hpp"
 #include "core/scene_analysis.hpp"
 #include "core/step.hpp"
-#include "evolve/rng.hpp"
 #include "evolve/parallel_for.hpp"
+#include "evolve/rng.hpp"
+#include "formats/model_file.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo::test;

@@ -12,13 +12,13 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
 #include "evolve/fitness.hpp"
 #include "evolve/honesty.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/variation.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/model_file.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo;

@@ -10,11 +10,11 @@
 
 #include "core/batch_step.hpp"
 #include "core/lockstep_batch.hpp"
-#include "core/model_file.hpp"
 #include "core/step.hpp"
 #include "evolve/rng.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/variation.hpp"
+#include "formats/model_file.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo::test;

@@ -11,13 +11,13 @@
 #include <string>
 #include <vector>
 
-#include "core/atomic_file.hpp"
 #include "core/constants.hpp"
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
 #include "evolve/input_limits.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_store.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/model_file.hpp"
 #include "fuzz/input_checks.hpp"
 #include "test_support.hpp"
 

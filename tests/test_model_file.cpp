@@ -1,4 +1,4 @@
-// Tests of the model file layer (core/model_file.hpp): reading v1 and v2 files,
+// Tests of the model file layer (formats/model_file.hpp): reading v1 and v2 files,
 // refusing race files and malformed input with precise messages, and writing
 // canonical v1 that reads back exactly.
 //
@@ -24,7 +24,7 @@
 
 #include "core/input_error.hpp"
 #include "core/model_def.hpp"
-#include "core/model_file.hpp"
+#include "formats/model_file.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;

@@ -12,9 +12,9 @@
 #include <fstream>
 #include <string>
 
-#include "core/atomic_file.hpp"
 #include "evolve/run_reader.hpp"
 #include "evolve/run_store.hpp"
+#include "formats/atomic_file.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;

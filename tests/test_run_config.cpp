@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
 #include "evolve/run_config.hpp"
+#include "formats/model_file.hpp"
 #include "test_support.hpp"
 
 using sodaevo::RunConfig;

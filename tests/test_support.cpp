@@ -12,8 +12,8 @@
 #include <stdexcept>
 
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
 #include "core/step.hpp"
+#include "formats/model_file.hpp"
 
 namespace sodaevo::test {
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <limits>
 
-#include "core/model_file.hpp"
 #include "evolve/wire_format.hpp"
+#include "formats/model_file.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo;

@@ -15,9 +15,9 @@
 
 #include <pugixml.hpp>
 
-#include "constants.hpp"
-#include "input_error.hpp"
-#include "model_def.hpp"
+#include "core/constants.hpp"
+#include "core/input_error.hpp"
+#include "core/model_def.hpp"
 
 namespace soda::xml {
 

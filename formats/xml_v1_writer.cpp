@@ -4,10 +4,10 @@
 
 #include <cmath>
 
-#include "atomic_file.hpp"
-#include "model_file.hpp"
-#include "number_text.hpp"
-#include "xml_util.hpp"
+#include "core/number_text.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/model_file.hpp"
+#include "formats/xml_util.hpp"
 
 namespace soda {
 

@@ -22,7 +22,7 @@
 #include <string_view>
 #include <vector>
 
-#include "model_def.hpp"
+#include "core/model_def.hpp"
 
 namespace soda {
 

@@ -8,7 +8,7 @@
 
 #include <ostream>
 
-#include "model.hpp"
+#include "core/model.hpp"
 
 namespace soda {
 

@@ -1,15 +1,15 @@
 // Reading model files: the file, its format (by the root element), the readers.
 
-#include "model_file.hpp"
+#include "formats/model_file.hpp"
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <memory>
 
-#include "constants.hpp"
-#include "input_error.hpp"
-#include "xml_util.hpp"
+#include "core/constants.hpp"
+#include "core/input_error.hpp"
+#include "formats/xml_util.hpp"
 
 namespace soda {
 

@@ -1,8 +1,8 @@
-#include "trace_csv.hpp"
+#include "formats/trace_csv.hpp"
 
 #include <string>
 
-#include "number_text.hpp"
+#include "core/number_text.hpp"
 
 namespace soda {
 

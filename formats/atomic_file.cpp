@@ -1,4 +1,4 @@
-#include "atomic_file.hpp"
+#include "formats/atomic_file.hpp"
 
 #include <cerrno>
 #include <cstdio>
@@ -9,7 +9,7 @@
 #include <string>
 #include <unistd.h>
 
-#include "input_error.hpp"
+#include "core/input_error.hpp"
 
 namespace soda {
 

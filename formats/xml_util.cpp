@@ -1,11 +1,11 @@
-#include "xml_util.hpp"
+#include "formats/xml_util.hpp"
 
 #include <algorithm>
 #include <cstdio>
 #include <cstring>
 #include <optional>
 
-#include "number_text.hpp"
+#include "core/number_text.hpp"
 
 namespace soda::xml {
 

@@ -11,9 +11,9 @@
 #include <unordered_map>
 #include <unordered_set>
 
-#include "model_def.hpp"
-#include "number_text.hpp"
-#include "xml_util.hpp"
+#include "core/model_def.hpp"
+#include "core/number_text.hpp"
+#include "formats/xml_util.hpp"
 
 namespace soda::xml {
 
