@@ -173,7 +173,7 @@ struct FusedScene::Data {
   std::vector<int> wave_creatures;  ///< creatures with a wave muscle
   std::vector<int> still_creatures; ///< the others (their phases still advance)
   long long sines = 0;
-  SinFn sine_fn = nullptr; ///< exact_sin_fn of the level (std::sin alone without vector_sines), chosen at build
+  SinFn sine_fn = nullptr; ///< exact_sin_fn of the level (soda::sine alone without vector_sines), chosen at build
   // Wave states (fill_rows): creatures whose waves are in the same state (phase
   // bits, direction, speed bits) have the same rows of phases, and a muscle phase
   // they share then gives bit-identical sine arguments: each distinct (state,

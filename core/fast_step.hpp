@@ -63,7 +63,7 @@ struct FastStepOptions {
   /// Force the per-mass ordered kernel (the one used with moving bars); for tests.
   bool force_ordered = false;
   /// Muscle sines in SIMD, glibc's sin repeated operation for operation
-  /// (exact_sines.hpp). Off: std::sin everywhere. Both give the same bits.
+  /// (exact_sines.hpp). Off: soda::sine one by one. Both give the same bits.
   bool vector_sines = true;
   /// Scenes of at most 16 points and 32 links (AVX-512) keep the whole frame in
   /// registers (positions, velocities, impulses). Off: the general kernels. Both

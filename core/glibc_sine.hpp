@@ -1,4 +1,4 @@
-// glibc's sin in SIMD, the kernel itself (exact_sines.hpp says what and why).
+// glibc's sin in SIMD, the kernel itself (sine.hpp and exact_sines.hpp say what and why).
 //
 // In a header so that a kernel which keeps its state in vector registers can
 // have the sines inlined into its own loop (fast_step.cpp, register_chunk): a call
@@ -6,10 +6,10 @@
 // enabled (#pragma GCC target), as exact_sines.cpp and fast_step.cpp do.
 #pragma once
 
-#include <bit>
 #include <cstdint>
 
 #include "simd_ops.hpp"
+#include "sine_table.hpp"
 
 namespace soda::glibc_sine {
 
@@ -18,63 +18,17 @@ namespace soda::glibc_sine {
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wpsabi"
 
-// glibc's table: sin(i/128) and cos(i/128), i = 0..109, each as a high double and
-// a low double (row: sin high, sin low, cos high, cos low); built in exact_sines.cpp.
-constexpr int kTableRows = 110;
-struct GlibcTable {
-  alignas(64) double row[kTableRows][4];
-};
-
-/// The table, built at first use.
-const GlibcTable& glibc_table();
-
-// ---------------------------------------------------------------------------
-// glibc's sin, W lanes at a time. Its branches by |x| (s_sin.c):
-//   |x| < 2^-26                  x
-//   |x| < 0.85546875             do_sin(x, 0)
-//   |x| < 2.426265 (0x400368fd)  copysign(do_cos(pi/2 - |x|, pi/2 low), x)
-//   |x| < 105414350 (0x419921fb) x reduced by pi/2 to (a, da) and quadrant n:
-//                                do_sin(a, da) or do_cos(a, da) by n's parity,
-//                                negated when n & 2
-// and do_sin switches to a Taylor polynomial for |a| < 0.126. Every lane takes
-// every branch here and keeps its own; the operations, and which of them are
-// fused (the FMA build's choice, read from its machine code), are glibc's.
-// ---------------------------------------------------------------------------
-
-constexpr double from_bits(std::uint64_t b) { return std::bit_cast<double>(b); }
-
-// glibc's constants (s_sin.c, usncs.h), by their bits.
-inline constexpr double kTinyBound = 0x1p-26;
-inline constexpr double kSinBound = from_bits(0x3feb600000000000);    // 0.85546875
-inline constexpr double kCosBound = from_bits(0x400368fd00000000);    // 2.426265...
-inline constexpr double kReduceBound = from_bits(0x419921fb00000000); // 105414350
-inline constexpr double kTaylorBound = 0.126;
-inline constexpr double kBig = from_bits(0x42c8000000000000); // 1.5 * 2^45: adding it rounds to 1/128
-inline constexpr double kToInt = from_bits(0x4338000000000000);
-inline constexpr double kHalfPiInverse = from_bits(0x3fe45f306dc9c883);
-inline constexpr double kHalfPi1 = from_bits(0x3ff921fb58000000);
-inline constexpr double kHalfPi2 = from_bits(0xbe4dde973c000000);
-inline constexpr double kHalfPi3 = from_bits(0xbc8cb3b398000000);
-inline constexpr double kHalfPi4 = from_bits(0xbacd747f23e32ed7);
-inline constexpr double kHalfPiHigh = from_bits(0x3ff921fb54442d18);
-inline constexpr double kHalfPiLow = from_bits(0x3c91a62633145c07);
-inline constexpr double kSn3 = from_bits(0xbfc5555555555515);
-inline constexpr double kSn5 = from_bits(0x3f811110e829872f);
-inline constexpr double kCs2 = 0.5;
-inline constexpr double kCs4 = from_bits(0xbfa5555555555535);
-inline constexpr double kCs6 = from_bits(0x3f56c16bedd9e239);
-inline constexpr double kS1 = from_bits(0xbfc5555555555555);
-inline constexpr double kS2 = from_bits(0x3f81111111110ece);
-inline constexpr double kS3 = from_bits(0xbf2a01a019db08b8);
-inline constexpr double kS4 = from_bits(0x3ec71de27b9a7ed9);
-inline constexpr double kS5 = from_bits(0xbe5addffc2fcdf59);
+// glibc's sin, W lanes at a time: the branches of sine_table.hpp, which every lane
+// takes and keeps its own; the operations, and which of them are fused (the FMA
+// build's choice, read from its machine code), are glibc's, as in sine.cpp.
 
 /// N vectors of sines at once: in[0, N*W) to out, each step written for all N
 /// vectors before the next, so that the processor sees N independent chains side
 /// by side (one vector's chain, from the reduction through the table to the
 /// polynomials, is longer than the reorder window can cover with one vector's
-/// instructions). rest[k] marks the lanes of vector k that must call std::sin
-/// (|x| >= 105414350, infinities, NaN).
+/// instructions). rest[k] marks the lanes of vector k outside sine's range
+/// (|x| >= 105414336, infinities, NaN), whose result the caller takes from
+/// soda::sine.
 // GCC 12 takes the undefined pass-through operand of _mm512_cvttpd_epi32 and
 // _mm512_insertf64x4 (in O::to_i32 and O::gather_rows4) for an uninitialised
 // variable once they are inlined here: a false positive.

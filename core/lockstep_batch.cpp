@@ -56,7 +56,7 @@ struct LockstepBatch::Data {
   // came out otherwise gets them again after its frame (sines_now).
   AVec<double> arguments, sines; ///< [groups * columns] rows
   AVec<double> predicted;        ///< [groups] rows: the phase the sines are for
-  bool inline_sines = false;     ///< the vector sine is glibc's here (exact_sines.hpp self-check)
+  bool inline_sines = false;     ///< the CPU has the vector sine (exact_sines.hpp)
   std::vector<std::uint8_t> autoreverse; ///< [groups * 8]
   std::vector<State*> lane_state;        ///< [groups * 8] the state each lane loads from
 
@@ -262,7 +262,7 @@ template <int N>
   const glibc_sine::GlibcTable& table = *sine_table;
   double* const args = arguments_row(g0, 0); // the N groups' rows are consecutive
   double* const out = sines_row(g0, 0);
-  unsigned far_lanes = 0; // lanes glibc's sin takes elsewhere (|x| >= 105414350, NaN): none from phases in [0, 1)
+  unsigned far_lanes = 0; // lanes glibc's sin takes elsewhere (|x| >= 105414336, NaN): none from phases in [0, 1)
   int sines_done = 0, sine_credit = 0; // sines due after link j: (j + 1) * sine_rows / links, by steps
   // Links in file order (step.cpp apply_links): each impulse goes into both
   // ends' velocities at once; a zero-length link adds nothing (masked).

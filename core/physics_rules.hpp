@@ -13,14 +13,16 @@
 
 #include "constants.hpp"
 #include "model.hpp"
+#include "sine.hpp"
 
 namespace soda::rules {
 
 /// Desired length of a muscle (spec 5.2): rest * (1 + (Aw*Am) * sin(2pi*(phi_m - phi_w))).
 /// Note the minus: a forward-running wave runs each muscle's own phase backward.
+/// The sine is the engine's own (sine.hpp), never the C library's.
 inline double muscle_target_length(double rest, double wave_amplitude, double muscle_amplitude,
                                    double muscle_phase, double wave_phase) {
-  const double power = (wave_amplitude * muscle_amplitude) * std::sin(kTwoPi * (muscle_phase - wave_phase));
+  const double power = (wave_amplitude * muscle_amplitude) * sine(kTwoPi * (muscle_phase - wave_phase));
   return rest * (1.0 + power);
 }
 

@@ -12,7 +12,6 @@
 
 #include "bench/baselines.hpp"
 #include "bench/synthetic.hpp"
-#include "core/exact_sines.hpp"
 #include "core/fast_step.hpp"
 #include "core/fused_scene.hpp"
 #include "core/scene_analysis.hpp"
@@ -557,65 +556,6 @@ TEST_CASE("fast step: random creatures stay bit-exact", "[fast_step]") {
       INFO("trial " << trial << " [" << soda::simd_level_name(level) << "]: " << diff);
       CHECK(diff.empty());
     }
-  }
-}
-
-TEST_CASE("exact sines equal std::sin bit for bit", "[fast_step]") {
-  // The self-check passed on this C library at every level that has vector sines.
-  for (soda::SimdLevel level : {soda::SimdLevel::Avx2, soda::SimdLevel::Avx512}) {
-    if (soda::simd_level_supported(level)) REQUIRE(soda::vector_sines_usable(level));
-  }
-  std::uint64_t seed = 7;
-  auto uniform = [&seed]() {
-    seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(seed >> 11) * 0x1.0p-53;
-  };
-  // Muscle arguments 2pi*(phi_m - phi_w): quantised phases k/255 (as saved files
-  // have) against a running wave, plus uniform ones and edge values.
-  std::vector<double> args;
-  for (int k = 0; k < 255; ++k) {
-    double phase = uniform();
-    for (int f = 0; f < 400; ++f) {
-      args.push_back(soda::kTwoPi * (static_cast<double>(static_cast<float>(k / 255.0)) - phase));
-      phase = soda::wrap_phase(phase + 2.5 / 255.0);
-    }
-  }
-  for (int i = 0; i < 400000; ++i) args.push_back(soda::kTwoPi * (uniform() - uniform()));
-  for (int i = 0; i < 100000; ++i) args.push_back(2e8 * (uniform() - 0.5)); // reduced by pi/2, and beyond
-  for (double v : {0.0, -0.0, 1e-300, 4.9e-324, 3.141592653589793, 6.28, 6.2831853071795862, -6.283185307179586,
-                   1.5707963267948966, 100.0, -1e6, 105414350.0, 1e300, HUGE_VAL, -HUGE_VAL,
-                   std::numeric_limits<double>::quiet_NaN()}) {
-    args.push_back(v);
-  }
-  // Around the ends of glibc's branches (2^-26, the Taylor polynomial's 0.126,
-  // 0.85546875, 0x1.368fdp+1, 105414350) and of the reduction's quadrants (k pi/4):
-  // 400 neighbours on each side, both signs.
-  std::vector<double> edges = {0x1p-26, 0.126, 0x1.b6p-1, 0x1.368fdp+1, 0x1.921fbp+26};
-  for (int k = 1; k <= 8; ++k) edges.push_back(k * 0.7853981633974483);
-  // glibc's table points i/128 and the midpoints between them (ties in its
-  // rounding to the nearest point).
-  for (int i = 1; i <= 110; ++i) {
-    edges.push_back(i / 128.0);
-    edges.push_back((i - 0.5) / 128.0);
-  }
-  for (double edge : edges) {
-    double up = edge, down = edge;
-    for (int k = 0; k < 200; ++k) {
-      for (double v : {up, down}) {
-        args.push_back(v);
-        args.push_back(-v);
-      }
-      up = std::nextafter(up, 1e9);
-      down = std::nextafter(down, 0.0);
-    }
-  }
-  std::vector<double> out(args.size());
-  for (soda::SimdLevel level : supported_levels()) {
-    soda::exact_sines(args.data(), out.data(), static_cast<int>(args.size()), level);
-    std::size_t bad = 0;
-    for (std::size_t i = 0; i < args.size(); ++i) bad += same_bits(out[i], std::sin(args[i])) ? 0 : 1;
-    INFO(soda::simd_level_name(level));
-    CHECK(bad == 0);
   }
 }
 
