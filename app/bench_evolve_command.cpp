@@ -19,6 +19,7 @@
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
 #include "evolve/run_reader.hpp"
+#include "evolve/run_roles.hpp"
 #include "evolve/run_store.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/model_file.hpp"
@@ -128,7 +129,7 @@ void run_bench_evolve(const BenchEvolveOptions& opt, const std::string& command)
     // itself is large and not kept in the repository).
     for (const Individual& champion : best_individuals(full.run_dir, 1)) {
       soda::write_model_file(fs::path(opt.out) / "evolve_champion.xml",
-                             export_form(champion.creature, champion.id, champion.evaluation, config));
+                             roles_of(config).problem->export_form(champion.creature, champion.id, champion.evaluation));
     }
   }
 

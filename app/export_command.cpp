@@ -7,10 +7,10 @@
 #include "app/commands.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
-#include "evolve/fitness.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_reader.hpp"
 #include "formats/model_file.hpp"
+#include "evolve/run_roles.hpp"
 
 namespace sodaevo::app {
 
@@ -25,6 +25,7 @@ struct ExportOptions {
 void run_export(const ExportOptions& opt) {
   const std::filesystem::path run(opt.run);
   const RunConfig config = read_run_config(run / "config.json");
+  const std::unique_ptr<Problem> problem = roles_of(config).problem;
   const std::vector<Individual> best = best_individuals(run, opt.best);
   std::error_code ec;
   std::filesystem::create_directories(opt.out, ec);
@@ -33,7 +34,7 @@ void run_export(const ExportOptions& opt) {
   int rank = 0;
   for (const Individual& ind : best) {
     ++rank;
-    const soda::ModelDef prepared = export_form(ind.creature, ind.id, ind.evaluation, config);
+    const soda::ModelDef prepared = problem->export_form(ind.creature, ind.id, ind.evaluation);
     char name[64];
     std::snprintf(name, sizeof name, "rank%02d_%s.xml", rank, ind.id.c_str());
     const std::filesystem::path file = std::filesystem::path(opt.out) / name;

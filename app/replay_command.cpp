@@ -8,11 +8,10 @@
 #include "app/commands.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
-#include "evolve/fitness.hpp"
-#include "evolve/batch_evaluation.hpp"
-#include "evolve/parallel_for.hpp"
+#include "evolve/evaluator.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_reader.hpp"
+#include "evolve/run_roles.hpp"
 
 namespace sodaevo::app {
 
@@ -36,7 +35,8 @@ int run_replay(const ReplayOptions& opt) {
   const Generation g = read_saved_generation(run, generation);
   std::vector<const soda::ModelDef*> creatures;
   for (const Individual& individual : g.individuals) creatures.push_back(&individual.creature);
-  const std::vector<Evaluation> replayed = evaluate_creatures(creatures, config, resolve_thread_count(opt.threads));
+  const RunRoles roles = roles_of(config);
+  const std::vector<Evaluation> replayed = ThreadEvaluator(opt.threads).evaluate(creatures, *roles.problem, *roles.estimator);
   int mismatches = 0;
   for (std::size_t i = 0; i < replayed.size(); ++i) {
     const Evaluation& logged = g.individuals[i].evaluation;

@@ -19,8 +19,8 @@
 #include "app/svg_chart.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
-#include "evolve/fitness.hpp"
 #include "evolve/run_config.hpp"
+#include "evolve/run_roles.hpp"
 #include "evolve/run_store.hpp"
 #include "evolve/variation.hpp"
 #include "formats/atomic_file.hpp"
@@ -169,6 +169,7 @@ fs::path default_report_path(const fs::path& run_dir) { return run_dir / "report
 std::string run_report_html(const fs::path& run_dir, const ReportOptions& options) {
   if (!fs::is_directory(run_dir)) throw soda::InputError(run_dir.string() + ": no such run folder");
   const RunConfig config = read_run_config(run_dir / "config.json");
+  const RunRoles roles = roles_of(config);
   nlohmann::json manifest = nlohmann::json::object();
   if (fs::exists(run_dir / "manifest.json")) {
     try {
@@ -289,11 +290,11 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   try {
     const soda::ModelDef dainty = soda::read_model_text(dainty_walker_xml(), "built-in models/dainty_walker.xml").def;
     const soda::ModelDef creature = creature_from_seed(dainty, config);
-    classic_evaluation = evaluate_creature(creature, config);
+    classic_evaluation = roles.estimator->estimate(*roles.problem, {&creature}).front();
     if (classic_evaluation->status == EvaluationStatus::Invalid) {
       classic_problem = classic_evaluation->reason;
     } else {
-      soda::ModelDef prepared = prepare_for_evaluation(creature, config.fitness, config.world);
+      soda::ModelDef prepared = roles.problem->prepare(creature);
       prepared.name = "Dainty Walker (classic, same fitness settings)";
       classic = Shown{prepared.name, prepared};
     }
@@ -313,7 +314,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
       ++rank;
       std::string distance = esc(k.problem), speed;
       if (k.problem.empty()) {
-        const Evaluation e = evaluate_prepared(k.prepared, config.fitness);
+        const Evaluation e = roles.problem->rollouts({&k.prepared}).front();
         if (e.ok()) distance = table_number(e.distance, 1), speed = table_number(e.px_per_frame, 3);
         else distance = esc(e.reason);
       }

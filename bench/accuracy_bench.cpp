@@ -10,10 +10,10 @@
 #include "bench/median.hpp"
 #include "core/divergence.hpp"
 #include "core/model.hpp"
-#include "evolve/fitness.hpp"
 #include "evolve/rng.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/variation.hpp"
+#include "evolve/walk_problem.hpp"
 #include "formats/model_file.hpp"
 
 namespace sodaevo::bench {
@@ -149,7 +149,7 @@ void classic_section(const AccuracyOptions& o, const std::vector<soda::Stepping>
   for (const auto& [name, path] : o.classics) {
     say(o, "classic: " + name);
     const soda::ModelDef creature = creature_from_seed(soda::read_model_file(path).def, config);
-    const soda::Model model = soda::build_model(prepare_for_evaluation(creature, config.fitness, config.world));
+    const soda::Model model = soda::build_model(WalkProblem(config).prepare(creature));
     auto distance_of = [&](const RunResult& r) {
       return centroid_x(r.positions[index_of(end)]) - centroid_x(r.positions[index_of(settle)]);
     };
@@ -189,7 +189,7 @@ void walkers_section(const AccuracyOptions& o, const std::vector<soda::Stepping>
   for (std::uint64_t i = 0; static_cast<int>(models.size()) < o.walkers && i < 100ull * o.walkers; ++i) {
     Rng rng = Rng::stream(o.seed, i, 0, 0xacc);
     try {
-      models.push_back(soda::build_model(prepare_for_evaluation(random_creature(config, rng), config.fitness, config.world)));
+      models.push_back(soda::build_model(WalkProblem(config).prepare(random_creature(config, rng))));
     } catch (const std::exception&) {
       // e.g. too small to scale within gravity's range: draw another
     }

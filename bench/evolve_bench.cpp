@@ -5,10 +5,10 @@
 #include <mutex>
 
 #include "evolve/evaluator.hpp"
-#include "evolve/fitness.hpp"
 #include "evolve/genetic_algorithm.hpp"
 #include "evolve/parallel_for.hpp"
 #include "evolve/rng.hpp"
+#include "evolve/run_roles.hpp"
 #include "evolve/variation.hpp"
 
 namespace sodaevo::bench {
@@ -39,12 +39,13 @@ SearchRun run_ga(const SearchComparisonOptions& o, std::uint64_t seed, int threa
   config.seed = seed;
   SearchRun run{"ga", seed, 0, kWorstFitness, 0.0, {}};
   ThreadEvaluator evaluator(threads);
+  const RunRoles roles = roles_of(config);
   Generation g = initial_generation(config, o.seed_creatures);
   for (int gen = 0;; ++gen) {
     // Mark which individuals this generation actually evaluates (not the elites).
     std::vector<bool> fresh(g.individuals.size());
     for (std::size_t i = 0; i < fresh.size(); ++i) fresh[i] = !g.individuals[i].evaluated;
-    evaluator.evaluate(g, config);
+    evaluate_generation(evaluator, g, *roles.problem, *roles.estimator);
     Generation counted = g;
     for (std::size_t i = 0; i < fresh.size(); ++i) counted.individuals[i].evaluated = fresh[i];
     extend_curve(run, counted, true);
@@ -62,7 +63,9 @@ SearchRun run_random_search(const SearchComparisonOptions& o, std::uint64_t seed
   config.seed = seed ^ 0x5eed5eedULL; // different creatures from the GA's own generation 0
   config.population.size = static_cast<int>(evaluations);
   Generation g = initial_generation(config, o.seed_creatures);
-  ThreadEvaluator(threads).evaluate(g, config);
+  ThreadEvaluator evaluator(threads);
+  const RunRoles roles = roles_of(config);
+  evaluate_generation(evaluator, g, *roles.problem, *roles.estimator);
   SearchRun run{"random", seed, 0, kWorstFitness, 0.0, {}};
   extend_curve(run, g, false);
   return run;

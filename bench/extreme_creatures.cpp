@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "core/model.hpp"
-#include "evolve/fitness.hpp"
+#include "evolve/walk_problem.hpp"
 #include "evolve/parallel_for.hpp"
 
 namespace sodaevo::bench {
@@ -150,7 +150,7 @@ CreatureResult stress_one(const soda::ModelDef& def, const soda::Stepping& stepp
     FitnessConfig fc;
     fc.frames = frames;
     fc.settle_frames = 0;
-    const Evaluation e = evaluate_prepared_with(def, fc, stepping);
+    const Evaluation e = WalkProblem(fc, {}, {}).rollout_with(def, stepping);
     if (e.ok() && (!std::isfinite(e.distance) || !std::isfinite(e.fitness))) {
       return {CreatureResult::Kind::Escape, "fitness Ok with a non-finite distance", r.frames};
     }

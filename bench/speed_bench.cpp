@@ -26,11 +26,11 @@
 #include "core/simd_level.hpp"
 #include "core/simd_ops.hpp"
 #include "core/step.hpp"
-#include "evolve/batch_evaluation.hpp"
-#include "evolve/fitness.hpp"
+#include "evolve/evaluator.hpp"
 #include "evolve/parallel_for.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_reader.hpp"
+#include "evolve/walk_problem.hpp"
 #include "formats/model_file.hpp"
 
 namespace sodaevo::bench {
@@ -506,6 +506,7 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
   if (options.ga_section && !options.ga_run.empty()) {
     const std::filesystem::path run(options.ga_run);
     const RunConfig config = read_run_config(run / "config.json");
+    const WalkProblem problem(config);
     std::vector<int> generations = saved_generations(run);
     if (generations.empty()) throw std::runtime_error(options.ga_run + ": the run has no saved generation");
     if (options.quick && generations.size() > 2) generations = {generations.front(), generations.back()};
@@ -513,14 +514,15 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
     double links = 0.0;
     for (int g : generations) {
       for (const Individual& individual : read_saved_generation(run, g).individuals) {
-        // As evaluate_creature_batch: a creature the GA refuses is not stepped.
-        std::string why;
-        const std::optional<soda::ModelDef> prepared = prepare_creature(individual.creature, config, why);
-        if (!prepared) {
+        // As the GA's estimator: a creature the problem refuses is not stepped.
+        soda::ModelDef prepared;
+        try {
+          prepared = problem.prepare(individual.creature);
+        } catch (const std::exception&) {
           ++report.ga_refused;
           continue;
         }
-        models->push_back(soda::build_model(*prepared));
+        models->push_back(soda::build_model(prepared));
         links += models->back().link_count();
       }
     }
@@ -579,7 +581,7 @@ SpeedReport run_speed_bench(const SpeedOptions& options) {
       });
       return seconds_since(t0);
     };
-    // The batch path (the GA's, evolve/batch_evaluation.cpp): each work item is a
+    // The batch path (the GA's, ThreadEvaluator in evolve/evaluator.cpp): each work item is a
     // batch of at most kBenchBatch consecutive creatures fused on one core, cut
     // where a new fused scene starts (soda::fused_batch_ends), results by index.
     const std::vector<std::size_t> batch_ends = soda::fused_batch_ends(population_links, kBenchBatch);

@@ -15,7 +15,7 @@
 // which links are muscles and their phases and amplitudes, the wave, the world
 // (gravity, friction, springyness, container, surfaces). That is what a genetic
 // algorithm's population holds: most children are their parent's shape with
-// other numbers (batch_evaluation.cpp groups them by shape).
+// other numbers (BatchStepper, batch_step.cpp, groups them by shape).
 //
 // Muscle sines: one per frame per distinct muscle phase of a lane (a column of
 // links whose phases agree in every lane shares it), glibc's sin in SIMD

@@ -1,29 +1,57 @@
-// Evaluators score the individuals of a generation that are not yet evaluated
-// (pagmo's "evaluator" role). Results are stored by index, so which thread or
-// process evaluated a creature never changes the result.
+// Evaluators decide where creatures are evaluated: on the threads of this process
+// (ThreadEvaluator) or over the ranks of an MPI job (mpi/mpi_evaluator.hpp),
+// pagmo's "evaluator" role. They are given a Problem and an Estimator, never the
+// run's config, and store results by index, so which thread or process evaluated
+// a creature never changes the result.
 #pragma once
 
+#include <cstddef>
+#include <vector>
+
+#include "core/model_def.hpp"
+#include "evolve/estimator.hpp"
 #include "evolve/population.hpp"
-#include "evolve/run_config.hpp"
+#include "evolve/problem.hpp"
 
 namespace sodaevo {
 
 class Evaluator {
  public:
   virtual ~Evaluator() = default;
-  /// Evaluates every individual with evaluated == false; returns how many.
-  virtual long long evaluate(Generation& generation, const RunConfig& config) = 0;
+  /// Result i is exactly estimator.estimate(problem, {creatures[i]}).front(),
+  /// whichever thread or process ran it and whichever creatures shared its batch.
+  /// Throws (and returns nothing) if part of the work failed.
+  virtual std::vector<Evaluation> evaluate(const std::vector<const soda::ModelDef*>& creatures,
+                                           const Problem& problem, const Estimator& estimator) = 0;
 };
 
-/// Evaluates on `threads` threads of this process (0 = all cores).
+/// Evaluates the individuals of `generation` with evaluated == false and stores
+/// their evaluations (all or, if the evaluator throws, none); returns how many.
+long long evaluate_generation(Evaluator& evaluator, Generation& generation, const Problem& problem,
+                              const Estimator& estimator);
+
+/// Largest number of creatures a thread estimates in one batch (stepped together
+/// on one core: small creatures alone leave most of the core idle, fused they
+/// share its SIMD batches; core/batch_step.hpp).
+inline constexpr std::size_t kMaxEvaluationBatch = 16;
+
+/// Creatures per batch for `count` creatures on `threads` threads: at most
+/// kMaxEvaluationBatch, and small enough that every thread gets about two batches.
+std::size_t evaluation_batch_size(std::size_t count, int threads);
+
+/// Evaluates on the threads of this process, a batch of creatures at a time.
 class ThreadEvaluator final : public Evaluator {
  public:
-  explicit ThreadEvaluator(int threads);
-  long long evaluate(Generation& generation, const RunConfig& config) override;
+  /// `threads` 0 = all cores; `batch` 0 = evaluation_batch_size. Neither changes a
+  /// result (tests/test_evolve.cpp).
+  explicit ThreadEvaluator(int threads, std::size_t batch = 0);
+  std::vector<Evaluation> evaluate(const std::vector<const soda::ModelDef*>& creatures, const Problem& problem,
+                                   const Estimator& estimator) override;
   [[nodiscard]] int threads() const { return threads_; }
 
  private:
   int threads_;
+  std::size_t batch_;
 };
 
 } // namespace sodaevo

@@ -3,7 +3,7 @@
 #include <chrono>
 
 #include "core/input_error.hpp"
-#include "evolve/genetic_algorithm.hpp"
+#include "evolve/run_roles.hpp"
 #include "evolve/variation.hpp"
 #include "formats/model_file.hpp"
 
@@ -25,6 +25,7 @@ std::vector<soda::ModelDef> load_seed_creatures(const RunConfig& config) {
 
 EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const EvolutionOptions& options) {
   const RunConfig& config = store.config();
+  const RunRoles roles = roles_of(config);
   using Clock = std::chrono::steady_clock;
   const auto started = Clock::now();
   EvolutionOutcome outcome;
@@ -41,7 +42,7 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
     need_evaluation = false; // the checkpoint holds an evaluated generation
     outcome.last_generation = current.index;
   } else {
-    current = initial_generation(config, load_seed_creatures(config));
+    current = roles.algorithm->first(load_seed_creatures(config));
   }
   auto wall = [&] { return previous_wall + std::chrono::duration<double>(Clock::now() - started).count(); };
 
@@ -49,13 +50,18 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
   for (;;) {
     if (need_evaluation) {
       const auto t0 = Clock::now();
-      const long long done = evaluator.evaluate(current, config);
+      const long long done = evaluate_generation(evaluator, current, *roles.problem, *roles.estimator);
       const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
       evaluations += done;
       const GenerationStats stats = summarize(current, evaluations);
       const bool last = current.index + 1 >= config.budget.generations;
       const bool save_whole = last || (config.save.generation_every > 0 && current.index % config.save.generation_every == 0);
-      store.record_generation(current, stats, wall(), seconds, done, save_whole);
+      std::optional<soda::ModelDef> best_file;
+      if (stats.best_index >= 0) {
+        const Individual& best = current.individuals[static_cast<std::size_t>(stats.best_index)];
+        best_file = roles.problem->export_form(best.creature, best.id, best.evaluation);
+      }
+      store.record_generation(current, stats, wall(), seconds, done, save_whole, best_file);
       if (last || current.index % config.save.checkpoint_every == 0) {
         store.write_checkpoint({current, evaluations, wall()});
       }
@@ -68,7 +74,7 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
     need_evaluation = true;
 
     const int next_index = current.index + 1;
-    const long long next_cost = config.population.size - config.selection.elites;
+    const long long next_cost = roles.algorithm->evaluations_per_generation();
     std::string stop;
     if (next_index >= config.budget.generations) stop = "completed";
     else if (config.budget.max_evaluations > 0 && evaluations + next_cost > config.budget.max_evaluations) stop = "evaluation budget";
@@ -87,7 +93,7 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
       }
       return outcome;
     }
-    current = next_generation(config, current);
+    current = roles.algorithm->next(current);
   }
 }
 

@@ -1,5 +1,6 @@
-// run_evolution: the loop that ties the GA, an evaluator and the run store
-// together, with budgets, checkpoints, resume and a polite stop.
+// run_evolution: the loop that ties the run's roles (evolve/run_roles.hpp: its
+// problem, estimator and algorithm), an evaluator and the run store together,
+// with budgets, checkpoints, resume and a polite stop.
 #pragma once
 
 #include <atomic>

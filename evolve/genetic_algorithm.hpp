@@ -1,6 +1,6 @@
-// GeneticAlgorithm: makes generations (pagmo's "algorithm" role). It neither
-// simulates nor writes files: an Evaluator scores creatures, the run store keeps
-// them.
+// GeneticAlgorithm: makes generations (the Algorithm of evolve/algorithm.hpp).
+// It neither simulates nor writes files: an Evaluator scores creatures, the run
+// store keeps them.
 //
 // Generational GA with elitism and tournament selection. All randomness of a
 // child comes from the stream (seed, generation, index), so a generation depends
@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/model_def.hpp"
+#include "evolve/algorithm.hpp"
 #include "evolve/population.hpp"
 #include "evolve/run_config.hpp"
 
@@ -27,5 +28,25 @@ Generation initial_generation(const RunConfig& config, const std::vector<soda::M
 /// evaluation) then children by tournament selection, optional crossover and
 /// mutation. Not evaluated (except the elites).
 Generation next_generation(const RunConfig& config, const Generation& evaluated);
+
+/// The GA as the run loop drives it: initial_generation and next_generation with
+/// the config's population, selection, variation and limits.
+class GeneticAlgorithm final : public Algorithm {
+ public:
+  explicit GeneticAlgorithm(const RunConfig& config) : config_(config) {}
+  [[nodiscard]] Generation first(const std::vector<soda::ModelDef>& seeds) const override {
+    return initial_generation(config_, seeds);
+  }
+  [[nodiscard]] Generation next(const Generation& evaluated) const override {
+    return next_generation(config_, evaluated);
+  }
+  /// Every child; the elites keep their evaluations.
+  [[nodiscard]] long long evaluations_per_generation() const override {
+    return config_.population.size - config_.selection.elites;
+  }
+
+ private:
+  RunConfig config_;
+};
 
 } // namespace sodaevo

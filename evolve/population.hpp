@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "core/model_def.hpp"
-#include "evolve/fitness.hpp"
+#include "evolve/evaluation.hpp"
 
 namespace sodaevo {
 

@@ -13,7 +13,6 @@
 
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
-#include "evolve/fitness.hpp"
 #include "evolve/input_limits.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/generation_xml.hpp"
@@ -292,7 +291,8 @@ void RunStore::truncate_logs_after(int generation) {
 }
 
 void RunStore::record_generation(const Generation& g, const GenerationStats& s, double wall_seconds,
-                                 double generation_seconds, long long generation_evaluations, bool save_whole) {
+                                 double generation_seconds, long long generation_evaluations, bool save_whole,
+                                 const std::optional<soda::ModelDef>& best_file) {
   using soda::format_double_plain;
   const std::string best_id = s.best_index >= 0 ? g.individuals[static_cast<std::size_t>(s.best_index)].id : "";
   std::erase_if(generation_rows_, [&](const auto& r) { return r.first >= g.index; });
@@ -305,11 +305,7 @@ void RunStore::record_generation(const Generation& g, const GenerationStats& s, 
   timing_rows_.emplace_back(g.index, std::to_string(g.index) + "," + std::to_string(s.evaluations) + "," +
                                          format_double_plain(wall_seconds) + "," + format_double_plain(rate) + "\n");
   if (save_whole) save_generation(g);
-  if (s.best_index >= 0) {
-    const Individual& best = g.individuals[static_cast<std::size_t>(s.best_index)];
-    const soda::ModelDef prepared = export_form(best.creature, best.id, best.evaluation, config_);
-    soda::write_model_file(dir_ / "best" / generation_file_name(g.index), prepared);
-  }
+  if (best_file) soda::write_model_file(dir_ / "best" / generation_file_name(g.index), *best_file);
   write_logs();
 }
 

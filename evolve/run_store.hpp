@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "core/model_def.hpp"
 #include "evolve/population.hpp"
 #include "evolve/run_config.hpp"
 
@@ -47,10 +48,12 @@ class RunStore {
   [[nodiscard]] const RunConfig& config() const { return config_; }
   [[nodiscard]] const std::filesystem::path& dir() const { return dir_; }
 
-  /// Logs an evaluated generation: CSV rows, best creature, the whole generation
-  /// if `save_whole`.
+  /// Logs an evaluated generation: CSV rows, the whole generation if
+  /// `save_whole`, and `best_file` (the best creature as its Problem exports it;
+  /// none when no creature was scored) as best/gen_NNNNN.xml.
   void record_generation(const Generation& g, const GenerationStats& stats, double wall_seconds,
-                         double generation_seconds, long long generation_evaluations, bool save_whole);
+                         double generation_seconds, long long generation_evaluations, bool save_whole,
+                         const std::optional<soda::ModelDef>& best_file);
   /// Writes generations/gen_NNNNN.xml for an evaluated generation.
   void save_generation(const Generation& g) const;
   void write_checkpoint(const Checkpoint& checkpoint);

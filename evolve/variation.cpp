@@ -8,7 +8,7 @@
 
 #include "core/input_error.hpp"
 #include "evolve/creature_graph.hpp"
-#include "evolve/fitness.hpp"
+#include "evolve/creature_limits.hpp"
 
 namespace sodaevo {
 

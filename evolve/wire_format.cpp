@@ -62,6 +62,11 @@ void WireWriter::evaluation(const Evaluation& e) {
   f64(e.fitness);
   f64(e.distance);
   f64(e.px_per_frame);
+  f64(e.honesty_change);
+  i32(e.estimate.rollouts);
+  f64(e.estimate.mean);
+  f64(e.estimate.sd);
+  f64(e.estimate.median);
 }
 
 const char* WireReader::need(std::size_t n) {
@@ -166,6 +171,11 @@ Evaluation WireReader::evaluation() {
   e.fitness = f64();
   e.distance = f64();
   e.px_per_frame = f64();
+  e.honesty_change = f64();
+  e.estimate.rollouts = i32();
+  e.estimate.mean = f64();
+  e.estimate.sd = f64();
+  e.estimate.median = f64();
   return e;
 }
 

@@ -1,5 +1,7 @@
-// Wire format: creatures and evaluations as compact bytes, for sending between
-// processes (the MPI evaluator).
+// Wire format: creatures, evaluations, problems and estimators as compact bytes,
+// for sending between processes (the MPI evaluator). A Problem or Estimator
+// writes and reads its own fields with WireWriter / WireReader (problem.hpp,
+// estimator.hpp), its kind's name first.
 //
 // Every field of a soda::ModelDef and of an Evaluation is written as is: doubles
 // as their 8 bytes (so they round-trip bit for bit, NaN payloads and -0 included),
@@ -14,7 +16,7 @@
 #include <vector>
 
 #include "core/model_def.hpp"
-#include "evolve/fitness.hpp"
+#include "evolve/evaluation.hpp"
 
 namespace sodaevo {
 

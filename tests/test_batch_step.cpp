@@ -17,7 +17,7 @@
 #include "core/input_error.hpp"
 #include "core/lockstep_batch.hpp"
 #include "core/step.hpp"
-#include "evolve/fitness.hpp"
+#include "evolve/walk_problem.hpp"
 #include "evolve/rng.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/variation.hpp"
@@ -54,7 +54,7 @@ void add_random_creatures(int count, std::uint64_t seed, std::vector<std::pair<s
     c.collisions.surface_reflection = -0.2 * (i % 5);
     soda::ModelDef prepared;
     try {
-      prepared = sodaevo::prepare_for_evaluation(c, config.fitness, config.world);
+      prepared = sodaevo::WalkProblem(config).prepare(c);
     } catch (const soda::InputError&) {
       continue; // scaled gravity above the original's limit
     }

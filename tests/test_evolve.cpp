@@ -11,17 +11,18 @@
 
 #include "core/model.hpp"
 #include "core/step.hpp"
-#include "evolve/batch_evaluation.hpp"
 #include "evolve/creature_graph.hpp"
+#include "evolve/creature_limits.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
-#include "evolve/fitness.hpp"
 #include "evolve/rng.hpp"
 #include "evolve/run_reader.hpp"
+#include "evolve/run_roles.hpp"
 #include "evolve/run_store.hpp"
 #include "evolve/variation.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/model_file.hpp"
+#include "evolve/walk_problem.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo;
@@ -235,11 +236,11 @@ TEST_CASE("replay and export reproduce the logged fitness exactly", "[evolve]") 
   CHECK(checked >= 2 * config.population.size);
   // Exported (prepared) XML, read back and simulated, scores the logged fitness.
   for (const Individual& ind : best_individuals(dir, 3)) {
-    const soda::ModelDef prepared = prepare_for_evaluation(ind.creature, config.fitness, config.world);
+    const soda::ModelDef prepared = WalkProblem(config).prepare(ind.creature);
     const fs::path out = dir / (ind.id + ".xml");
     soda::write_model_file(out, prepared);
     const soda::ModelDef reloaded = soda::read_model_file(out).def;
-    const Evaluation e = evaluate_prepared(reloaded, config.fitness);
+    const Evaluation e = WalkProblem(config).rollouts({&reloaded}).front();
     REQUIRE(e.ok());
     CHECK(e.fitness == ind.evaluation.fitness);
     // And with the plain reference step (what the original runs), not the fast
@@ -297,7 +298,7 @@ TEST_CASE("batch and single evaluation give identical Evaluations", "[evolve]") 
            std::memcmp(&a.distance, &b.distance, sizeof(double)) == 0 &&
            std::memcmp(&a.px_per_frame, &b.px_per_frame, sizeof(double)) == 0;
   };
-  const std::vector<Evaluation> batch = evaluate_creature_batch(ptrs, config);
+  const std::vector<Evaluation> batch = SingleRollout().estimate(WalkProblem(config), ptrs);
   REQUIRE(batch.size() == creatures.size());
   int ok = 0;
   for (std::size_t i = 0; i < creatures.size(); ++i) {
@@ -309,7 +310,7 @@ TEST_CASE("batch and single evaluation give identical Evaluations", "[evolve]") 
   CHECK(ok >= 17);
   for (int threads : {1, 2, 3}) {
     for (std::size_t size : {std::size_t{0}, std::size_t{1}, std::size_t{4}, std::size_t{7}}) {
-      const std::vector<Evaluation> again = evaluate_creatures(ptrs, config, threads, size);
+      const std::vector<Evaluation> again = ThreadEvaluator(threads, size).evaluate(ptrs, WalkProblem(config), SingleRollout());
       for (std::size_t i = 0; i < creatures.size(); ++i) CHECK(same(again[i], batch[i]));
     }
   }
@@ -348,7 +349,7 @@ TEST_CASE("creatures that were not scored: no infinity in any file, and they rea
   const fs::path dir = fresh_dir("unscored");
   RunStore store = RunStore::create(dir, small_config(), false, "test");
   const GenerationStats stats = summarize(g, 2);
-  store.record_generation(g, stats, 1.0, 1.0, 2, true);
+  store.record_generation(g, stats, 1.0, 1.0, 2, true, std::nullopt);
   for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir)) {
     if (!e.is_regular_file()) continue;
     INFO(e.path());
@@ -389,4 +390,28 @@ TEST_CASE("a run folder without its manifest (killed right after its config) get
   CHECK(manifest.find("killed before its manifest was written") != std::string::npos);
   CHECK(manifest.find("\"seed\": 42") != std::string::npos);
   fs::remove_all(dir);
+}
+
+TEST_CASE("the single-rollout estimator: the rollout's score is the fitness; refused creatures name why", "[evolve]") {
+  const RunConfig config = small_config();
+  const WalkProblem problem(config);
+  const soda::ModelDef walker = creature_from_seed(soda::read_model_file(test::models_dir() / "dainty_walker.xml").def, config);
+  soda::ModelDef unlinked = walker;
+  unlinked.links.clear();
+  const std::vector<Evaluation> e = SingleRollout().estimate(problem, {&walker, &unlinked});
+  REQUIRE(e[0].ok());
+  // The one rollout, scored as the reference step scores it (settle, then the
+  // centroid's displacement).
+  const soda::ModelDef prepared = problem.prepare(walker);
+  const soda::Model model = soda::build_model(prepared);
+  soda::State state = soda::make_state(model);
+  soda::run(model, state, config.fitness.settle_frames);
+  const double start_x = soda::mass_centroid(model, state).x;
+  soda::run(model, state, config.fitness.frames);
+  CHECK(e[0].fitness == soda::mass_centroid(model, state).x - start_x);
+  CHECK(e[0].estimate == Estimate{1, e[0].fitness, 0.0, e[0].fitness});
+  CHECK(e[1].status == EvaluationStatus::Invalid);
+  CHECK(e[1].reason == "creature has no links");
+  CHECK(e[1].estimate.rollouts == 0);
+  CHECK_THROWS_WITH(problem.prepare(unlinked), "creature has no links");
 }

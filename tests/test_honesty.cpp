@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/input_error.hpp"
-#include "evolve/fitness.hpp"
+#include "evolve/walk_problem.hpp"
 #include "evolve/honesty.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/variation.hpp"
@@ -33,7 +33,7 @@ RunConfig config_with(const std::string& fitness_json) {
 
 soda::ModelDef prepared_dainty_walker(const RunConfig& config) {
   const soda::ModelDef seed = soda::read_model_file(std::string(SODAEVO_MODELS_DIR) + "/dainty_walker.xml").def;
-  return prepare_for_evaluation(creature_from_seed(seed, config), config.fitness, config.world);
+  return WalkProblem(config).prepare(creature_from_seed(seed, config));
 }
 
 } // namespace
@@ -68,15 +68,15 @@ TEST_CASE("fitness: continuous Euler at one step per frame scores exactly as sod
   const RunConfig cont_config =
       config_with(R"({"frames": 1500, "settle_frames": 100, "mode": "continuous", "integrator": "euler"})");
   const soda::ModelDef walker = prepared_dainty_walker(soda_config);
-  const Evaluation a = evaluate_prepared(walker, soda_config.fitness);
-  const Evaluation b = evaluate_prepared(walker, cont_config.fitness);
+  const Evaluation a = WalkProblem(soda_config).rollouts({&walker}).front();
+  const Evaluation b = WalkProblem(cont_config).rollouts({&walker}).front();
   REQUIRE(a.ok());
   REQUIRE(b.ok());
   CHECK(std::memcmp(&a.fitness, &b.fitness, sizeof(double)) == 0);
   // ... and a different setting scores differently (the setting is really used).
   const RunConfig rk4 = config_with(R"({"frames": 1500, "settle_frames": 100, "mode": "continuous",
                                         "integrator": "rk4", "substeps": 4})");
-  const Evaluation c = evaluate_prepared(walker, rk4.fitness);
+  const Evaluation c = WalkProblem(rk4).rollouts({&walker}).front();
   REQUIRE(c.ok());
   CHECK(c.fitness != a.fitness);
 }
@@ -96,11 +96,11 @@ TEST_CASE("honesty: the GA flags a creature whose distance changes more than all
   const RunConfig strict = config_with(R"({"frames": 1000, "settle_frames": 100, "honesty": {"max_change": 1e-9}})");
   const RunConfig lax = config_with(R"({"frames": 1000, "settle_frames": 100, "honesty": {"max_change": 1e6}})");
   const soda::ModelDef walker = prepared_dainty_walker(strict);
-  const Evaluation flagged = evaluate_prepared(walker, strict.fitness);
+  const Evaluation flagged = WalkProblem(strict).rollouts({&walker}).front();
   CHECK(flagged.status == EvaluationStatus::Diverged);
   CHECK(flagged.reason.find("dishonest") == 0);
   CHECK(flagged.reason.find("euler/4") != std::string::npos);
-  const Evaluation ok = evaluate_prepared(walker, lax.fitness);
+  const Evaluation ok = WalkProblem(lax).rollouts({&walker}).front();
   REQUIRE(ok.ok());
   CHECK(ok.honesty_change != 0.0);
   CHECK(std::isfinite(ok.honesty_change));

@@ -25,7 +25,7 @@
 #include "core/step.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
-#include "evolve/fitness.hpp"
+#include "evolve/run_roles.hpp"
 #include "evolve/run_store.hpp"
 #include "evolve/variation.hpp"
 #include "formats/atomic_file.hpp"

@@ -10,7 +10,7 @@
 #include "core/divergence.hpp"
 #include "core/model.hpp"
 #include "core/step.hpp"
-#include "evolve/fitness.hpp"
+#include "evolve/walk_problem.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo;
@@ -83,7 +83,7 @@ TEST_CASE("divergence: an overflowing spring is flagged non-finite at its frame"
   FitnessConfig fc;
   fc.frames = 10;
   fc.settle_frames = 0;
-  const Evaluation e = evaluate_prepared_with(two_masses(1.7e308), fc, {});
+  const Evaluation e = WalkProblem(fc, {}, {}).rollout_with(two_masses(1.7e308), {});
   CHECK(e.status == EvaluationStatus::Diverged);
   CHECK(e.reason.find("non-finite") != std::string::npos);
 }

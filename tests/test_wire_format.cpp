@@ -1,11 +1,15 @@
-// The wire format the MPI evaluator sends creatures and evaluations in: exact
-// round trips (every bit of every double) and clear errors on damaged messages.
+// The wire format the MPI evaluator sends creatures, evaluations, problems and
+// estimators in: exact round trips (every bit of every double) and clear errors
+// on damaged messages.
 #include <catch2/catch.hpp>
 
 #include <bit>
 #include <cmath>
 #include <limits>
 
+#include "evolve/estimator.hpp"
+#include "evolve/variation.hpp"
+#include "evolve/walk_problem.hpp"
 #include "evolve/wire_format.hpp"
 #include "formats/model_file.hpp"
 #include "test_support.hpp"
@@ -62,4 +66,90 @@ TEST_CASE("damaged messages are refused with a WireError", "[wire]") {
   std::vector<char> bad_status = encode_evaluation(Evaluation{});
   bad_status[0] = 9;
   CHECK_THROWS_WITH(decode_evaluation(bad_status), Catch::Contains("bad evaluation status"));
+}
+
+TEST_CASE("an evaluation's honesty change and estimate cross the wire", "[wire]") {
+  Evaluation e;
+  e.status = EvaluationStatus::Ok;
+  e.fitness = 12.5;
+  e.honesty_change = -0.25;
+  e.estimate = {7, 12.0, std::nextafter(0.5, 1.0), -0.0};
+  const Evaluation back = decode_evaluation(encode_evaluation(e));
+  CHECK(back.honesty_change == -0.25);
+  CHECK(back.estimate == e.estimate);
+  CHECK(std::signbit(back.estimate.median));
+}
+
+namespace {
+
+/// A problem with every setting away from its default.
+WalkProblem unusual_problem() {
+  FitnessConfig f;
+  f.frames = 321;
+  f.settle_frames = 17;
+  f.direction = WalkDirection::Either;
+  f.scaling = FitnessScaling::None;
+  f.drop_height = 0.1 + 0.2;
+  f.mode = soda::PhysicsMode::Continuous;
+  f.integrator = soda::Integrator::Rk4;
+  f.substeps = 3;
+  f.divergence = DivergenceCheck::Energy;
+  f.honesty_max_change = 0.125;
+  f.honesty_substeps_factor = 5;
+  WorldConfig w;
+  w.gravity = 0.5;
+  w.friction = 0.01;
+  w.springyness = 0.25;
+  w.surface_friction = 0.75;
+  w.surface_reflection = -0.5;
+  w.gravity_direction = soda::GravityDirection::Up;
+  w.evolve = {"friction", "surface_reflection"};
+  LimitsConfig l;
+  l.min_masses = 4;
+  l.max_masses = 9;
+  l.max_links = 33;
+  return WalkProblem(f, w, l);
+}
+
+} // namespace
+
+TEST_CASE("a problem and an estimator cross the wire as they are", "[wire]") {
+  const WalkProblem problem = unusual_problem();
+  WireWriter w;
+  problem.write(w);
+  SingleRollout().write(w);
+  WireReader r(w.bytes());
+  const std::unique_ptr<Problem> problem_back = read_problem(r);
+  const std::unique_ptr<Estimator> estimator_back = read_estimator(r);
+  r.expect_end();
+  REQUIRE(problem_back->kind() == "walk");
+  const auto& walk = dynamic_cast<const WalkProblem&>(*problem_back);
+  CHECK(walk.fitness() == problem.fitness());
+  CHECK(walk.world() == problem.world());
+  CHECK(walk.limits() == problem.limits());
+  CHECK(estimator_back->kind() == "single");
+}
+
+TEST_CASE("a damaged problem or estimator is refused with what was wrong", "[wire]") {
+  WireWriter w;
+  unusual_problem().write(w);
+  const std::vector<char> bytes = w.bytes();
+  auto read = [](const std::vector<char>& b) {
+    WireReader r(b);
+    return read_problem(r);
+  };
+  // The kind tag: u64 length 4, then "walk".
+  std::vector<char> unknown = bytes;
+  unknown[8] = 'r';
+  CHECK_THROWS_WITH(read(unknown), Catch::Contains("unknown problem kind 'ralk'"));
+  // The direction follows the tag and the two frame counts.
+  std::vector<char> bad_direction = bytes;
+  bad_direction[12 + 16] = 7;
+  CHECK_THROWS_WITH(read(bad_direction), Catch::Contains("bad direction value 7"));
+  const std::vector<char> cut(bytes.begin(), bytes.end() - 1);
+  CHECK_THROWS_AS(read(cut), WireError);
+  WireWriter e;
+  e.text("median-of-3");
+  WireReader r(e.bytes());
+  CHECK_THROWS_WITH(read_estimator(r), Catch::Contains("unknown estimator kind 'median-of-3'"));
 }

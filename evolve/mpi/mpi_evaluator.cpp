@@ -38,12 +38,12 @@ std::string failure_text(const Message& m) {
 
 } // namespace
 
-void MpiEvaluator::set_up_workers(const RunConfig& config) {
-  const std::string json_text = to_json(config).dump();
-  if (json_text == config_sent_ || session_.size() == 1) return;
+void MpiEvaluator::set_up_workers(const Problem& problem, const Estimator& estimator) {
   WireWriter w;
-  w.text(json_text);
+  problem.write(w);
+  estimator.write(w);
   w.i32(requested_threads_);
+  if (w.bytes() == setup_sent_ || session_.size() == 1) return;
   for (int r = 1; r < session_.size(); ++r) send(session_.comm(), r, Setup, w.bytes());
   std::string failure;
   for (int answered = 1; answered < session_.size(); ++answered) {
@@ -56,25 +56,24 @@ void MpiEvaluator::set_up_workers(const RunConfig& config) {
     }
   }
   if (!failure.empty()) throw std::runtime_error(failure);
-  config_sent_ = json_text;
+  setup_sent_ = w.take();
 }
 
-long long MpiEvaluator::evaluate(Generation& g, const RunConfig& config) {
+std::vector<Evaluation> MpiEvaluator::evaluate(const std::vector<const soda::ModelDef*>& creatures,
+                                               const Problem& problem, const Estimator& estimator) {
   try {
-    set_up_workers(config);
+    set_up_workers(problem, estimator);
   } catch (const MpiError&) {
     session_.mark_broken();
     throw;
   }
 
-  std::vector<std::size_t> todo;
-  for (std::size_t i = 0; i < g.individuals.size(); ++i) {
-    if (!g.individuals[i].evaluated) todo.push_back(i);
-  }
-  const std::size_t n = todo.size();
+  const std::size_t n = creatures.size();
+  std::vector<Evaluation> results(n);
+  std::vector<char> done(n, 0); // not vector<bool>: written by several threads
   const std::size_t all_threads = static_cast<std::size_t>(std::max(1, total_threads()));
 
-  // One queue for everyone: positions in `todo` are claimed with fetch_add, by
+  // One queue for everyone: positions in `creatures` are claimed with fetch_add, by
   // rank 0's threads one at a time, for a worker a chunk at a time.
   std::atomic<std::size_t> cursor{0};
   std::atomic<bool> abandon{false};
@@ -88,9 +87,8 @@ long long MpiEvaluator::evaluate(Generation& g, const RunConfig& config) {
       while (!abandon.load()) {
         const std::size_t k = cursor.fetch_add(1);
         if (k >= n) break;
-        Individual& ind = g.individuals[todo[k]];
-        ind.evaluation = evaluate_creature(ind.creature, config);
-        ind.evaluated = true;
+        results[k] = estimator.estimate(problem, {creatures[k]}).front();
+        done[k] = 1;
         local_done.fetch_add(1);
       }
     } catch (...) {
@@ -123,9 +121,9 @@ long long MpiEvaluator::evaluate(Generation& g, const RunConfig& config) {
       std::vector<std::uint64_t>& mine = assigned[static_cast<std::size_t>(rank)];
       mine.clear();
       for (std::size_t k = begin; k < end; ++k) {
-        mine.push_back(todo[k]);
-        w.u64(todo[k]);
-        w.creature(g.individuals[todo[k]].creature);
+        mine.push_back(k);
+        w.u64(k);
+        w.creature(*creatures[k]);
       }
       send(session_.comm(), rank, Work, w.bytes());
       ++outstanding;
@@ -153,16 +151,15 @@ long long MpiEvaluator::evaluate(Generation& g, const RunConfig& config) {
           WireReader r(m->bytes);
           const std::uint32_t count = r.u32();
           if (count != mine.size()) throw WireError("wrong number of results");
-          std::vector<Evaluation> results;
+          std::vector<Evaluation> farmed;
           for (std::uint32_t k = 0; k < count; ++k) {
             if (r.u64() != mine[k]) throw WireError("results out of order");
-            results.push_back(r.evaluation());
+            farmed.push_back(r.evaluation());
           }
           r.expect_end();
           for (std::uint32_t k = 0; k < count; ++k) {
-            Individual& ind = g.individuals[mine[k]];
-            ind.evaluation = std::move(results[k]);
-            ind.evaluated = true;
+            results[mine[k]] = std::move(farmed[k]);
+            done[mine[k]] = 1;
           }
           traffic_.creatures_farmed += count;
         } catch (const WireError& e) {
@@ -193,10 +190,10 @@ long long MpiEvaluator::evaluate(Generation& g, const RunConfig& config) {
   }
   if (local_error) std::rethrow_exception(local_error);
   if (!failure.empty()) throw std::runtime_error(failure);
-  for (std::size_t i : todo) {
-    if (!g.individuals[i].evaluated) throw std::logic_error("MPI evaluator left a creature unevaluated");
+  if (std::find(done.begin(), done.end(), 0) != done.end()) {
+    throw std::logic_error("MPI evaluator left a creature unevaluated");
   }
-  return static_cast<long long>(n);
+  return results;
 }
 
 } // namespace sodaevo

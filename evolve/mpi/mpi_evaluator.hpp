@@ -7,8 +7,9 @@
 // cheap and costly creatures even out. Evaluations come back with their index and
 // are stored there, so the result is the same bit for bit whatever the number of
 // ranks or threads. If a worker reports a failure, the chunks still out are
-// collected, nothing of the generation is recorded, and evaluate() throws: the run
-// folder keeps its last checkpoint.
+// collected, evaluate() throws and returns nothing: the run folder keeps its last
+// checkpoint. The workers get the Problem and the Estimator in the wire format
+// (once, and again only when they change), never the run's config.
 #pragma once
 
 #include <string>
@@ -32,20 +33,21 @@ class MpiEvaluator final : public Evaluator {
  public:
   /// `threads` as given to --threads (0 = this node's cores shared between its ranks).
   MpiEvaluator(MpiSession& session, int threads);
-  long long evaluate(Generation& generation, const RunConfig& config) override;
+  std::vector<Evaluation> evaluate(const std::vector<const soda::ModelDef*>& creatures, const Problem& problem,
+                                   const Estimator& estimator) override;
 
   [[nodiscard]] int local_threads() const { return local_threads_; }
   [[nodiscard]] int total_threads() const;
   [[nodiscard]] const MpiTraffic& traffic() const { return traffic_; }
 
  private:
-  void set_up_workers(const RunConfig& config);
+  void set_up_workers(const Problem& problem, const Estimator& estimator);
 
   MpiSession& session_;
   int requested_threads_;
   int local_threads_;
   std::vector<int> worker_threads_; ///< by rank; [0] unused
-  std::string config_sent_;         ///< the config JSON the workers hold
+  std::vector<char> setup_sent_;    ///< the problem and estimator the workers hold
   MpiTraffic traffic_;
 };
 

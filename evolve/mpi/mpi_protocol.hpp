@@ -1,7 +1,7 @@
 // The messages between rank 0 (the master) and the workers, and the helpers that
 // send and receive them as byte buffers.
 //
-//   master -> worker  Setup    config JSON text, requested threads (i32)
+//   master -> worker  Setup    problem, estimator (wire_format), requested threads (i32)
 //   worker -> master  Ready    threads the worker will use (i32)
 //   master -> worker  Work     count (u32), then per creature: index (u64), creature
 //   worker -> master  Results  count (u32), then per creature: index (u64), evaluation

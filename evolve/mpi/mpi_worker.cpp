@@ -5,16 +5,15 @@
 #include <cstdlib>
 #include <exception>
 #include <iostream>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
-#include "evolve/fitness.hpp"
+#include "evolve/estimator.hpp"
+#include "evolve/evaluator.hpp"
 #include "evolve/mpi/mpi_protocol.hpp"
-#include "evolve/batch_evaluation.hpp"
-#include "evolve/run_config.hpp"
+#include "evolve/problem.hpp"
 #include "evolve/wire_format.hpp"
 
 namespace sodaevo {
@@ -40,16 +39,6 @@ TestFault read_test_fault(int rank) {
   f.after = std::atoll(s.substr(c2 + 1).c_str());
   f.kind = kind == "kill" ? TestFault::Kind::Kill : kind == "fail" ? TestFault::Kind::Fail : TestFault::Kind::None;
   return f;
-}
-
-/// The worker's copy of the config. Workers never create creatures, so the seed
-/// models (files on rank 0's machine) are left out: only fitness, world and
-/// limits matter here.
-RunConfig config_for_worker(const std::string& json_text) {
-  nlohmann::json j = nlohmann::json::parse(json_text);
-  j["population"]["seed_models"] = nlohmann::json::array();
-  j["population"]["random_fraction"] = 1.0;
-  return parse_run_config(j.dump(), "config from rank 0", ".");
 }
 
 class Worker {
@@ -78,17 +67,21 @@ class Worker {
   void set_up(const std::vector<char>& bytes) {
     try {
       WireReader r(bytes);
-      const std::string json_text = r.text();
+      std::unique_ptr<Problem> problem = read_problem(r);
+      std::unique_ptr<Estimator> estimator = read_estimator(r);
       const int requested = r.i32();
       r.expect_end();
-      config_ = config_for_worker(json_text);
-      threads_ = session_.resolve_threads(requested);
+      problem_ = std::move(problem);
+      estimator_ = std::move(estimator);
+      evaluator_.emplace(session_.resolve_threads(requested));
     } catch (const std::exception& e) {
-      config_.reset();
+      problem_.reset();
+      estimator_.reset();
+      evaluator_.reset();
       return fail(std::string("could not set up: ") + e.what());
     }
     WireWriter w;
-    w.i32(threads_);
+    w.i32(evaluator_->threads());
     send(session_.comm(), 0, Ready, w.bytes());
   }
 
@@ -97,7 +90,7 @@ class Worker {
     std::vector<soda::ModelDef> creatures;
     std::vector<Evaluation> evaluations;
     try {
-      if (!config_) throw std::runtime_error("work arrived before the setup");
+      if (!evaluator_) throw std::runtime_error("work arrived before the setup");
       WireReader r(bytes);
       const std::uint32_t count = r.u32();
       for (std::uint32_t k = 0; k < count; ++k) {
@@ -108,7 +101,7 @@ class Worker {
       inject_test_fault();
       std::vector<const soda::ModelDef*> pointers;
       for (const soda::ModelDef& c : creatures) pointers.push_back(&c);
-      evaluations = evaluate_creatures(pointers, *config_, threads_); // fused batches, by index
+      evaluations = evaluator_->evaluate(pointers, *problem_, *estimator_); // fused batches, by index
     } catch (const std::exception& e) {
       return fail(std::string("evaluation failed: ") + e.what());
     }
@@ -131,8 +124,9 @@ class Worker {
   MpiSession& session_;
   TestFault fault_;
   long long chunks_started_ = 0;
-  std::optional<RunConfig> config_;
-  int threads_ = 1;
+  std::unique_ptr<Problem> problem_;
+  std::unique_ptr<Estimator> estimator_;
+  std::optional<ThreadEvaluator> evaluator_;
 };
 
 } // namespace

@@ -1,8 +1,9 @@
 // The worker side of the MPI evaluator: what every rank except 0 runs.
 //
 // A worker never reads the command line, never touches the run folder and never
-// prints progress. It waits for the master's setup (the resolved config), then
-// evaluates the chunks of creatures it is sent on its own threads and sends the
+// prints progress. It waits for the master's setup (the Problem and the
+// Estimator in the wire format), then evaluates the chunks of creatures it is
+// sent on its own threads (a ThreadEvaluator) and sends the
 // evaluations back by index, until told to stop. An exception while evaluating
 // is sent to the master as a Failure message (the run then stops cleanly), not a
 // crash.

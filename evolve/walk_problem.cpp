@@ -1,43 +1,19 @@
-#include "fitness.hpp"
+#include "walk_problem.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <exception>
-#include <vector>
 
+#include "core/batch_step.hpp"
+#include "core/divergence.hpp"
 #include "core/input_error.hpp"
 #include "core/model.hpp"
 #include "core/number_text.hpp"
-#include "core/batch_step.hpp"
-#include "core/divergence.hpp"
-#include "core/stepping.hpp"
-#include "evolve/creature_graph.hpp"
+#include "evolve/creature_limits.hpp"
 #include "evolve/honesty.hpp"
+#include "evolve/wire_format.hpp"
 
 namespace sodaevo {
-
-std::optional<std::string> check_creature(const soda::ModelDef& c, const LimitsConfig& limits) {
-  const int masses = static_cast<int>(c.nodes.size());
-  if (masses < limits.min_masses) {
-    return "has " + std::to_string(masses) + " masses, fewer than limits.min_masses " + std::to_string(limits.min_masses);
-  }
-  if (masses > limits.max_masses) {
-    return "has " + std::to_string(masses) + " masses, more than limits.max_masses " + std::to_string(limits.max_masses);
-  }
-  if (static_cast<int>(c.links.size()) > limits.max_links) {
-    return "has " + std::to_string(c.links.size()) + " links, more than limits.max_links " + std::to_string(limits.max_links);
-  }
-  if (c.links.empty()) return "has no links";
-  for (const soda::NodeDef& n : c.nodes) {
-    if (n.fixed) return "has a fixed node ('" + n.id + "'); creatures are free masses only";
-  }
-  for (const soda::LinkDef& l : c.links) {
-    if (l.kind == soda::LinkKind::FixedBar) return "has a fixed bar; creatures have springs and muscles only";
-    if (l.a < 0 || l.b < 0 || l.a >= masses || l.b >= masses || l.a == l.b) return "has a link with bad ends";
-  }
-  if (!is_connected(c)) return "is not connected (some masses are not linked to the rest)";
-  return std::nullopt;
-}
 
 std::optional<double> sodarace_scale(const soda::ModelDef& c) {
   double sum = 0.0;
@@ -53,6 +29,11 @@ std::optional<double> sodarace_scale(const soda::ModelDef& c) {
   return 211.0 / std::sqrt(sum);
 }
 
+WalkProblem::WalkProblem(const FitnessConfig& fitness, const WorldConfig& world, const LimitsConfig& limits)
+    : fitness_(fitness), world_(world), limits_(limits) {}
+
+WalkProblem::WalkProblem(const RunConfig& config) : WalkProblem(config.fitness, config.world, config.limits) {}
+
 namespace {
 
 bool evolves(const WorldConfig& world, const char* name) {
@@ -61,19 +42,21 @@ bool evolves(const WorldConfig& world, const char* name) {
 
 } // namespace
 
-soda::ModelDef prepare_for_evaluation(const soda::ModelDef& creature, const FitnessConfig& fitness,
-                                      const WorldConfig& world) {
+soda::ModelDef WalkProblem::prepare(const soda::ModelDef& creature) const {
+  if (std::optional<std::string> invalid = check_creature(creature, limits_)) {
+    throw soda::InputError("creature " + *invalid);
+  }
   soda::ModelDef m = creature;
-  if (!evolves(world, "gravity")) m.environment.gravity = world.gravity;
-  if (!evolves(world, "friction")) m.environment.friction = world.friction;
-  if (!evolves(world, "springyness")) m.environment.springyness = world.springyness;
-  if (!evolves(world, "surface_friction")) m.collisions.surface_friction = world.surface_friction;
-  if (!evolves(world, "surface_reflection")) m.collisions.surface_reflection = world.surface_reflection;
-  m.settings.gravity_direction = world.gravity_direction;
+  if (!evolves(world_, "gravity")) m.environment.gravity = world_.gravity;
+  if (!evolves(world_, "friction")) m.environment.friction = world_.friction;
+  if (!evolves(world_, "springyness")) m.environment.springyness = world_.springyness;
+  if (!evolves(world_, "surface_friction")) m.collisions.surface_friction = world_.surface_friction;
+  if (!evolves(world_, "surface_reflection")) m.collisions.surface_reflection = world_.surface_reflection;
+  m.settings.gravity_direction = world_.gravity_direction;
   m.settings.wave_direction = soda::WaveDirection::Forward;
   m.settings.autoreverse = false;
 
-  if (fitness.scaling == FitnessScaling::Sodarace) {
+  if (fitness_.scaling == FitnessScaling::Sodarace) {
     const std::optional<double> s = sodarace_scale(m);
     if (!s) throw soda::InputError("cannot scale: the creature has no springs or muscles of non-zero length");
     for (soda::NodeDef& n : m.nodes) {
@@ -100,17 +83,17 @@ soda::ModelDef prepare_for_evaluation(const soda::ModelDef& creature, const Fitn
     min_y = std::min(min_y, n.y);
     max_y = std::max(max_y, n.y);
   }
-  const double reach = soda::kSyrupThreshold * static_cast<double>(fitness.frames + fitness.settle_frames + 1);
+  const double reach = soda::kSyrupThreshold * static_cast<double>(fitness_.frames + fitness_.settle_frames + 1);
   const double extent_x = max_x - min_x, extent_y = max_y - min_y;
   const double width = std::ceil(2.0 * (reach + extent_x) + 100.0);
-  const double height = std::ceil(reach + extent_y + fitness.drop_height + 100.0);
+  const double height = std::ceil(reach + extent_y + fitness_.drop_height + 100.0);
   if (!(width <= soda::kMaxContainerSide && height <= soda::kMaxContainerSide)) {
     throw soda::InputError("the evaluation needs a container wider than the format allows (too many frames)");
   }
   m.width = static_cast<int>(width);
   m.height = static_cast<int>(height);
   const double dx = std::floor(width / 2.0 - extent_x / 2.0) - min_x;
-  const double dy = fitness.drop_height - min_y;
+  const double dy = fitness_.drop_height - min_y;
   for (soda::NodeDef& n : m.nodes) {
     n.x += dx;
     n.y += dy;
@@ -118,14 +101,14 @@ soda::ModelDef prepare_for_evaluation(const soda::ModelDef& creature, const Fitn
   return m;
 }
 
-soda::ModelDef export_form(const soda::ModelDef& creature, const std::string& id, const Evaluation& evaluation,
-                           const RunConfig& config) {
-  soda::ModelDef prepared = prepare_for_evaluation(creature, config.fitness, config.world);
+soda::ModelDef WalkProblem::export_form(const soda::ModelDef& creature, const std::string& id,
+                                        const Evaluation& evaluation) const {
+  soda::ModelDef prepared = prepare(creature);
   prepared.name = id;
   prepared.comment = "sodaevo " + id + ": fitness " + soda::format_double_plain(evaluation.fitness) +
                      " (centroid moved " + soda::format_double_plain(evaluation.distance) + " px in " +
-                     std::to_string(config.fitness.frames) + " frames after " +
-                     std::to_string(config.fitness.settle_frames) + " settle frames)";
+                     std::to_string(fitness_.frames) + " frames after " + std::to_string(fitness_.settle_frames) +
+                     " settle frames)";
   return prepared;
 }
 
@@ -174,15 +157,12 @@ bool needs_watched_run(const FitnessConfig& fitness) {
          fitness.honesty_max_change > 0.0;
 }
 
-Evaluation evaluate_watched(const soda::ModelDef& prepared, const FitnessConfig& fitness);
-
 } // namespace
 
-std::vector<Evaluation> evaluate_prepared_batch(const std::vector<const soda::ModelDef*>& prepared,
-                                                const FitnessConfig& fitness) {
+std::vector<Evaluation> WalkProblem::rollouts(const std::vector<const soda::ModelDef*>& prepared) const {
   std::vector<Evaluation> results(prepared.size());
-  if (needs_watched_run(fitness)) {
-    for (std::size_t i = 0; i < prepared.size(); ++i) results[i] = evaluate_watched(*prepared[i], fitness);
+  if (needs_watched_run(fitness_)) {
+    for (std::size_t i = 0; i < prepared.size(); ++i) results[i] = watched_rollout(*prepared[i]);
     return results;
   }
   std::vector<soda::Model> models;
@@ -208,22 +188,16 @@ std::vector<Evaluation> evaluate_prepared_batch(const std::vector<const soda::Mo
   }
   std::vector<soda::State*> state_ptrs;
   for (soda::State& s : states) state_ptrs.push_back(&s);
-  soda::BatchStepper stepper(model_ptrs, static_cast<long long>(fitness.settle_frames) + fitness.frames);
-  stepper.run(state_ptrs, fitness.settle_frames);
+  soda::BatchStepper stepper(model_ptrs, static_cast<long long>(fitness_.settle_frames) + fitness_.frames);
+  stepper.run(state_ptrs, fitness_.settle_frames);
   std::vector<soda::Point2> start;
   for (std::size_t k = 0; k < models.size(); ++k) start.push_back(soda::mass_centroid(models[k], states[k]));
-  stepper.run(state_ptrs, fitness.frames);
-  for (std::size_t k = 0; k < models.size(); ++k) results[index[k]] = score_run(models[k], states[k], start[k], fitness);
+  stepper.run(state_ptrs, fitness_.frames);
+  for (std::size_t k = 0; k < models.size(); ++k) results[index[k]] = score_run(models[k], states[k], start[k], fitness_);
   return results;
 }
 
-Evaluation evaluate_prepared(const soda::ModelDef& prepared, const FitnessConfig& fitness) {
-  return evaluate_prepared_batch({&prepared}, fitness).front();
-}
-
-
-Evaluation evaluate_prepared_with(const soda::ModelDef& prepared, const FitnessConfig& fitness,
-                                  const soda::Stepping& stepping) {
+Evaluation WalkProblem::rollout_with(const soda::ModelDef& prepared, const soda::Stepping& stepping) const {
   Evaluation e;
   soda::Model model;
   try {
@@ -236,15 +210,15 @@ Evaluation evaluate_prepared_with(const soda::ModelDef& prepared, const FitnessC
   // The fast stepper equals the reference step bit for bit (tests/test_fast_step.cpp),
   // so fitness does not depend on which one runs.
   soda::State state = soda::make_state(model);
-  soda::FrameStepper stepper(model, stepping, fitness.settle_frames + fitness.frames);
-  const bool energy = fitness.divergence == DivergenceCheck::Energy;
+  soda::FrameStepper stepper(model, stepping, fitness_.settle_frames + fitness_.frames);
+  const bool energy = fitness_.divergence == DivergenceCheck::Energy;
   soda::DivergenceMonitor monitor(model, state, {}, energy);
-  const long long total = fitness.settle_frames + fitness.frames;
+  const long long total = fitness_.settle_frames + fitness_.frames;
   soda::Point2 start = soda::mass_centroid(model, state);
   for (long long done = 0; done < total;) {
-    if (done == fitness.settle_frames) start = soda::mass_centroid(model, state);
+    if (done == fitness_.settle_frames) start = soda::mass_centroid(model, state);
     long long n = energy ? 1 : kFiniteCheckInterval;
-    if (done < fitness.settle_frames) n = std::min(n, fitness.settle_frames - done);
+    if (done < fitness_.settle_frames) n = std::min(n, fitness_.settle_frames - done);
     n = std::min(n, total - done);
     stepper.run(state, n);
     done += n;
@@ -254,16 +228,14 @@ Evaluation evaluate_prepared_with(const soda::ModelDef& prepared, const FitnessC
       return e;
     }
   }
-  return score_distance(start, soda::mass_centroid(model, state), fitness);
+  return score_distance(start, soda::mass_centroid(model, state), fitness_);
 }
 
-namespace {
-
-Evaluation evaluate_watched(const soda::ModelDef& prepared, const FitnessConfig& fitness) {
-  Evaluation e = evaluate_prepared_with(prepared, fitness, fitness.stepping());
-  if (!e.ok() || !(fitness.honesty_max_change > 0.0)) return e;
-  const soda::Stepping refined = refined_stepping(fitness.stepping(), fitness.honesty_substeps_factor);
-  const Evaluation r = evaluate_prepared_with(prepared, fitness, refined);
+Evaluation WalkProblem::watched_rollout(const soda::ModelDef& prepared) const {
+  Evaluation e = rollout_with(prepared, fitness_.stepping());
+  if (!e.ok() || !(fitness_.honesty_max_change > 0.0)) return e;
+  const soda::Stepping refined = refined_stepping(fitness_.stepping(), fitness_.honesty_substeps_factor);
+  const Evaluation r = rollout_with(prepared, refined);
   if (!r.ok()) {
     Evaluation flagged;
     flagged.status = EvaluationStatus::Diverged;
@@ -271,7 +243,7 @@ Evaluation evaluate_watched(const soda::ModelDef& prepared, const FitnessConfig&
     return flagged;
   }
   e.honesty_change = relative_change(e.distance, r.distance);
-  if (std::fabs(e.honesty_change) > fitness.honesty_max_change) {
+  if (std::fabs(e.honesty_change) > fitness_.honesty_max_change) {
     Evaluation flagged;
     flagged.status = EvaluationStatus::Diverged;
     flagged.honesty_change = e.honesty_change;
@@ -283,50 +255,77 @@ Evaluation evaluate_watched(const soda::ModelDef& prepared, const FitnessConfig&
   return e;
 }
 
+void WalkProblem::write(WireWriter& out) const {
+  out.text(kind());
+  out.u64(static_cast<std::uint64_t>(fitness_.frames));
+  out.u64(static_cast<std::uint64_t>(fitness_.settle_frames));
+  out.u8(static_cast<std::uint8_t>(fitness_.direction));
+  out.u8(static_cast<std::uint8_t>(fitness_.scaling));
+  out.f64(fitness_.drop_height);
+  out.u8(static_cast<std::uint8_t>(fitness_.mode));
+  out.u8(static_cast<std::uint8_t>(fitness_.integrator));
+  out.i32(fitness_.substeps);
+  out.u8(static_cast<std::uint8_t>(fitness_.divergence));
+  out.f64(fitness_.honesty_max_change);
+  out.i32(fitness_.honesty_substeps_factor);
+  out.f64(world_.gravity);
+  out.f64(world_.friction);
+  out.f64(world_.springyness);
+  out.f64(world_.surface_friction);
+  out.f64(world_.surface_reflection);
+  out.i32(static_cast<int>(world_.gravity_direction));
+  out.u64(world_.evolve.size());
+  for (const std::string& name : world_.evolve) out.text(name);
+  out.i32(limits_.min_masses);
+  out.i32(limits_.max_masses);
+  out.i32(limits_.max_links);
+}
+
+namespace {
+
+template <typename Enum>
+Enum enum_field(int v, int lo, int hi, const char* what) {
+  if (v < lo || v > hi) throw WireError(std::string("walk problem: bad ") + what + " value " + std::to_string(v));
+  return static_cast<Enum>(v);
+}
+
 } // namespace
 
-
-std::optional<soda::ModelDef> prepare_creature(const soda::ModelDef& creature, const RunConfig& config,
-                                               std::string& why) {
-  if (std::optional<std::string> invalid = check_creature(creature, config.limits)) {
-    why = "creature " + *invalid;
-    return std::nullopt;
-  }
-  try {
-    return prepare_for_evaluation(creature, config.fitness, config.world);
-  } catch (const std::exception& ex) {
-    why = ex.what();
-    return std::nullopt;
-  }
-}
-
-std::vector<Evaluation> evaluate_creature_batch(const std::vector<const soda::ModelDef*>& creatures,
-                                                const RunConfig& config) {
-  std::vector<Evaluation> results(creatures.size());
-  std::vector<soda::ModelDef> prepared;
-  prepared.reserve(creatures.size());
-  std::vector<std::size_t> index; // result index of prepared[k]
-  for (std::size_t i = 0; i < creatures.size(); ++i) {
-    if (std::optional<soda::ModelDef> p = prepare_creature(*creatures[i], config, results[i].reason)) {
-      prepared.push_back(std::move(*p));
-      index.push_back(i);
+WalkProblem WalkProblem::read_fields(WireReader& in) {
+  FitnessConfig f;
+  f.frames = static_cast<long long>(in.u64());
+  f.settle_frames = static_cast<long long>(in.u64());
+  f.direction = enum_field<WalkDirection>(in.u8(), 0, 2, "direction");
+  f.scaling = enum_field<FitnessScaling>(in.u8(), 0, 1, "scaling");
+  f.drop_height = in.f64();
+  f.mode = enum_field<soda::PhysicsMode>(in.u8(), 0, 1, "physics mode");
+  f.integrator = enum_field<soda::Integrator>(in.u8(), 0, 2, "integrator");
+  f.substeps = in.i32();
+  f.divergence = enum_field<DivergenceCheck>(in.u8(), 0, 1, "divergence check");
+  f.honesty_max_change = in.f64();
+  f.honesty_substeps_factor = in.i32();
+  WorldConfig w;
+  w.gravity = in.f64();
+  w.friction = in.f64();
+  w.springyness = in.f64();
+  w.surface_friction = in.f64();
+  w.surface_reflection = in.f64();
+  w.gravity_direction = enum_field<soda::GravityDirection>(in.i32(), -1, 1, "gravity direction");
+  const std::uint64_t evolving = in.u64();
+  const std::vector<std::string>& names = world_parameter_names();
+  if (evolving > names.size()) throw WireError("walk problem: bad count of evolving world parameters");
+  for (std::uint64_t k = 0; k < evolving; ++k) {
+    std::string name = in.text();
+    if (std::find(names.begin(), names.end(), name) == names.end()) {
+      throw WireError("walk problem: unknown world parameter '" + name + "'");
     }
+    w.evolve.push_back(std::move(name));
   }
-  std::vector<const soda::ModelDef*> ptrs;
-  for (const soda::ModelDef& p : prepared) ptrs.push_back(&p);
-  std::vector<Evaluation> scored;
-  try {
-    scored = evaluate_prepared_batch(ptrs, config.fitness);
-  } catch (const std::exception& ex) {
-    for (std::size_t k = 0; k < prepared.size(); ++k) results[index[k]].reason = ex.what();
-    return results;
-  }
-  for (std::size_t k = 0; k < prepared.size(); ++k) results[index[k]] = std::move(scored[k]);
-  return results;
-}
-
-Evaluation evaluate_creature(const soda::ModelDef& creature, const RunConfig& config) {
-  return evaluate_creature_batch({&creature}, config).front();
+  LimitsConfig l;
+  l.min_masses = in.i32();
+  l.max_masses = in.i32();
+  l.max_links = in.i32();
+  return WalkProblem(f, w, l);
 }
 
 } // namespace sodaevo

@@ -1,0 +1,53 @@
+// Estimator: how a creature's score is estimated from simulations (the role
+// between the Problem, which scores one rollout, and the Evaluator, which decides
+// where the work runs). It prepares each creature through the Problem, asks the
+// Problem for the rollouts it wants and makes one Evaluation of them: `fitness`
+// is its statistic, `estimate` the count and spread of the rollouts.
+//
+// Today's estimator is SingleRollout: one exact rollout, its score the fitness.
+// An estimator with replicas asks for K rollouts of each prepared model (states
+// differing only in their sine jitter) and summarises them (mean, median or a
+// lower confidence bound); its settings travel to the MPI workers by `write`.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "core/model_def.hpp"
+#include "evolve/evaluation.hpp"
+#include "evolve/problem.hpp"
+
+namespace sodaevo {
+
+class Estimator {
+ public:
+  virtual ~Estimator() = default;
+
+  /// The kind's name, also its tag in the wire format ("single").
+  [[nodiscard]] virtual std::string kind() const = 0;
+
+  /// Evaluations of `creatures` under `problem`, on this thread, in one batch
+  /// (the Problem steps their rollouts together where it can). Result i belongs to
+  /// *creatures[i] and equals what it gets alone or in any other batch. A creature
+  /// the Problem refuses is Invalid with the reason; never throws for a creature.
+  [[nodiscard]] virtual std::vector<Evaluation> estimate(const Problem& problem,
+                                                         const std::vector<const soda::ModelDef*>& creatures) const = 0;
+
+  /// Writes the settings, kind tag first, for read_estimator.
+  virtual void write(WireWriter& out) const = 0;
+};
+
+/// One rollout per creature; fitness = its score, estimate {1, score, 0, score}.
+class SingleRollout final : public Estimator {
+ public:
+  [[nodiscard]] std::string kind() const override { return "single"; }
+  [[nodiscard]] std::vector<Evaluation> estimate(const Problem& problem,
+                                                 const std::vector<const soda::ModelDef*>& creatures) const override;
+  void write(WireWriter& out) const override;
+};
+
+/// The Estimator `write` wrote. Throws WireError for an unknown kind.
+std::unique_ptr<Estimator> read_estimator(WireReader& in);
+
+} // namespace sodaevo

@@ -1,0 +1,45 @@
+// Evaluation: what the evaluation of one creature found, the record that the
+// evaluators return, the algorithm ranks, the run store writes and the wire
+// format carries between processes.
+//
+// A creature's score is an estimate (evolve/estimator.hpp) over one or more
+// rollouts (evolve/problem.hpp): `fitness` is the estimator's statistic, and
+// `estimate` says how many rollouts it stands on and how they spread.
+#pragma once
+
+#include <limits>
+#include <string>
+
+namespace sodaevo {
+
+/// The fitness given to invalid or diverged creatures: below every real one.
+inline constexpr double kWorstFitness = -std::numeric_limits<double>::infinity();
+
+enum class EvaluationStatus { Ok, Invalid, Diverged };
+
+/// The rollouts behind a fitness. rollouts == 0: not known (a creature read back
+/// from a file that does not record it, or one that was not scored).
+struct Estimate {
+  int rollouts = 0;
+  double mean = 0.0;    ///< of the rollouts' scores
+  double sd = 0.0;      ///< sample standard deviation (0 for one rollout)
+  double median = 0.0;
+
+  bool operator==(const Estimate&) const = default;
+};
+
+struct Evaluation {
+  EvaluationStatus status = EvaluationStatus::Invalid;
+  std::string reason;           ///< why invalid or diverged; empty when Ok
+  double fitness = kWorstFitness;
+  double distance = 0.0;        ///< centroid x displacement over the scored frames, px
+  double px_per_frame = 0.0;    ///< distance / frames
+  /// Honesty check (/fitness/honesty): relative change of the distance under the
+  /// refined step (evolve/honesty.hpp); 0 when the check is off.
+  double honesty_change = 0.0;
+  Estimate estimate;
+
+  [[nodiscard]] bool ok() const { return status == EvaluationStatus::Ok; }
+};
+
+} // namespace sodaevo

@@ -1,0 +1,14 @@
+#include "problem.hpp"
+
+#include "evolve/walk_problem.hpp"
+#include "evolve/wire_format.hpp"
+
+namespace sodaevo {
+
+std::unique_ptr<Problem> read_problem(WireReader& in) {
+  const std::string kind = in.text();
+  if (kind == "walk") return std::make_unique<WalkProblem>(WalkProblem::read_fields(in));
+  throw WireError("unknown problem kind '" + kind + "'");
+}
+
+} // namespace sodaevo

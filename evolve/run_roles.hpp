@@ -1,0 +1,31 @@
+// The one place where a run's config becomes its roles: the Problem (what is
+// scored), the Estimator (how a score is estimated from rollouts) and the
+// Algorithm (what is evaluated next). Everything below this (estimators,
+// evaluators, MPI workers, the engine) sees the roles, never the RunConfig; the
+// config file format stays as it is.
+#pragma once
+
+#include <memory>
+
+#include "core/model_def.hpp"
+#include "evolve/algorithm.hpp"
+#include "evolve/estimator.hpp"
+#include "evolve/problem.hpp"
+#include "evolve/run_config.hpp"
+
+namespace sodaevo {
+
+struct RunRoles {
+  std::unique_ptr<Problem> problem;
+  std::unique_ptr<Estimator> estimator;
+  std::unique_ptr<Algorithm> algorithm;
+};
+
+/// Today every config makes a WalkProblem, a SingleRollout and a GeneticAlgorithm.
+RunRoles roles_of(const RunConfig& config);
+
+/// One creature evaluated as the run `config` evaluates it (its problem and
+/// estimator, on this thread): what replay checks and the report shows.
+Evaluation evaluate_creature(const soda::ModelDef& creature, const RunConfig& config);
+
+} // namespace sodaevo
