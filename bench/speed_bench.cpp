@@ -24,7 +24,7 @@
 #include "core/number_text.hpp"
 #include "core/scene_analysis.hpp"
 #include "core/simd_level.hpp"
-#include "core/simd_ops.hpp"
+#include "core/detail/simd_ops.hpp"
 #include "core/step.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/parallel_for.hpp"
@@ -181,7 +181,7 @@ volatile double g_sink = 0.0;
 /// Copy k of `model` with every muscle phase moved by k * 0.0007 cycles: as costly
 /// to step as the model, but its sine arguments are its own. Fused scenes compute
 /// a sine shared by creatures with the same wave and muscle phase once
-/// (fast_step.cpp, fill_rows), so identical copies would overstate what a batch of
+/// (core/fused/sine_rows.cpp, fill_rows), so identical copies would overstate what a batch of
 /// different creatures gets.
 soda::Model shifted_copy(const soda::Model& model, int k) {
   soda::Model m = model;

@@ -6,8 +6,8 @@
 #include <set>
 #include <stdexcept>
 
-#include "bits.hpp"
-#include "fused_scene.hpp"
+#include "detail/bits.hpp"
+#include "fused/fused_scene.hpp"
 
 namespace soda {
 

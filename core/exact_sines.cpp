@@ -4,7 +4,7 @@
 #include <bit>
 
 #include "glibc_sine.hpp"
-#include "simd_ops.hpp"
+#include "detail/simd_ops.hpp"
 #include "sine.hpp"
 
 namespace soda {

@@ -4,7 +4,7 @@
 // number of frames: same operations in the same order per value, only grouped
 // differently.
 //
-// How (see fast_step.cpp for details):
+// How (the engine is core/fused/; scene_data.hpp says which file holds what):
 //  - scene analysis once per model (scene_analysis.hpp) picks specialised kernels:
 //    no wave work without muscles, no gravity when it is +0, no bar tests without
 //    bars, no wall test for walls no mass can reach in the next chunk of frames;

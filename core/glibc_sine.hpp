@@ -8,7 +8,7 @@
 
 #include <cstdint>
 
-#include "simd_ops.hpp"
+#include "detail/simd_ops.hpp"
 #include "sine_table.hpp"
 
 namespace soda::glibc_sine {

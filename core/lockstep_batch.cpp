@@ -11,15 +11,15 @@
 #include <cstdint>
 #include <stdexcept>
 
-#include "aligned_vector.hpp"
-#include "bits.hpp"
+#include "detail/aligned_vector.hpp"
+#include "detail/bits.hpp"
 #include "constants.hpp"
 #include "exact_sines.hpp"
 #include "glibc_sine.hpp"
 #include "physics_rules.hpp"
 #include "simd_level.hpp"
-#include "simd_ops.hpp"
-#include "simd_rules.hpp"
+#include "detail/simd_ops.hpp"
+#include "detail/simd_rules.hpp"
 
 namespace soda {
 

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <set>
 
-#include "bits.hpp"
+#include "detail/bits.hpp"
 
 namespace soda {
 

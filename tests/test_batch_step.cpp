@@ -13,7 +13,7 @@
 #include "core/batch_step.hpp"
 #include "core/continuous_step.hpp"
 #include "core/fast_step.hpp"
-#include "core/fused_scene.hpp"
+#include "core/fused/fused_scene.hpp"
 #include "core/input_error.hpp"
 #include "core/lockstep_batch.hpp"
 #include "core/step.hpp"
@@ -262,7 +262,7 @@ TEST_CASE("batch: creatures sharing wave and muscle phases share sines and stay 
 TEST_CASE("batch: standing waves shared between creatures stay exact", "[batch_step]") {
   // Every wave manual: fill_rows computes one row of sines for all. With more than
   // 16 groups, some shared between creatures, the targets read the distinct sines
-  // directly (fast_step.cpp, sine_rows), not a copy by group.
+  // directly (core/fused/sine_rows.cpp), not a copy by group.
   soda::Model base = load_scene(models_dir() / "dainty_walker.xml").model;
   base.wave_direction0 = soda::WaveDirection::Manual;
   soda::Model shifted = base;

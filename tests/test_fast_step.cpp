@@ -13,7 +13,7 @@
 #include "bench/baselines.hpp"
 #include "bench/synthetic.hpp"
 #include "core/fast_step.hpp"
-#include "core/fused_scene.hpp"
+#include "core/fused/fused_scene.hpp"
 #include "core/scene_analysis.hpp"
 #include "core/step.hpp"
 #include "evolve/parallel_for.hpp"

@@ -1,7 +1,8 @@
 // FusedScene: one or more independent models stepped as one scene.
 //
 // This is the engine behind FastStepper (one model) and BatchStepper (K models
-// fused on one core, batch_step.hpp); its kernels live in fast_step.cpp.
+// fused on one core, batch_step.hpp); its data, plan and kernels live in this folder
+// (scene_data.hpp says which file holds what).
 //
 // Why fusing is exact: models never interact (the engine has no mass-mass
 // collision), and bit-exactness only needs, per value, the reference's operations
@@ -32,11 +33,15 @@
 #include <memory>
 #include <vector>
 
-#include "fast_step.hpp"
-#include "model.hpp"
-#include "scene_analysis.hpp"
+#include "core/fast_step.hpp"
+#include "core/model.hpp"
+#include "core/scene_analysis.hpp"
 
 namespace soda {
+
+namespace fused {
+struct SceneData; // scene_data.hpp
+} // namespace fused
 
 class FusedScene {
  public:
@@ -64,10 +69,8 @@ class FusedScene {
   [[nodiscard]] bool points_in_registers() const;
   [[nodiscard]] bool frame_in_registers() const;
 
-  struct Data;
-
  private:
-  std::unique_ptr<Data> d_;
+  std::unique_ptr<fused::SceneData> d_;
 };
 
 } // namespace soda

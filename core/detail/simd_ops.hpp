@@ -3,7 +3,7 @@
 // type M, so that a kernel is written once as a template and compiled per level
 // (under a target pragma, for CPUs chosen at run time).
 //
-// Internal to the core's .cpp files (fast_step.cpp, exact_sines.cpp).
+// Internal to the core's .cpp files (core/fused/, exact_sines.cpp, lockstep_batch.cpp).
 #pragma once
 
 #include <immintrin.h>

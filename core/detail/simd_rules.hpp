@@ -1,6 +1,6 @@
 // The update rules of physics_rules.hpp for W lanes at once (SIMD).
 //
-// The SIMD steppers (fast_step.cpp, lockstep_batch.cpp) run the rules on W masses,
+// The SIMD steppers (core/fused/kernels.hpp, lockstep_batch.cpp) run the rules on W masses,
 // links or creatures at a time. Each function here is one rule of physics_rules.hpp
 // with the same operations in the same order per lane, so every lane gets the bits
 // the scalar rule gives; the comment on each names the rule. Branches of the scalar
@@ -11,7 +11,7 @@
 // simd_ops.hpp's users do.
 #pragma once
 
-#include "constants.hpp"
+#include "core/constants.hpp"
 #include "simd_ops.hpp"
 
 namespace soda::simd_rules {

@@ -1,0 +1,133 @@
+#include "core/fused/fused_scene.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "core/fused/kernel_table.hpp"
+#include "core/fused/scene_data.hpp"
+#include "core/fused/sine_rows.hpp"
+
+namespace soda {
+
+using fused::SceneData;
+using fused::chunk_fn;
+using fused::register_chunk_fn;
+
+void fused::SceneData::load_state(State* const* st) {
+  for (std::size_t c = 0; c < creatures.size(); ++c) {
+    const Creature& cr = creatures[c];
+    const State& s = *st[c];
+    for (int p = 0; p < cr.model->point_count; ++p) {
+      const int w = cr.work_of_point[p];
+      px(w) = s.x[p];
+      py(w) = s.y[p];
+      pvx(w) = s.vx[p];
+      pvy(w) = s.vy[p];
+    }
+  }
+  for (int w = masses; w < padded_masses; ++w) px(w) = py(w) = pvx(w) = pvy(w) = 0.0;
+}
+
+void fused::SceneData::store_state(State* const* st) {
+  for (std::size_t c = 0; c < creatures.size(); ++c) {
+    const Creature& cr = creatures[c];
+    State& s = *st[c];
+    for (int p = 0; p < cr.model->mass_count; ++p) {
+      const int w = cr.work_of_point[p];
+      s.x[p] = px(w);
+      s.y[p] = py(w);
+      s.vx[p] = pvx(w);
+      s.vy[p] = pvy(w);
+    }
+  }
+}
+void fused::SceneData::record(const KernelChoice& k) {
+  last = k;
+  if (std::find(used.begin(), used.end(), k) == used.end()) used.push_back(k);
+}
+
+bool FusedScene::can_fuse(const Model& model) { return model.bar_count() == 0; }
+
+FusedScene::FusedScene(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options)
+    : d_(std::make_unique<SceneData>()) {
+  if (models.empty()) throw std::invalid_argument("FusedScene: no models");
+  if (models.size() > 1) {
+    if (options.force_ordered) throw std::invalid_argument("FusedScene: the ordered kernel takes one model");
+    for (const Model* m : models) {
+      if (!can_fuse(*m)) throw std::invalid_argument("FusedScene: a model with fixed bars cannot be fused");
+    }
+  }
+  d_->build(models, frame_budget, options);
+}
+FusedScene::~FusedScene() = default;
+FusedScene::FusedScene(FusedScene&&) noexcept = default;
+FusedScene& FusedScene::operator=(FusedScene&&) noexcept = default;
+
+int FusedScene::size() const { return static_cast<int>(d_->creatures.size()); }
+const Model& FusedScene::model(int c) const { return *d_->creatures[c].model; }
+const SceneNeeds& FusedScene::needs(int c) const { return d_->creatures[c].needs; }
+bool FusedScene::used(const KernelChoice& k) const {
+  return std::find(d_->used.begin(), d_->used.end(), k) != d_->used.end();
+}
+const KernelChoice& FusedScene::last_kernel() const { return d_->last; }
+long long FusedScene::sines_evaluated() const { return d_->sines_evaluated; }
+bool FusedScene::points_in_registers() const { return d_->points_in_registers; }
+bool FusedScene::frame_in_registers() const { return d_->frame_in_registers; }
+
+void FusedScene::run(State* const* states, long long frames) {
+  SceneData& s = *d_;
+  require_batch_states(
+      states, static_cast<int>(s.creatures.size()), [&](int c) { return s.creatures[c].model->point_count; },
+      s.creatures.size() == 1 ? "FastStepper::run" : "FusedScene::run");
+  if (frames <= 0) return;
+  s.load_state(states);
+  s.leave_rows(); // the states may be others, or changed since
+  KernelChoice k;
+  k.simd = s.simd;
+  k.wave = s.any_wave;
+  k.gravity = s.any_gravity;
+  k.bars = s.bars;
+  k.ordered = s.options.force_ordered || s.bars == BarKind::MovingEnds;
+  // Walls: without bars, the walls no mass of any creature can reach within a
+  // chunk of frames are not tested in that chunk. A chunk ends when a skipped wall
+  // might come into reach; while every wall is tested the reach is re-checked
+  // every kRecheck frames.
+  constexpr long long kMinSkip = 32;  // a wall test costs less than re-checking the reach often
+  constexpr long long kRecheck = 256;
+  const bool adaptive = s.options.adaptive_walls && s.bars == BarKind::None && !k.ordered;
+  long long done = 0;
+  while (done < frames) {
+    long long chunk = frames - done;
+    if (adaptive) {
+      WallSafeFrames safe{kSafeFramesCap, kSafeFramesCap, kSafeFramesCap};
+      for (const SceneData::Creature& cr : s.creatures) {
+        const double* p = s.positions.data() + 2 * static_cast<std::size_t>(cr.mass_base);
+        const WallSafeFrames c = wall_safe_frames(*cr.model, p, p + 1, 2);
+        safe.floor = std::min(safe.floor, c.floor);
+        safe.ceiling = std::min(safe.ceiling, c.ceiling);
+        safe.sides = std::min(safe.sides, c.sides);
+      }
+      k.walls = WallNeeds{safe.floor < kMinSkip, safe.ceiling < kMinSkip, safe.sides < kMinSkip};
+      long long valid = kSafeFramesCap;
+      if (!k.walls.floor) valid = std::min(valid, safe.floor);
+      if (!k.walls.ceiling) valid = std::min(valid, safe.ceiling);
+      if (!k.walls.sides) valid = std::min(valid, safe.sides);
+      if (valid == kSafeFramesCap) valid = kRecheck; // every wall tested
+      chunk = std::min(chunk, valid);
+    } else {
+      k.walls = WallNeeds{};
+    }
+    s.record(k);
+    if (k.ordered) {
+      for (long long f = 0; f < chunk; ++f) s.ordered_frame(*states[0]);
+    } else {
+      (s.frame_in_registers ? register_chunk_fn(k.gravity, k.walls) : chunk_fn(s.simd, k.gravity, k.walls))(
+          s, states, chunk);
+    }
+    done += chunk;
+  }
+  s.store_state(states);
+  for (std::size_t c = 0; c < s.creatures.size(); ++c) states[c]->frame += frames;
+}
+
+} // namespace soda
