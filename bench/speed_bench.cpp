@@ -285,6 +285,7 @@ std::vector<Engine> make_engines(const soda::Model& model, const EngineChoice& c
   if (choice.no_wave && soda::analyse_scene(model, 1).wave) {
     auto still = std::make_shared<soda::Model>(model);
     still->wave_amplitude = 0.0;
+    soda::set_constants(*still); // its muscles' power Aw*Am is now 0
     auto stepper = std::make_shared<soda::FastStepper>(*still, 1'000'000);
     engines.push_back({"fast-no-wave", [stepper, still](long long frames) {
                          soda::State s = soda::make_state(*still);

@@ -23,7 +23,7 @@ double shared_sine_fraction(const std::vector<const Model*>& models, const std::
     const Model& m = *models[static_cast<std::size_t>(i)];
     std::set<Key> mine;
     for (int j = 0; j < m.link_count(); ++j) {
-      if (!m.link_muscle[j] || m.wave_amplitude * m.link_amplitude[j] == 0.0) continue;
+      if (!is_wave_muscle(m, j)) continue;
       mine.insert({bits_of(m.wave_phase0), bits_of(m.wave_speed), static_cast<std::uint64_t>(static_cast<int>(m.wave_direction0)),
                    bits_of(m.link_phase[j])});
     }

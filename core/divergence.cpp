@@ -8,17 +8,25 @@
 
 namespace soda {
 
+int first_non_finite_mass(const Model& model, const State& state) {
+  for (int i = 0; i < model.mass_count; ++i) {
+    if (!std::isfinite(state.x[i]) || !std::isfinite(state.y[i]) || !std::isfinite(state.vx[i]) ||
+        !std::isfinite(state.vy[i])) {
+      return i;
+    }
+  }
+  return -1;
+}
+
 std::optional<std::string> first_non_finite(const Model& model, const State& state) {
   if (!std::isfinite(state.wave_phase)) return std::string("wave phase");
-  for (int i = 0; i < model.mass_count; ++i) {
-    const char* what = !std::isfinite(state.x[i])    ? "x"
-                       : !std::isfinite(state.y[i])  ? "y"
-                       : !std::isfinite(state.vx[i]) ? "vx"
-                       : !std::isfinite(state.vy[i]) ? "vy"
-                                                     : nullptr;
-    if (what) return std::string(what) + " of mass " + std::to_string(i);
-  }
-  return std::nullopt;
+  const int i = first_non_finite_mass(model, state);
+  if (i < 0) return std::nullopt;
+  const char* what = !std::isfinite(state.x[i])   ? "x"
+                     : !std::isfinite(state.y[i]) ? "y"
+                     : !std::isfinite(state.vx[i]) ? "vx"
+                                                   : "vy";
+  return std::string(what) + " of mass " + std::to_string(i);
 }
 
 namespace {
@@ -47,7 +55,7 @@ double mechanical_energy(const Model& m, const State& s) {
     const double stretch = link_length(m, s, i) - link_target(m, s, i);
     e += 0.5 * m.springyness * stretch * stretch;
   }
-  const double g = m.gravity * static_cast<double>(static_cast<int>(m.gravity_direction));
+  const double g = m.gravity_step;
   for (int i = 0; i < m.mass_count; ++i) {
     const double y = std::clamp(s.y[i], 0.0, m.height);
     e += g >= 0.0 ? g * y : -g * (m.height - y);
@@ -69,7 +77,7 @@ double muscle_power_bound(const Model& m, const State& s) {
 DivergenceMonitor::DivergenceMonitor(const Model& model, const State& initial, DivergenceLimits limits,
                                      bool check_energy)
     : model_(model), limits_(limits), check_energy_(check_energy) {
-  const double keep = 1.0 - model.friction;
+  const double keep = model.air_keep;
   kinetic_loss_share_ = 1.0 - keep * keep;
   if (!check_energy_ || first_non_finite(model, initial)) return;
   budget_ = mechanical_energy(model, initial);

@@ -38,8 +38,13 @@ struct Divergence {
   std::string reason;  ///< e.g. "non-finite vx of mass 3", "energy runaway: ..."
 };
 
-/// The first non-finite position or velocity of a free mass, or the wave phase,
-/// named ("vx of mass 3"); nullopt if all are finite.
+/// The engine's one finite-state check: the first free mass (in mass order) whose
+/// position or velocity is not finite, or -1 if there is none. Every caller that
+/// asks whether a creature blew up asks this (the monitor below, the fitness).
+int first_non_finite_mass(const Model& model, const State& state);
+
+/// The first non-finite position or velocity of a free mass (first_non_finite_mass),
+/// or the wave phase, named ("vx of mass 3"); nullopt if all are finite.
 std::optional<std::string> first_non_finite(const Model& model, const State& state);
 
 /// Mechanical energy as defined above, px^2/frame^2 (mass 1).

@@ -8,6 +8,7 @@
 #include <immintrin.h>
 
 #include <algorithm>
+#include <cassert>
 #include <cstdint>
 #include <stdexcept>
 
@@ -91,6 +92,7 @@ bool LockstepBatch::same_shape(const Model& a, const Model& b) {
 LockstepBatch::LockstepBatch(const std::vector<const Model*>& models) : d_(std::make_unique<Data>()) {
   if (models.empty()) throw std::invalid_argument("LockstepBatch: no models");
   for (const Model* m : models) {
+    assert(constants_current(*m));
     if (!same_shape(*models[0], *m)) throw std::invalid_argument("LockstepBatch: models of different shapes, or with fixed bars");
   }
   if (!usable()) throw std::runtime_error("LockstepBatch: this CPU has no AVX-512 (F and DQ)");
@@ -105,8 +107,6 @@ LockstepBatch::LockstepBatch(const std::vector<const Model*>& models) : d_(std::
   d.link_b = shape.link_b;
   const int lanes = d.groups * kW;
   auto model_of = [&](int lane) -> const Model& { return *models[std::min(lane, d.count - 1)]; };
-  // rules::muscle_target_length's power, Aw*Am; 0 for a spring.
-  auto power = [](const Model& m, int j) { return m.link_muscle[j] ? m.wave_amplitude * m.link_amplitude[j] : 0.0; };
 
   // A link whose power is 0 in every lane has target rest * (1 + 0 * sine) = rest
   // exactly, as a spring: only the others need sines. Wave links whose muscle
@@ -114,7 +114,7 @@ LockstepBatch::LockstepBatch(const std::vector<const Model*>& models) : d_(std::
   std::vector<int> column_link;
   for (int j = 0; j < d.links; ++j) {
     bool moves = false;
-    for (int l = 0; l < lanes; ++l) moves = moves || power(model_of(l), j) != 0.0;
+    for (int l = 0; l < lanes; ++l) moves = moves || is_wave_muscle(model_of(l), j);
     if (!moves) continue;
     int column = 0;
     for (; column < static_cast<int>(column_link.size()); ++column) {
@@ -151,14 +151,13 @@ LockstepBatch::LockstepBatch(const std::vector<const Model*>& models) : d_(std::
     const int g = lane / kW, l = lane % kW;
     for (int j = 0; j < d.links; ++j) {
       d.link_row(g, 0, j)[l] = m.link_rest[j];
-      d.link_row(g, 1, j)[l] = power(m, j);
+      d.link_row(g, 1, j)[l] = m.link_power[j];
       d.link_row(g, 2, j)[l] = m.link_rest[j]; // springs' target, for good
     }
     for (int q = 0; q < d.columns; ++q) d.column_row(g, q)[l] = m.link_phase[column_link[q]];
     d.world_row(g, Data::kSpringyness)[l] = m.springyness;
-    // As rules::apply_gravity forms it.
-    d.world_row(g, Data::kGravityStep)[l] = m.gravity * static_cast<double>(static_cast<int>(m.gravity_direction));
-    d.world_row(g, Data::kKeep)[l] = 1.0 - m.friction; // as rules::friction_factor forms it
+    d.world_row(g, Data::kGravityStep)[l] = m.gravity_step;
+    d.world_row(g, Data::kKeep)[l] = m.air_keep;
     d.world_row(g, Data::kWidth)[l] = m.width;
     d.world_row(g, Data::kHeight)[l] = m.height;
     d.world_row(g, Data::kFs)[l] = m.surface_friction;

@@ -10,6 +10,8 @@
 
 #include "input_error.hpp"
 #include "number_text.hpp"
+#include "physics_rules.hpp"
+#include "detail/bits.hpp"
 
 namespace soda {
 
@@ -140,7 +142,42 @@ Model build_model(const ModelDef& def) {
     m.link_amplitude.push_back(muscle ? link.amplitude : 0.0);
     m.link_phase.push_back(muscle ? link.phase : 0.0);
   }
+  set_constants(m);
   return m;
+}
+
+namespace {
+/// The derived constants of a Model's fields (set_constants).
+struct DerivedConstants {
+  double gravity_step = 0.0;
+  double air_keep = 1.0;
+  std::vector<double> link_power;
+};
+
+DerivedConstants derived_constants(const Model& model) {
+  DerivedConstants d;
+  d.gravity_step = rules::gravity_step(model.gravity, model.gravity_direction);
+  d.air_keep = rules::air_keep(model.friction);
+  d.link_power.resize(model.link_muscle.size());
+  for (std::size_t i = 0; i < model.link_muscle.size(); ++i) {
+    d.link_power[i] = model.link_muscle[i] ? rules::muscle_power(model.wave_amplitude, model.link_amplitude[i]) : 0.0;
+  }
+  return d;
+}
+} // namespace
+
+void set_constants(Model& model) {
+  DerivedConstants d = derived_constants(model);
+  model.gravity_step = d.gravity_step;
+  model.air_keep = d.air_keep;
+  model.link_power = std::move(d.link_power);
+}
+
+bool constants_current(const Model& model) {
+  const DerivedConstants d = derived_constants(model);
+  const auto same = [](double a, double b) { return bits_of(a) == bits_of(b); };
+  return same(d.gravity_step, model.gravity_step) && same(d.air_keep, model.air_keep) &&
+         std::equal(d.link_power.begin(), d.link_power.end(), model.link_power.begin(), model.link_power.end(), same);
 }
 
 State make_state(const Model& model) {

@@ -49,6 +49,13 @@ struct Model {
   std::vector<double> link_amplitude;     ///< [link_count] muscle amplitude Am (0 for springs)
   std::vector<double> link_phase;         ///< [link_count] muscle phase (cycles)
 
+  // --- derived constants (set_constants, as MuJoCo's mj_setConst): each formed
+  // once per model by the rule's own expression (physics_rules.hpp), so that every
+  // stepper reads the same bits ---
+  double gravity_step = 0.0;      ///< g*d (rules::gravity_step)
+  double air_keep = 1.0;          ///< 1 - f (rules::air_keep)
+  std::vector<double> link_power; ///< [link_count] muscle power Aw*Am (rules::muscle_power); 0 for springs
+
   // --- fixed bars (collision segments), file order ---
   std::vector<int> bar_a; ///< [bar_count] point index
   std::vector<int> bar_b; ///< [bar_count] point index
@@ -77,6 +84,18 @@ struct State {
 /// original's ranges (constants.hpp), unnormalised amplitudes or phases, bad link
 /// indices, a link from a node to itself, counts above the limits.
 Model build_model(const ModelDef& def);
+
+/// Forms the derived constants of `model` from its fields. build_model calls it; call
+/// it again after changing gravity, friction, the wave amplitude or a link's muscle
+/// flag or amplitude of a built Model by hand (the steppers assert, in builds with
+/// assertions, that the constants are current).
+void set_constants(Model& model);
+
+/// Whether the derived constants are those set_constants forms, bit for bit.
+[[nodiscard]] bool constants_current(const Model& model);
+
+/// A link that moves with the wave: a muscle of power (Aw*Am) other than 0.
+[[nodiscard]] inline bool is_wave_muscle(const Model& model, int link) { return model.link_power[link] != 0.0; }
 
 /// The state as loaded (frame 0).
 State make_state(const Model& model);

@@ -40,9 +40,28 @@ inline double link_impulse_factor(double springyness, double length, double targ
   return springyness * (length - target) / length;
 }
 
-/// Gravity (spec 5.3 step 1): vy -= g*d, y up, d = +1 down, -1 up, 0 off.
+/// Muscle power Aw*Am (spec 5.2), the product muscle_target_length forms. 0 makes a
+/// muscle a spring: its target is rest*(1 + (+-0)) = rest whatever the sine.
+inline double muscle_power(double wave_amplitude, double muscle_amplitude) {
+  return wave_amplitude * muscle_amplitude;
+}
+
+/// Gravity's velocity step g*d (spec 5.3 step 1), y up, d = +1 down, -1 up, 0 off.
+/// g = 0 with gravity up gives -0, which is not an identity (-0 - (-0) = +0).
+inline double gravity_step(double gravity, GravityDirection direction) {
+  return gravity * static_cast<double>(static_cast<int>(direction));
+}
+
+/// The share of velocity air friction leaves per frame (spec 5.3 step 2), 1 - f.
+inline double air_keep(double friction) { return 1.0 - friction; }
+
+/// Gravity (spec 5.3 step 1): vy -= g*d, with `step` = gravity_step(g, d)
+/// (Model::gravity_step).
+inline double apply_gravity(double vy, double step) { return vy - step; }
+
+/// The same from g and d.
 inline double apply_gravity(double vy, double gravity, GravityDirection direction) {
-  return vy - gravity * static_cast<double>(static_cast<int>(direction));
+  return apply_gravity(vy, gravity_step(gravity, direction));
 }
 
 /// Air friction with the "syrup" speed limit (spec 5.3 step 2): the velocity is
@@ -57,9 +76,9 @@ inline double friction_factor_kept(double vx, double vy, double keep) {
   return factor;
 }
 
-/// The original's air friction: friction_factor_kept with keep = 1 - f.
+/// The original's air friction: friction_factor_kept with keep = air_keep(f).
 inline double friction_factor(double vx, double vy, double friction) {
-  return friction_factor_kept(vx, vy, 1.0 - friction);
+  return friction_factor_kept(vx, vy, air_keep(friction));
 }
 
 /// Syrup limit alone (continuous mode, Verlet and RK4, where air friction is part
@@ -106,6 +125,54 @@ inline SideWall collide_with_container(double& x, double& y, double& vx, double&
   vx = vx * surface_reflection;
   vy = vy * surface_friction;
   return side;
+}
+
+/// The numbers the mass rules (spec 5.3) take for one mass: its model's for the
+/// original's frame (frame_constants), or per step of dt frames in the `continuous`
+/// mode's Euler (step.hpp EulerStep).
+struct MassConstants {
+  double gravity_step;       ///< g*d (gravity_step), per step
+  double keep;               ///< share of velocity air friction leaves per step (air_keep)
+  double dt;                 ///< frames per step (1 in the original)
+  double width, height;      ///< container
+  double surface_friction;   ///< Fs, per step
+  double surface_reflection; ///< Rs
+};
+
+/// The original's frame for model `m`: its derived constants (Model::gravity_step,
+/// Model::air_keep; set_constants) and dt = 1.
+inline MassConstants frame_constants(const Model& m) {
+  return {m.gravity_step, m.air_keep, 1.0, m.width, m.height, m.surface_friction, m.surface_reflection};
+}
+
+/// What move_mass did.
+struct MassStepResult {
+  bool moved = false;            ///< false: at rest (is_at_rest), neither moved nor collided
+  SideWall hit = SideWall::None; ///< the side wall that responded (for autoreverse)
+  double x0 = 0.0, y0 = 0.0;     ///< the position before the move (for the fixed bars)
+};
+
+/// One free mass after its link impulses (spec 5.3): gravity, air friction with the
+/// syrup limit, the rest test, the move by v*dt and the container, in the
+/// original's order; (x, y, vx, vy) are updated. The caller then does autoreverse on
+/// `hit` and the fixed bars (complete_move). Every stepper's scalar mass update is
+/// this function (step.cpp, the fused scenes' ordered masses);
+/// simd_rules::move_mass is its twin for W masses at once.
+[[gnu::always_inline]] inline MassStepResult move_mass(const MassConstants& c, double& x, double& y, double& vx,
+                                                       double& vy) {
+  MassStepResult r;
+  vy = apply_gravity(vy, c.gravity_step);
+  const double factor = friction_factor_kept(vx, vy, c.keep);
+  vx = factor * vx;
+  vy = factor * vy;
+  if (is_at_rest(vx, vy)) return r;
+  r.moved = true;
+  r.x0 = x;
+  r.y0 = y;
+  x = r.x0 + vx * c.dt;
+  y = r.y0 + vy * c.dt;
+  r.hit = collide_with_container(x, y, vx, vy, c.width, c.height, c.surface_friction, c.surface_reflection);
+  return r;
 }
 
 /// Continuous mode, Verlet and RK4 only (not in the original): surface friction is

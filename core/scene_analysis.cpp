@@ -55,18 +55,15 @@ SceneNeeds analyse_scene(const Model& model, long long frame_budget) {
     if (model.is_mass(model.link_a[i]) || model.is_mass(model.link_b[i])) ++n.active_links;
     if (!model.link_muscle[i]) continue;
     ++n.muscles;
-    // The same product as rules::muscle_target_length forms; +-0 makes the target
-    // rest*(1 + +-0) = rest exactly, so the muscle is a spring.
-    const double power_factor = model.wave_amplitude * model.link_amplitude[i];
-    if (power_factor == 0.0) continue;
+    // Power +-0 makes the target rest*(1 + +-0) = rest exactly: a spring.
+    if (!is_wave_muscle(model, i)) continue;
     if (!(model.is_mass(model.link_a[i]) || model.is_mass(model.link_b[i]))) continue;
     ++n.wave_muscles;
     phases.insert(bits_of(model.link_phase[i]));
   }
   n.distinct_phases = static_cast<int>(phases.size());
   n.wave = n.wave_muscles > 0;
-  const double gd = model.gravity * static_cast<double>(static_cast<int>(model.gravity_direction));
-  n.gravity = bits_of(gd) != bits_of(0.0);
+  n.gravity = bits_of(model.gravity_step) != bits_of(0.0);
   if (model.bar_count() > 0) {
     n.bars = BarKind::FixedSegments;
     for (int b = 0; b < model.bar_count(); ++b) {

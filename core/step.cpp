@@ -1,5 +1,6 @@
 #include "step.hpp"
 
+#include <cassert>
 #include <cmath>
 
 #include "physics_rules.hpp"
@@ -34,45 +35,46 @@ namespace {
   }
 }
 
-/// Part 2 (spec 5.3): the masses in order.
-[[gnu::always_inline]] inline void move_masses(const Model& m, State& s, EulerStep e) {
+/// Part 2 (spec 5.3): the masses in order, each by rules::move_mass, then
+/// autoreverse and the fixed bars (rules::complete_move).
+[[gnu::always_inline]] inline void move_masses(const Model& m, State& s, const rules::MassConstants& k) {
   for (int i = 0; i < m.mass_count; ++i) {
-    double vx = s.vx[i];
-    double vy = rules::apply_gravity(s.vy[i], e.gravity, m.gravity_direction);
-    const double factor = rules::friction_factor_kept(vx, vy, e.keep);
-    vx = factor * vx;
-    vy = factor * vy;
-    if (rules::is_at_rest(vx, vy)) {
+    double x = s.x[i], y = s.y[i], vx = s.vx[i], vy = s.vy[i];
+    const rules::MassStepResult r = rules::move_mass(k, x, y, vx, vy);
+    if (!r.moved) {
       s.vx[i] = vx;
       s.vy[i] = vy;
       continue;
     }
-    const double x0 = s.x[i];
-    const double y0 = s.y[i];
-    double x = x0 + vx * e.dt;
-    double y = y0 + vy * e.dt;
-    const SideWall hit =
-        rules::collide_with_container(x, y, vx, vy, m.width, m.height, e.surface_friction, m.surface_reflection);
-    rules::complete_move(m, s, i, hit, e.dt, e.surface_friction, x0, y0, x, y, vx, vy);
+    rules::complete_move(m, s, i, r.hit, k.dt, k.surface_friction, r.x0, r.y0, x, y, vx, vy);
   }
 }
 
 // Inlined into step() too, where dt = 1 is a constant and its products fold away:
 // the reference step costs no more than before it served both.
-[[gnu::always_inline]] inline void euler_step_inline(const Model& m, State& s, EulerStep e) {
-  apply_links(m, s, e.dt);
-  move_masses(m, s, e);
-  s.wave_phase = rules::advance_wave_phase(s.wave_phase, e.wave_step, s.wave_mode);
+[[gnu::always_inline]] inline void euler_step_inline(const Model& m, State& s, const rules::MassConstants& k,
+                                                     double wave_step) {
+  apply_links(m, s, k.dt);
+  move_masses(m, s, k);
+  s.wave_phase = rules::advance_wave_phase(s.wave_phase, wave_step, s.wave_mode);
 }
 
 } // namespace
 
-void euler_step(const Model& model, State& state, const EulerStep& e) { euler_step_inline(model, state, e); }
+void euler_step(const Model& model, State& state, const EulerStep& e) {
+  const rules::MassConstants k{rules::gravity_step(e.gravity, model.gravity_direction),
+                               e.keep,
+                               e.dt,
+                               model.width,
+                               model.height,
+                               e.surface_friction,
+                               model.surface_reflection};
+  euler_step_inline(model, state, k, e.wave_step);
+}
 
 namespace {
 void step_unchecked(const Model& model, State& state) {
-  euler_step_inline(model, state,
-                    {1.0, model.gravity, 1.0 - model.friction, model.surface_friction, model.wave_speed});
+  euler_step_inline(model, state, rules::frame_constants(model), model.wave_speed);
   ++state.frame;
 }
 } // namespace
@@ -84,6 +86,7 @@ void step(const Model& model, State& state) {
 
 void run(const Model& model, State& state, long long frames) {
   require_state_size(state, model.point_count, "soda::run");
+  assert(constants_current(model));
   for (long long f = 0; f < frames; ++f) step_unchecked(model, state);
 }
 

@@ -97,6 +97,7 @@ std::vector<soda::Model> variants_of(const soda::Model& base) {
     for (int p = 0; p < m.mass_count; ++p) m.vx0[p] += 25.0;
     out.push_back(m);
   }
+  for (soda::Model& m : out) soda::set_constants(m); // gravity, friction, muscles changed by hand
   return out;
 }
 

@@ -202,3 +202,39 @@ TEST_CASE("wrap_phase equals x - floor(x) bit for bit, signed zeros and edges in
     REQUIRE(bits(soda::wrap_phase(x)) == bits(by_definition(x)));
   }
 }
+
+TEST_CASE("a model's derived constants are formed once, by hand-checked values", "[physics]") {
+  // Gravity 0.3 down: step +0.3; friction 0.25: keep 0.75; a muscle of amplitude
+  // 0.4 under a wave of amplitude 0.5: power 0.2 (a halving, exact); a spring: 0.
+  soda::ModelDef def = open_world(0.3, 0.25, 0.2);
+  def.wave.amplitude = 0.5;
+  def.nodes.push_back(mass(100.0, 100.0));
+  def.nodes.push_back(mass(150.0, 100.0));
+  def.nodes.push_back(mass(125.0, 140.0));
+  def.links.push_back({soda::LinkKind::Muscle, 0, 1, 50.0, 0.4, 0.25});
+  def.links.push_back({soda::LinkKind::Spring, 1, 2, 47.0, 0.0, 0.0});
+  soda::Model model = soda::build_model(def);
+  CHECK(model.gravity_step == 0.3);
+  CHECK(model.air_keep == 0.75);
+  REQUIRE(model.link_power.size() == 2);
+  CHECK(model.link_power[0] == 0.2);
+  CHECK(model.link_power[1] == 0.0);
+  CHECK(soda::is_wave_muscle(model, 0));
+  CHECK_FALSE(soda::is_wave_muscle(model, 1));
+  CHECK(soda::constants_current(model));
+
+  // Changed by hand: stale until set_constants. Gravity up with g = 0 is -0, not
+  // +0 (vy - (-0) turns a -0 velocity into +0: not an identity).
+  model.gravity = 0.0;
+  model.gravity_direction = soda::GravityDirection::Up;
+  model.friction = 0.5;
+  model.link_amplitude[0] = 0.0;
+  CHECK_FALSE(soda::constants_current(model));
+  soda::set_constants(model);
+  CHECK(soda::constants_current(model));
+  CHECK(model.gravity_step == 0.0);
+  CHECK(std::signbit(model.gravity_step));
+  CHECK(model.air_keep == 0.5);
+  CHECK(model.link_power[0] == 0.0);
+  CHECK_FALSE(soda::is_wave_muscle(model, 0));
+}

@@ -5,6 +5,9 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <limits>
+#include <optional>
+#include <string>
 
 #include "bench/extreme_creatures.hpp"
 #include "core/divergence.hpp"
@@ -86,6 +89,21 @@ TEST_CASE("divergence: an overflowing spring is flagged non-finite at its frame"
   const Evaluation e = WalkProblem(fc, {}, {}).rollout_with(two_masses(1.7e308), {});
   CHECK(e.status == EvaluationStatus::Diverged);
   CHECK(e.reason.find("non-finite") != std::string::npos);
+}
+
+TEST_CASE("divergence: the finite-state check names the first mass in mass order", "[stress]") {
+  const soda::Model model = sodaevo::test::load_scene(sodaevo::test::models_dir() / "dainty_walker.xml").model;
+  REQUIRE(model.mass_count >= 4);
+  soda::State s = soda::make_state(model);
+  CHECK(soda::first_non_finite_mass(model, s) == -1);
+  CHECK_FALSE(soda::first_non_finite(model, s).has_value());
+  s.x[3] = std::numeric_limits<double>::infinity();
+  s.vy[2] = std::numeric_limits<double>::quiet_NaN();
+  CHECK(soda::first_non_finite_mass(model, s) == 2);
+  CHECK(soda::first_non_finite(model, s) == std::optional<std::string>("vy of mass 2"));
+  s.vy[2] = 1.0;
+  CHECK(soda::first_non_finite_mass(model, s) == 3);
+  CHECK(soda::first_non_finite(model, s) == std::optional<std::string>("x of mass 3"));
 }
 
 TEST_CASE("divergence: a stiff hub unstable under one step per frame is flagged as energy runaway", "[stress]") {

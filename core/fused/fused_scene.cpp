@@ -1,6 +1,7 @@
 #include "core/fused/fused_scene.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <stdexcept>
 
 #include "core/fused/kernel_table.hpp"
@@ -57,6 +58,9 @@ FusedScene::FusedScene(const std::vector<const Model*>& models, long long frame_
       if (!can_fuse(*m)) throw std::invalid_argument("FusedScene: a model with fixed bars cannot be fused");
     }
   }
+#ifndef NDEBUG
+  for (const Model* m : models) assert(constants_current(*m));
+#endif
   d_->build(models, frame_budget, options);
 }
 FusedScene::~FusedScene() = default;

@@ -19,6 +19,7 @@ void SceneData::collide_with_bars(int i, double x0, double y0) {
 // masses moved before it).
 void SceneData::ordered_masses(State& s) {
   const Model& m = *creatures[0].model;
+  const rules::MassConstants k = rules::frame_constants(m);
   for (int p = 0; p < masses; ++p) {
     const int i = creatures[0].work_of_point[p];
     // Impulses in file order of the links.
@@ -28,25 +29,15 @@ void SceneData::ordered_masses(State& s) {
       vxi += impulses[*sl];
       vyi += impulses[*sl + 1];
     }
-    vyi = rules::apply_gravity(vyi, m.gravity, m.gravity_direction);
-    const double factor = rules::friction_factor(vxi, vyi, m.friction);
-    vxi = factor * vxi;
-    vyi = factor * vyi;
-    if (rules::is_at_rest(vxi, vyi)) {
-      pvx(i) = vxi;
-      pvy(i) = vyi;
-      continue;
-    }
-    const double x0 = px(i), y0 = py(i);
-    double xi = x0 + vxi, yi = y0 + vyi;
-    const SideWall hit = rules::collide_with_container(xi, yi, vxi, vyi, m.width, m.height, m.surface_friction,
-                                                       m.surface_reflection);
-    rules::autoreverse_on_wall_hit(hit, m.autoreverse, s.wave_mode, s.last_side_wall);
-    px(i) = xi;
-    py(i) = yi;
+    double xi = px(i), yi = py(i);
+    const rules::MassStepResult moved = rules::move_mass(k, xi, yi, vxi, vyi);
     pvx(i) = vxi;
     pvy(i) = vyi;
-    if (!bar_a.empty()) collide_with_bars(i, x0, y0);
+    if (!moved.moved) continue;
+    rules::autoreverse_on_wall_hit(moved.hit, m.autoreverse, s.wave_mode, s.last_side_wall);
+    px(i) = xi;
+    py(i) = yi;
+    if (!bar_a.empty()) collide_with_bars(i, moved.x0, moved.y0);
   }
 }
 

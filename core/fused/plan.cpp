@@ -40,7 +40,20 @@ void SceneData::build(const std::vector<const Model*>& models, long long budget,
   if (!simd_level_supported(simd)) simd = best_simd_level();
   W = width_of(simd);
   sine_fn = exact_sin_fn(opt.vector_sines ? simd : SimdLevel::Sse2);
+  place_points(models, budget);
+  set_mass_parameters();
+  std::vector<ActingLink> acting = order_links();
+  const std::vector<std::vector<std::int32_t>> impulses_of_mass = place_links(acting);
+  const std::vector<int> slot_of_link = lane_slot_of_link();
+  place_link_ends_in_lanes(slot_of_link);
+  set_link_parameters(acting, slot_of_link);
+  prepare_sine_rows();
+  place_bars();
+  plan_register_frame(acting, slot_of_link, impulses_of_mass);
+}
 
+// The creatures' points in working order, and the arrays that hold them.
+void SceneData::place_points(const std::vector<const Model*>& models, long long budget) {
   creatures.assign(models.size(), {});
   masses = 0;
   fixed_points = 0;
@@ -81,14 +94,17 @@ void SceneData::build(const std::vector<const Model*>& models, long long budget,
   velocities.assign(2 * static_cast<std::size_t>(spare_point + 1), 0.0);
   positions_before_move.assign(2 * static_cast<std::size_t>(padded_masses), 0.0);
   side_hit.assign(2 * static_cast<std::size_t>(padded_masses), 0.0);
+}
 
-  // Per-mass parameters (padding masses: gravity +0, so they stay at rest).
+// Each mass's own creature's world, in lane order (padding masses: gravity +0,
+// so they stay at rest).
+void SceneData::set_mass_parameters() {
   std::vector<double> gd, keep, width, height, fs, rs;
   for (const Creature& cr : creatures) {
     const Model& m = *cr.model;
     for (int i = 0; i < m.mass_count; ++i) {
-      gd.push_back(m.gravity * static_cast<double>(static_cast<int>(m.gravity_direction))); // rules::apply_gravity
-      keep.push_back(1.0 - m.friction); // rules::friction_factor
+      gd.push_back(m.gravity_step);
+      keep.push_back(m.air_keep);
       width.push_back(m.width);
       height.push_back(m.height);
       fs.push_back(m.surface_friction);
@@ -102,27 +118,34 @@ void SceneData::build(const std::vector<const Model*>& models, long long budget,
   mass_height = in_lane_order(height, W, np, 1.0);
   mass_surface_friction = in_lane_order(fs, W, np, 1.0);
   mass_surface_reflection = in_lane_order(rs, W, np, 1.0);
+}
 
-  // ActingLink links (a free end), the wave muscles of every creature first, then the
-  // other links, each creature's in file order. The order links are computed in
-  // is free: only the order of the additions into each velocity matters, and the
-  // impulse_slots below keep each model's file order for that.
-  auto wave_muscle = [](const Model& m, int i) {
-    return m.link_muscle[i] && (m.wave_amplitude * m.link_amplitude[i]) != 0.0;
-  };
+// The links that can act (a free end) in the order the link pass computes them:
+// the wave muscles of every creature first, then the other links, each creature's
+// in file order, then arranged in blocks (arrange_links, order_by_need). The order
+// links are computed in is free: only the order of the additions into each
+// velocity matters, and the impulse slots (place_links) keep each model's file
+// order for that.
+std::vector<SceneData::ActingLink> SceneData::order_links() {
   std::vector<ActingLink> acting;
   for (int pass = 0; pass < 2; ++pass) {
     for (std::size_t c = 0; c < creatures.size(); ++c) {
       const Model& m = *creatures[c].model;
       for (int i = 0; i < m.link_count(); ++i) {
         if (!m.is_mass(m.link_a[i]) && !m.is_mass(m.link_b[i])) continue; // no effect at all
-        if (wave_muscle(m, i) == (pass == 0)) acting.push_back({static_cast<int>(c), i, false, pass == 0, 0});
+        if (is_wave_muscle(m, i) == (pass == 0)) acting.push_back({static_cast<int>(c), i, false, pass == 0, 0});
       }
     }
     if (pass == 0) wave_muscles = static_cast<int>(acting.size());
   }
   arrange_links(acting); // sets padded_wave_muscles
   if (frames_fit_registers(static_cast<int>(acting.size()))) order_by_need(acting);
+  return acting;
+}
+
+// The link slots' ends, and per mass the impulse slots it adds, in file order of
+// its model's links (returned: the impulse pairs of each working mass).
+std::vector<std::vector<std::int32_t>> SceneData::place_links(const std::vector<ActingLink>& acting) {
   link_slots = static_cast<int>(acting.size());
   padded_link_slots = (link_slots + kMaxWidth - 1) / kMaxWidth * kMaxWidth;
   end_a_offset.assign(static_cast<std::size_t>(padded_link_slots), 0);
@@ -178,11 +201,21 @@ void SceneData::build(const std::vector<const Model*>& models, long long budget,
       }
     }
   }
-  // Targets and springyness in lane order: lane l of block b holds link b*W + kLaneLink(W, l).
+  return per_mass;
+}
+
+// Targets and springyness in lane order: lane l of block b holds link b*W + kLaneLink(W, l).
+std::vector<int> SceneData::lane_slot_of_link() const {
   std::vector<int> slot_of_link(static_cast<std::size_t>(padded_link_slots));
   for (int b = 0; b < padded_link_slots; b += W) {
     for (int l = 0; l < W; ++l) slot_of_link[b + kLaneLink(W, l)] = b + l;
   }
+  return slot_of_link;
+}
+
+// The link pass with every point in registers (AVX-512, small scenes): each
+// end's point in lane order.
+void SceneData::place_link_ends_in_lanes(const std::vector<int>& slot_of_link) {
   points_in_registers = simd == SimdLevel::Avx512 && padded_masses + fixed_points <= Avx512Ops::kRegisterPoints;
   end_a_point.clear();
   end_b_point.clear();
@@ -194,6 +227,11 @@ void SceneData::build(const std::vector<const Model*>& models, long long budget,
       end_b_point[slot_of_link[k]] = end_b_offset[k] / 2;
     }
   }
+}
+
+// Per link slot its target, springyness and direction; per wave muscle its rest
+// length, power and group of shared sine (a distinct phase of its creature).
+void SceneData::set_link_parameters(const std::vector<ActingLink>& acting, const std::vector<int>& slot_of_link) {
   muscle_rest.assign(static_cast<std::size_t>(padded_wave_muscles), 0.0);
   muscle_power.assign(static_cast<std::size_t>(padded_wave_muscles), 0.0);
   muscle_group.assign(static_cast<std::size_t>(padded_wave_muscles), 0);
@@ -224,7 +262,7 @@ void SceneData::build(const std::vector<const Model*>& models, long long budget,
     link_swap_sign[q] = acting[k].swapped ? -1.0 : 1.0;
     if (q < padded_wave_muscles) muscle_rest[q] = m.link_rest[i];
     if (!acting[k].wave) continue;
-    muscle_power[q] = m.wave_amplitude * m.link_amplitude[i]; // the product muscle_target_length forms
+    muscle_power[q] = m.link_power[i];
     auto [it, inserted] = group_of_phase[acting[k].creature].try_emplace(bits_of(m.link_phase[i]), 0);
     if (inserted) {
       it->second = cr.group_base + next_group[acting[k].creature]++;
@@ -232,6 +270,11 @@ void SceneData::build(const std::vector<const Model*>& models, long long budget,
     }
     muscle_group[q] = it->second;
   }
+}
+
+// The rows of sines (sine_rows.hpp): their sizes, and the numbering of the
+// distinct sine arguments, made at the first fill.
+void SceneData::prepare_sine_rows() {
   // Rows of sines per batch: enough frames that the batch overhead is shared.
   constexpr int kSinesPerBatch = 1024;
   rows_per_fill = std::clamp(kSinesPerBatch / std::max(groups, 1), 1, 16);
@@ -271,7 +314,10 @@ void SceneData::build(const std::vector<const Model*>& models, long long budget,
   first_argument_of_state.assign(creatures.size() + 1, 0);
   argument_muscle_phase.assign(static_cast<std::size_t>(groups + kMaxWidth), 0.0); // padded for args_kernel
   argument_of_group.assign(static_cast<std::size_t>(groups), 0);
+}
 
+// Fixed bars (single-model scenes), as working offsets.
+void SceneData::place_bars() {
   if (creatures.size() == 1) {
     const Model& m = *creatures[0].model;
     for (int b = 0; b < m.bar_count(); ++b) {
@@ -279,8 +325,11 @@ void SceneData::build(const std::vector<const Model*>& models, long long budget,
       bar_b.push_back(2 * creatures[0].work_of_point[m.bar_b[b]]);
     }
   }
+}
 
-  // The frame in registers: the register lane of working point (or link slot) p.
+// The frame in registers: the register lane of working point (or link slot) p.
+void SceneData::plan_register_frame(const std::vector<ActingLink>& acting, const std::vector<int>& slot_of_link,
+                                    const std::vector<std::vector<std::int32_t>>& per_mass) {
   frame_in_registers = frames_fit_registers(padded_link_slots);
   reg_end_a_lane.clear();
   reg_end_b_lane.clear();

@@ -1,9 +1,22 @@
 // The data of a fused scene (FusedScene, fused_scene.hpp): the working arrays the
 // kernels step, the plan that arranged them, and the muscle-target and sine-row state.
 //
-// One plain struct, as MuJoCo's mjData, filled once by build() (plan.cpp) and then
-// stepped by the kernels (kernels.hpp, register_frame.hpp), the sine rows
-// (sine_rows.hpp/.cpp) and the ordered masses (ordered.cpp). Its sections:
+// One plain struct, as MuJoCo's mjData, filled once by build() and then stepped.
+// The files of core/fused/, each named for what it holds:
+//   scene_data.hpp      this struct (the arrays; lane order helpers)
+//   plan.cpp            build(): working order of the points, the order the link pass
+//                       computes the links in (arrange_links, order_by_need), impulse
+//                       slots, muscle groups, lane tables of the frame in registers
+//   kernels.hpp         the SIMD kernels as templates over simd_ops (links, masses,
+//                       muscle targets, sine arguments) and the frame loop (run_chunk)
+//   register_frame.hpp  whole frames in AVX-512 registers (small scenes)
+//   kernel_table.hpp    choosing a kernel per instruction set and specialisation;
+//   kernels.cpp           the kernels compiled per instruction set (one unit)
+//   sine_rows.hpp/.cpp  muscle targets from shared rows of sines
+//   ordered.cpp         masses one by one in file order; autoreverse and bars after
+//                       the SIMD mass pass
+//   fused_scene.cpp     FusedScene: loading and storing states, the chunked run loop
+// Sections of the struct:
 //  - creatures: the models of the scene and where their masses sit;
 //  - points: every point of every creature as (x, y) pairs in working order;
 //  - per-mass parameters: each mass's own creature's world, in lane order;
@@ -211,7 +224,19 @@ struct SceneData {
   [[nodiscard]] double& pvx(int w) { return velocities[2 * static_cast<std::size_t>(w)]; }
   [[nodiscard]] double& pvy(int w) { return velocities[2 * static_cast<std::size_t>(w) + 1]; }
 
+  // The plan (plan.cpp): build() in its steps.
   void build(const std::vector<const Model*>& models, long long budget, FastStepOptions opt);
+  void place_points(const std::vector<const Model*>& models, long long budget);
+  void set_mass_parameters();
+  std::vector<ActingLink> order_links();
+  std::vector<std::vector<std::int32_t>> place_links(const std::vector<ActingLink>& acting);
+  [[nodiscard]] std::vector<int> lane_slot_of_link() const;
+  void place_link_ends_in_lanes(const std::vector<int>& slot_of_link);
+  void set_link_parameters(const std::vector<ActingLink>& acting, const std::vector<int>& slot_of_link);
+  void prepare_sine_rows();
+  void place_bars();
+  void plan_register_frame(const std::vector<ActingLink>& acting, const std::vector<int>& slot_of_link,
+                           const std::vector<std::vector<std::int32_t>>& per_mass);
   void arrange_links(std::vector<ActingLink>& acting);
   void order_by_need(std::vector<ActingLink>& acting);
   /// Working index of end a (or b) of acting link l of a creature: below masses for a
