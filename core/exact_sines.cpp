@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <bit>
 
-#include "glibc_sine.hpp"
+#include "detail/glibc_sine.hpp"
 #include "detail/simd_ops.hpp"
 #include "sine.hpp"
 

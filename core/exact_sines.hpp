@@ -1,7 +1,7 @@
 // Exact sines: the engine's sine (sine.hpp), several arguments at a time.
 //
 // soda::sine is glibc's x86-64 FMA sin: a fixed sequence of double operations on
-// a 110-row table, some of them fused. glibc_sine.hpp repeats that sequence lane
+// a 110-row table, some of them fused. detail/glibc_sine.hpp repeats that sequence lane
 // by lane in SIMD (AVX2 with FMA, AVX-512): the same fused and unfused operations
 // on the same operands, so the same bits as sine. Lanes outside sine's range
 // (|x| >= 105414336, infinities, NaN) take sine's result. SSE2 has no fused

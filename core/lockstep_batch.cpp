@@ -16,7 +16,7 @@
 #include "detail/bits.hpp"
 #include "constants.hpp"
 #include "exact_sines.hpp"
-#include "glibc_sine.hpp"
+#include "detail/glibc_sine.hpp"
 #include "physics_rules.hpp"
 #include "simd_level.hpp"
 #include "detail/simd_ops.hpp"

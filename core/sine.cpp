@@ -1,5 +1,5 @@
 // The engine's scalar sine (sine.hpp says what and why). The operations and the
-// fused ones are those of the vector kernel (glibc_sine.hpp), one lane at a time
+// fused ones are those of the vector kernel (detail/glibc_sine.hpp), one lane at a time
 // and taking only its own branch.
 #include "sine.hpp"
 

@@ -10,7 +10,7 @@
 // double operations on a 110-row table (sine_table.hpp), with std::fma exactly
 // where that build fuses. std::fma is correctly rounded on every platform, so the
 // result does not depend on the CPU, the compiler's contraction (-ffp-contract=off
-// holds everywhere) or the C library. The vector kernel (glibc_sine.hpp, through
+// holds everywhere) or the C library. The vector kernel (detail/glibc_sine.hpp, through
 // exact_sines.hpp) gives the same bits, several lanes at a time.
 //
 // Range. Every branch of glibc's sin for |x| < 105414336 is repeated here; muscle

@@ -1,7 +1,7 @@
 // The numbers of the engine's sine (sine.hpp): glibc's constants and its 110-row
 // table of sin and cos at i/128.
 //
-// Shared by the scalar sine (sine.cpp) and the vector kernel (glibc_sine.hpp), so
+// Shared by the scalar sine (sine.cpp) and the vector kernel (detail/glibc_sine.hpp), so
 // the two cannot drift apart. Plain C++ (no instruction-set headers): it builds on
 // every target, WebAssembly included.
 #pragma once

@@ -1,15 +1,15 @@
 // glibc's sin in SIMD, the kernel itself (sine.hpp and exact_sines.hpp say what and why).
 //
 // In a header so that a kernel which keeps its state in vector registers can
-// have the sines inlined into its own loop (fast_step.cpp, register_chunk): a call
+// have the sines inlined into its own loop (lockstep_batch.cpp, step_groups): a call
 // spills every vector register. Include it only where the instruction set of O is
-// enabled (#pragma GCC target), as exact_sines.cpp and fast_step.cpp do.
+// enabled (#pragma GCC target), as exact_sines.cpp and lockstep_batch.cpp do.
 #pragma once
 
 #include <cstdint>
 
-#include "detail/simd_ops.hpp"
-#include "sine_table.hpp"
+#include "core/detail/simd_ops.hpp"
+#include "core/sine_table.hpp"
 
 namespace soda::glibc_sine {
 
