@@ -1,27 +1,18 @@
-// `sodaevo bench evolve`: the evolution benchmark (bench/evolve_bench.hpp): GA vs
-// random search vs hill climber at equal evaluations over several seeds, then a
-// full run of the config against the Dainty Walker. Writes evolve.csv,
-// evolve.svg and evolve.md under results/bench/.
+// `sodaevo bench evolve`: its options, then the evolution benchmark
+// (bench/evolve_bench.hpp): GA vs random search vs hill climber at equal
+// evaluations over several seeds, then a full run of the config against the Dainty
+// Walker (bench/evolve_report.hpp, which writes evolve.csv, evolve.svg and evolve.md
+// under results/bench/).
 #include <chrono>
-#include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
-#include <sstream>
 #include <string>
 
 #include "app/commands.hpp"
-#include "app/fixed_text.hpp"
-#include "app/svg_chart.hpp"
 #include "bench/evolve_bench.hpp"
-#include "core/input_error.hpp"
-#include "evolve/evaluator.hpp"
+#include "bench/evolve_report.hpp"
 #include "evolve/evolution_run.hpp"
-#include "evolve/run_reader.hpp"
-#include "evolve/run_roles.hpp"
-#include "evolve/run_store.hpp"
-#include "formats/atomic_file.hpp"
 #include "formats/model_file.hpp"
 
 namespace sodaevo::app {
@@ -40,51 +31,6 @@ struct BenchEvolveOptions {
   std::string out = "results/bench";
 };
 
-struct FullRun {
-  bool done = false;
-  double wall_seconds = 0.0;
-  long long evaluations = 0;
-  int generations = 0;
-  double best_fitness = 0.0;
-  std::string best_id;
-  std::string run_dir;
-};
-
-const char* method_label(const std::string& m) {
-  if (m == "ga") return "genetic algorithm";
-  if (m == "random") return "random search";
-  return "hill climber (1+1)";
-}
-
-std::string comparison_csv(const bench::SearchComparison& c) {
-  std::ostringstream o;
-  o << "method,seed,evaluations,best_fitness_at_common_budget,best_px_per_frame\n";
-  for (const bench::SearchRun& r : c.runs) {
-    o << r.method << ',' << r.seed << ',' << c.evaluations << ',' << fixed(bench::best_after(r, c.evaluations), 6)
-      << ',' << fixed(r.best_px_per_frame, 6) << '\n';
-  }
-  return o.str();
-}
-
-std::string comparison_svg(const bench::SearchComparison& c, long long frames) {
-  LineChart chart;
-  chart.title = "Best distance walked vs evaluations (median over seeds)";
-  chart.x_axis = {"evaluations", false};
-  chart.y_axis = {"best fitness: px per frame", false};
-  for (const char* m : {"ga", "random", "hill"}) {
-    LineSeries s;
-    s.name = method_label(m);
-    s.markers = false;
-    const long long step = std::max<long long>(1, c.evaluations / 60);
-    for (long long e = step; e <= c.evaluations; e += step) {
-      s.x.push_back(static_cast<double>(e));
-      s.y.push_back(bench::median_best(c, m, e) / static_cast<double>(frames));
-    }
-    chart.series.push_back(std::move(s));
-  }
-  return render_line_chart(chart);
-}
-
 void run_bench_evolve(const BenchEvolveOptions& opt, const std::string& command) {
   const RunConfig config = read_run_config(opt.config);
   const soda::ModelDef classic = soda::read_model_file(opt.classic).def;
@@ -102,78 +48,19 @@ void run_bench_evolve(const BenchEvolveOptions& opt, const std::string& command)
   const bench::SearchComparison comparison = bench::compare_search_methods(so);
   const double comparison_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 
-  const bench::ClassicSpeed dw = bench::classic_speed(classic, config);
-  const double frames = static_cast<double>(config.fitness.frames);
-
-  FullRun full;
-  if (!opt.skip_full_run) {
-    full.run_dir = (fs::path(opt.out) / ("evolve-run-" + config.name)).string();
-    RunStore store = RunStore::create(full.run_dir, config, true, command);
-    ThreadEvaluator evaluator(opt.threads);
-    EvolutionOptions eo;
-    eo.on_generation = [&](const Progress& p) {
-      if (p.generation % 10 == 0 || p.generation + 1 == p.generations) {
-        say("full run: generation " + std::to_string(p.generation) + "/" + std::to_string(p.generations) + ", best " +
-            fixed(p.stats.best / frames, 3) + " px/frame");
-      }
-    };
-    const auto r0 = std::chrono::steady_clock::now();
-    const EvolutionOutcome outcome = run_evolution(store, evaluator, eo);
-    full.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - r0).count();
-    full.done = true;
-    full.evaluations = outcome.evaluations;
-    full.generations = outcome.last_generation + 1;
-    full.best_fitness = outcome.best_fitness;
-    full.best_id = outcome.best_id;
-    // The champion as SodaConstructor XML next to the figures (the run folder
-    // itself is large and not kept in the repository).
-    for (const Individual& champion : best_individuals(full.run_dir, 1)) {
-      soda::write_model_file(fs::path(opt.out) / "evolve_champion.xml",
-                             roles_of(config).problem->export_form(champion.creature, champion.id, champion.evaluation));
-    }
-  }
-
-  std::ostringstream md;
-  md << "Measured with `" << command << "` (" << opt.seeds << " seeds; fitness: " << config.fitness.frames
-     << " frames after " << config.fitness.settle_frames << " settle frames, "
-     << (config.fitness.scaling == FitnessScaling::Sodarace ? "Sodarace scaling" : "no scaling") << ").\n\n";
-  md << "Search methods at equal evaluations (" << comparison.evaluations << " each = " << opt.generations
-     << " GA generations of " << config.population.size << "), best fitness in px/frame:\n\n";
-  md << "| method | median best | min | max |\n|---|---:|---:|---:|\n";
-  for (const char* m : {"ga", "random", "hill"}) {
-    double lo = INFINITY, hi = -INFINITY;
-    for (const bench::SearchRun& r : comparison.runs) {
-      if (r.method != m) continue;
-      const double b = bench::best_after(r, comparison.evaluations);
-      lo = std::min(lo, b);
-      hi = std::max(hi, b);
-    }
-    md << "| " << method_label(m) << " | " << fixed(bench::median_best(comparison, m, comparison.evaluations) / frames, 3)
-       << " | " << fixed(lo / frames, 3) << " | " << fixed(hi / frames, 3) << " |\n";
-  }
-  const double ga = bench::median_best(comparison, "ga", comparison.evaluations);
-  const double rs = bench::median_best(comparison, "random", comparison.evaluations);
-  const double hc = bench::median_best(comparison, "hill", comparison.evaluations);
-  md << "\nGA / random search: " << fixed(ga / rs, 2) << "x; GA / hill climber: " << fixed(ga / hc, 2)
-     << "x (medians). Comparison wall time " << fixed(comparison_seconds, 1) << " s.\n\n";
-  md << "Dainty Walker under the same fitness settings: " << fixed(dw.forward_px_per_frame, 3)
-     << " px/frame with its wave as written, " << fixed(dw.reversed_px_per_frame, 3)
-     << " reversed; best in the configured direction " << fixed(dw.best_fitness_px_per_frame, 3) << " px/frame.\n";
-  if (full.done) {
-    const double champion = full.best_fitness / frames;
-    md << "\nFull run of `" << opt.config << "` (" << full.generations << " generations, " << full.evaluations
-       << " evaluations, " << (opt.threads > 0 ? std::to_string(opt.threads) : std::string("all")) << " threads): "
-       << fixed(full.wall_seconds, 1) << " s, champion " << full.best_id << " at " << fixed(champion, 3)
-       << " px/frame = " << fixed(champion / dw.best_fitness_px_per_frame, 2)
-       << "x the Dainty Walker's best. Champion: `evolve_champion.xml`; run folder (not committed): `" << full.run_dir << "`.\n";
-  }
-
-  fs::create_directories(opt.out);
+  bench::EvolveReport report;
+  report.command = command;
+  report.config_path = opt.config;
+  report.config = config;
+  report.seeds = opt.seeds;
+  report.generations = opt.generations;
+  report.threads = opt.threads;
+  report.comparison = comparison;
+  report.comparison_seconds = comparison_seconds;
+  report.classic = bench::classic_speed(classic, config);
+  if (!opt.skip_full_run) report.full = bench::run_full_evolution(config, opt.out, opt.threads, command, say);
+  std::cout << bench::write_evolve_files(opt.out, report);
   const fs::path out(opt.out);
-  soda::write_file_atomically(out / "evolve.csv", comparison_csv(comparison));
-  soda::write_file_atomically(out / "evolve.svg", comparison_svg(comparison, config.fitness.frames));
-  soda::write_file_atomically(out / "evolve.md", md.str());
-  std::cout << md.str();
   say("wrote " + (out / "evolve.csv").string() + ", evolve.svg, evolve.md");
 }
 

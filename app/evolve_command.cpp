@@ -12,8 +12,8 @@
 #include <string>
 
 #include "app/commands.hpp"
-#include "app/fixed_text.hpp"
 #include "app/run_report.hpp"
+#include "charts/fixed_text.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "evolve/evaluator.hpp"
@@ -27,6 +27,8 @@
 #include "app/mpi_context.hpp"
 
 namespace sodaevo::app {
+
+using charts::fixed;
 
 #if SODAEVO_HAS_MPI
 namespace {

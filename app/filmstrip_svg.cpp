@@ -7,10 +7,12 @@
 #include <vector>
 
 #include "app/creature_style.hpp"
-#include "app/svg_chart.hpp"
+#include "charts/svg_chart.hpp"
 #include "core/number_text.hpp"
 
 namespace sodaevo::app {
+
+using charts::svg_escape;
 
 namespace {
 

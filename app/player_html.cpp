@@ -6,9 +6,11 @@
 #include <nlohmann/json.hpp>
 
 #include "app/creature_style.hpp"
-#include "app/svg_chart.hpp"
+#include "charts/svg_chart.hpp"
 
 namespace sodaevo::app {
+
+using charts::svg_escape;
 
 namespace {
 

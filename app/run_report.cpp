@@ -13,10 +13,10 @@
 #include <nlohmann/json.hpp>
 
 #include "app/classic_models.hpp"
-#include "app/fixed_text.hpp"
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
-#include "app/svg_chart.hpp"
+#include "charts/fixed_text.hpp"
+#include "charts/svg_chart.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "evolve/run_config.hpp"
@@ -27,6 +27,11 @@
 #include "formats/model_file.hpp"
 
 namespace sodaevo::app {
+
+using charts::fixed;
+using charts::LineChart;
+using charts::LineSeries;
+using charts::render_line_chart;
 
 namespace fs = std::filesystem;
 

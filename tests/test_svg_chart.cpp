@@ -1,4 +1,4 @@
-// The SVG chart writer (app/svg_chart.hpp): well-formed XML with the expected
+// The SVG chart writer (charts/svg_chart.hpp): well-formed XML with the expected
 // elements, log scales, escaping and robustness against odd data.
 #include <catch2/catch.hpp>
 
@@ -9,10 +9,10 @@
 
 #include <pugixml.hpp>
 
-#include "app/svg_chart.hpp"
+#include "charts/svg_chart.hpp"
 
-using sodaevo::app::BarChart;
-using sodaevo::app::LineChart;
+using sodaevo::charts::BarChart;
+using sodaevo::charts::LineChart;
 
 namespace {
 
@@ -118,15 +118,15 @@ TEST_CASE("bar chart: a group per category, a bar per series, values labelled", 
 }
 
 TEST_CASE("tick labels are compact", "[svg_chart]") {
-  CHECK(sodaevo::app::format_tick(0) == "0");
-  CHECK(sodaevo::app::format_tick(1500) == "1.5k");
-  CHECK(sodaevo::app::format_tick(2e7) == "20M");
-  CHECK(sodaevo::app::format_tick(999.4e6) == "999M");
-  CHECK(sodaevo::app::format_tick(999.96e6) == "1G"); // not "1e+03M"
-  CHECK(sodaevo::app::format_tick(-999.96) == "-1k");
-  CHECK(sodaevo::app::format_tick(3e9) == "3G");
-  CHECK(sodaevo::app::format_tick(0.25) == "0.25");
-  CHECK(sodaevo::app::svg_escape("a<b & \"c\"") == "a&lt;b &amp; &quot;c&quot;");
+  CHECK(sodaevo::charts::format_tick(0) == "0");
+  CHECK(sodaevo::charts::format_tick(1500) == "1.5k");
+  CHECK(sodaevo::charts::format_tick(2e7) == "20M");
+  CHECK(sodaevo::charts::format_tick(999.4e6) == "999M");
+  CHECK(sodaevo::charts::format_tick(999.96e6) == "1G"); // not "1e+03M"
+  CHECK(sodaevo::charts::format_tick(-999.96) == "-1k");
+  CHECK(sodaevo::charts::format_tick(3e9) == "3G");
+  CHECK(sodaevo::charts::format_tick(0.25) == "0.25");
+  CHECK(sodaevo::charts::svg_escape("a<b & \"c\"") == "a&lt;b &amp; &quot;c&quot;");
 }
 
 TEST_CASE("line chart: an integer axis has ticks at whole numbers only", "[svg_chart]") {

@@ -1,14 +1,15 @@
 // A small SVG chart writer: line charts (optionally log-log) and grouped bar charts,
 // with axes, ticks, tick labels, axis labels, a legend and a title. Self-contained
 // SVG 1.1 text (no scripts, no external fonts or styles), so the files render the
-// same in browsers and on GitHub. Used by the benchmarks and the run reports.
+// same in browsers and on GitHub. Used by the benchmarks (bench/) and the run
+// reports (app/).
 #pragma once
 
 #include <limits>
 #include <string>
 #include <vector>
 
-namespace sodaevo::app {
+namespace sodaevo::charts {
 
 struct ChartAxis {
   std::string label;
@@ -58,4 +59,4 @@ std::string svg_escape(const std::string& text);
 /// Compact number label: 1.5k, 20M, 0.25, 1e-06.
 std::string format_tick(double value);
 
-} // namespace sodaevo::app
+} // namespace sodaevo::charts

@@ -1,5 +1,4 @@
-#include "app/svg_chart.hpp"
-#include "core/number_text.hpp"
+#include "charts/svg_chart.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +7,9 @@
 #include <iterator>
 #include <sstream>
 
-namespace sodaevo::app {
+#include "core/number_text.hpp"
+
+namespace sodaevo::charts {
 
 namespace {
 
@@ -293,4 +294,4 @@ std::string render_bar_chart(const BarChart& chart) {
   return o.str();
 }
 
-} // namespace sodaevo::app
+} // namespace sodaevo::charts

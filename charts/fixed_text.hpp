@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <string>
 
-namespace sodaevo::app {
+namespace sodaevo::charts {
 
 inline std::string fixed(double v, int digits) {
   char buf[64];
@@ -13,4 +13,4 @@ inline std::string fixed(double v, int digits) {
   return buf;
 }
 
-} // namespace sodaevo::app
+} // namespace sodaevo::charts
