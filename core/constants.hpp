@@ -62,8 +62,8 @@ inline constexpr double kWaveMaxUiSpeed = 0.1;
 inline constexpr long kMaxNodes = 1'000'000;
 inline constexpr long kMaxLinks = 10'000'000;
 /// Model files larger than this are refused before they are parsed: the largest
-/// known model is a few hundred kilobytes, and pugixml needs several times the
-/// file size in memory.
+/// known model is a few hundred kilobytes, and the XML parser (formats/) needs
+/// several times the file size in memory.
 inline constexpr long kMaxModelBytes = 256L << 20;
 /// Elements nested deeper than this are refused (a v1 model is 3 levels deep, a v2
 /// object graph about 8); no reader recurses, but a limit keeps every later walk

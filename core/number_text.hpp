@@ -2,8 +2,8 @@
 //
 // Files are the interface between runs, programs and people, so every double that
 // is written reads back to the same bits (std::to_chars shortest form) and parsing
-// rejects anything that is not entirely a finite number (std::from_chars; pugixml's
-// own conversions accept trailing junk and depend on the locale).
+// rejects anything that is not entirely a finite number (std::from_chars; the XML
+// parser's own conversions accept trailing junk and depend on the locale).
 #pragma once
 
 #include <optional>
