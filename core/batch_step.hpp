@@ -12,9 +12,10 @@
 //
 // Fusing pays only while the scene stays small: a fused scene's impulse arrays
 // must stay in the L1 cache, and a creature of a few hundred links already fills
-// the SIMD batches on its own (fusing 16 monster trucks, 2,864 links, measured
-// slower than one alone). So the models are packed, in order, into scenes of at
-// most kMaxFusedLinks links; a bigger model gets a scene of its own.
+// the SIMD batches on its own (16 monster trucks fused stepped slower than one
+// alone: bench/README.md, "Design figures"). So the models are packed, in order,
+// into scenes of at most kMaxFusedLinks links; a bigger model gets a scene of its
+// own.
 //
 // Exact: after run(), every state equals bit for bit what soda::run gives for its
 // model alone (fused_scene.hpp explains why; tests/test_batch_step.cpp checks it).
@@ -46,8 +47,7 @@ class FusedScene;
 inline constexpr int kMaxFusedLinks = 512;
 
 /// Fewest models of one shape run as a LockstepBatch: with fewer, the lanes left
-/// empty cost more than fusing would (Dainty Walkers, per creature-frame: 5 in
-/// lockstep 54 ns against 49 fused; 6: 46 against 49; 8: 34 against 48).
+/// empty cost more than fusing would (bench/README.md, "Design figures").
 inline constexpr int kMinLockstep = 6;
 
 /// The share of the muscle sines of models[members] (counted once per distinct
@@ -56,12 +56,10 @@ inline constexpr int kMinLockstep = 6;
 double shared_sine_fraction(const std::vector<const Model*>& models, const std::vector<int>& members);
 
 /// Above this share a shape is fused, where a sine shared between creatures is
-/// computed once; lockstep lanes each compute their own. Measured with 16
-/// identical copies (every sine shared), ns per creature-frame, lockstep against
-/// fused: three small creatures of a GA run 11.8 / 9.6, 12.0 / 9.7, 13.9 / 13.7;
-/// the Dainty Walker 44 / 56 and carefulslug 157 / 237 (so for them the rule
-/// costs). On the GA's own workload the rule makes no measurable difference
-/// (24.5-25.1 with it, 24.3-24.9 without: its batches seldom hold 6 of a shape).
+/// computed once; lockstep lanes each compute their own. Small creatures sharing
+/// every sine step faster fused, larger ones still faster in lockstep, and on the
+/// GA's own workload the rule makes no measurable difference (its batches seldom
+/// hold kMinLockstep of a shape): bench/README.md, "Design figures".
 inline constexpr double kMaxSharedSines = 0.25;
 
 /// How many of `count` models of one shape BatchStepper runs in lockstep: whole

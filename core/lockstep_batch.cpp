@@ -47,8 +47,8 @@ struct LockstepBatch::Data {
   enum World { kSpringyness, kGravityStep, kKeep, kWidth, kHeight, kFs, kRs, kSpeed, kMode, kPhase, kWorldRows };
   // One allocation: the distances between the rows, hence which loads and stores
   // share their low 12 address bits (a false dependency), are then the same in
-  // every run; four allocations gave 31 to 45 ns per creature-frame from process
-  // to process.
+  // every run; with four allocations the speed changed from process to process
+  // (bench/README.md, "Design figures").
   AVec<double> rows;
   double *point_rows = nullptr, *link_rows = nullptr, *column_rows = nullptr, *world_rows = nullptr;
   // Sines of the next frame: computed during this frame's links (where the

@@ -117,8 +117,8 @@ template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
 /// The sums go by groups of kGatherGroup consecutive masses (numbered by degree at
 /// build), one round per impulse; impulse_slots hold double offsets (2 * pair index), so
 /// each addition is one load and one add, and the sums stay in registers for the
-/// rest of the step. (Pairs of masses in 256-bit additions measured 30 % slower:
-/// the inserts cost more than the additions saved.)
+/// rest of the step. (Pairs of masses in 256-bit additions were slower: the inserts
+/// cost more than the additions saved; bench/README.md, "Design figures".)
 template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
 bool mass_kernel(SceneData& s) {
   using V = typename O::V;

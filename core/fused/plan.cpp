@@ -384,7 +384,8 @@ void SceneData::plan_register_frame(const std::vector<ActingLink>& acting, const
 // c*d are the same bits, and the impulse_slots give the file's end a +c*d and b -c*d.
 // So blocks of W links are formed whose A ends are the W masses of one block of
 // masses, in slot order: the link pass then loads those ends as two whole
-// vectors instead of W pair loads with their offsets (about 10 % of the pass).
+// vectors instead of W pair loads with their offsets (bench/README.md, "Design
+// figures": link blocks).
 // A block may take one dummy lane (W = 8) where a mass has no link left.
 // Layout: the wave muscles first, formed blocks then the others, filled up to a
 // multiple of kMaxWidth with other links (target slots [0, padded_wave_muscles) are the ones
