@@ -134,14 +134,11 @@ Evaluation score_distance(soda::Point2 start, soda::Point2 end, const FitnessCon
 Evaluation score_run(const soda::Model& model, const soda::State& state, soda::Point2 start,
                      const FitnessConfig& fitness) {
   const soda::Point2 end = soda::mass_centroid(model, state);
-  for (int i = 0; i < model.mass_count; ++i) {
-    if (!std::isfinite(state.x[i]) || !std::isfinite(state.y[i]) || !std::isfinite(state.vx[i]) ||
-        !std::isfinite(state.vy[i])) {
-      Evaluation e;
-      e.status = EvaluationStatus::Diverged;
-      e.reason = "non-finite state of mass " + std::to_string(i) + " at frame " + std::to_string(state.frame);
-      return e;
-    }
+  if (const int i = soda::first_non_finite_mass(model, state); i >= 0) {
+    Evaluation e;
+    e.status = EvaluationStatus::Diverged;
+    e.reason = "non-finite state of mass " + std::to_string(i) + " at frame " + std::to_string(state.frame);
+    return e;
   }
   return score_distance(start, end, fitness);
 }
