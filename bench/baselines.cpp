@@ -162,7 +162,8 @@ void PlainLoop::step(soda::State& s) {
     if (length == 0.0) continue;
     double target = link.rest;
     if (link.kind == Kind::Muscle) {
-      target = rules::muscle_target_length(link.rest, m.wave_amplitude, link.amplitude, link.phase, s.wave_phase);
+      target = rules::muscle_target_length(link.rest, m.wave_amplitude, link.amplitude, link.phase, s.wave_phase,
+                                            soda::SineJitter{});
     }
     const double c = rules::link_impulse_factor(m.springyness, length, target);
     if (!a.fixed) {

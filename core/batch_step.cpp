@@ -124,6 +124,7 @@ void BatchStepper::run(const std::vector<State*>& states, long long frames) {
   // A State given twice is found here even where its two uses run in different
   // parts (a lockstep batch, a fused scene, alone); the parts check the sizes.
   require_batch_states(states.data(), count_, [&](int c) { return point_count_[c]; }, "BatchStepper::run");
+  for (int c = 0; c < count_; ++c) require_no_jitter(states[c]->jitter, "BatchStepper::run", c); // exact sines only
   for (Lockstep& l : locksteps_) {
     scratch_.clear();
     for (int i : l.index) scratch_.push_back(states[i]);

@@ -56,8 +56,8 @@ void ContinuousStepper::euler_step(State& s) {
   soda::euler_step(model_, s, {dt_, gravity_step_, keep_, surface_keep_, wave_step_});
 }
 
-void ContinuousStepper::smooth_acceleration(const double* x, const double* y, double phase, double* ax,
-                                            double* ay) const {
+void ContinuousStepper::smooth_acceleration(const double* x, const double* y, double phase, const SineJitter& jitter,
+                                            double* ax, double* ay) const {
   const Model& m = model_;
   for (int p = 0; p < m.point_count; ++p) {
     ax[p] = 0.0;
@@ -71,7 +71,7 @@ void ContinuousStepper::smooth_acceleration(const double* x, const double* y, do
     const double dy = y[b] - y[a];
     const double length = std::sqrt(dx * dx + dy * dy);
     if (length == 0.0) continue;
-    const double target = rules::link_target_length(m, i, phase);
+    const double target = rules::link_target_length(m, i, phase, jitter);
     const double c = rules::link_impulse_factor(m.springyness, length, target);
     ax[a] += c * dx;
     ay[a] += c * dy;
@@ -113,7 +113,7 @@ void ContinuousStepper::verlet_step(State& s) {
   const Model& m = model_;
   const int n = m.mass_count;
   const double half = dt_ / 2.0;
-  smooth_acceleration(s.x.data(), s.y.data(), s.wave_phase, ax_.data(), ay_.data());
+  smooth_acceleration(s.x.data(), s.y.data(), s.wave_phase, s.jitter, ax_.data(), ay_.data());
   x1_ = s.x; // fixed nodes keep their place in the drifted positions
   y1_ = s.y;
   for (int i = 0; i < n; ++i) {
@@ -126,7 +126,7 @@ void ContinuousStepper::verlet_step(State& s) {
     }
   }
   const double phase_end = rules::advance_wave_phase(s.wave_phase, wave_step_, s.wave_mode);
-  smooth_acceleration(x1_.data(), y1_.data(), phase_end, ax_.data(), ay_.data());
+  smooth_acceleration(x1_.data(), y1_.data(), phase_end, s.jitter, ax_.data(), ay_.data());
   for (int i = 0; i < n; ++i) {
     const double vx = (vx1_[i] + ax_[i] * half) * keep_half_;
     const double vy = (vy1_[i] + ay_[i] * half) * keep_half_;
@@ -152,7 +152,7 @@ void ContinuousStepper::rk4_step(State& s) {
   x1_ = s.x;
   y1_ = s.y;
   // Stage 1 at (x, v, t).
-  smooth_acceleration(s.x.data(), s.y.data(), s.wave_phase, ax_.data(), ay_.data());
+  smooth_acceleration(s.x.data(), s.y.data(), s.wave_phase, s.jitter, ax_.data(), ay_.data());
   for (int i = 0; i < n; ++i) {
     const double avx = ax_[i] - drag_ * s.vx[i];
     const double avy = ay_[i] - drag_ * s.vy[i];
@@ -168,7 +168,7 @@ void ContinuousStepper::rk4_step(State& s) {
   // Stages 2 and 3 at t + dt/2, stage 4 at t + dt.
   for (int stage = 2; stage <= 4; ++stage) {
     const double phase = stage == 4 ? phase_end : phase_half;
-    smooth_acceleration(x1_.data(), y1_.data(), phase, ax_.data(), ay_.data());
+    smooth_acceleration(x1_.data(), y1_.data(), phase, s.jitter, ax_.data(), ay_.data());
     const double weight = stage == 4 ? 1.0 : 2.0;
     const double next = stage == 2 ? half : dt_; // step to the next stage's point
     for (int i = 0; i < n; ++i) {

@@ -72,8 +72,9 @@ private:
   void verlet_step(State& s);
   void rk4_step(State& s);
   /// Link forces plus gravity on every free mass at positions (x, y) and wave
-  /// phase `phase` (fixed nodes get 0). Links in file order.
-  void smooth_acceleration(const double* x, const double* y, double phase, double* ax, double* ay) const;
+  /// phase `phase` (fixed nodes get 0), with the state's sine jitter. Links in file order.
+  void smooth_acceleration(const double* x, const double* y, double phase, const SineJitter& jitter, double* ax,
+                           double* ay) const;
   /// Syrup, rest test, container and bars for mass i after a smooth update that
   /// moved it from (x0, y0) to (x, y) with end velocity (vx, vy).
   void finish_mass(State& s, int i, double x0, double y0, double x, double y, double vx, double vy) const;

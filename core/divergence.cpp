@@ -38,7 +38,7 @@ double kinetic_energy(const Model& m, const State& s) {
 }
 
 double link_target(const Model& m, const State& s, int i) {
-  return rules::link_target_length(m, i, s.wave_phase);
+  return rules::link_target_length(m, i, s.wave_phase, s.jitter);
 }
 
 double link_length(const Model& m, const State& s, int i) {

@@ -338,6 +338,7 @@ template <int N>
 void LockstepBatch::run(State* const* states, long long frames) {
   Data& d = *d_;
   require_batch_states(states, d.count, [&](int) { return d.points; }, "LockstepBatch::run");
+  for (int c = 0; c < d.count; ++c) require_no_jitter(states[c]->jitter, "LockstepBatch::run", c); // exact sines only
   if (frames <= 0) return;
   d.load(states);
   // Padding lanes autoreverse into a scratch copy of the last state, not into it.

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "model_def.hpp"
+#include "sine_jitter.hpp"
 
 namespace soda {
 
@@ -77,6 +78,7 @@ struct State {
   WaveDirection wave_mode = WaveDirection::Forward;
   SideWall last_side_wall = SideWall::None; ///< autoreverse memory (spec 5.3)
   long long frame = 0;        ///< frames stepped since the state was made
+  SineJitter jitter;          ///< this replica's sine jitter (sine_jitter.hpp); seed 0: exact
 };
 
 /// Validates `def` and builds the static model. Throws InputError naming the node

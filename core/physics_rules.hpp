@@ -14,23 +14,32 @@
 #include "constants.hpp"
 #include "model.hpp"
 #include "sine.hpp"
+#include "sine_jitter.hpp"
 
 namespace soda::rules {
 
+/// A muscle's sine (spec 5.2): sin(2pi*(phi_m - phi_w)), by the engine's own sine
+/// (sine.hpp), never the C library's, then moved by the replica's jitter
+/// (sine_jitter.hpp; none for seed 0) as a pure function of the argument's bits.
+inline double muscle_sine(double muscle_phase, double wave_phase, const SineJitter& jitter) {
+  const double argument = kTwoPi * (muscle_phase - wave_phase);
+  const double s = sine(argument);
+  return jitter.seed == 0 ? s : jittered(s, argument, jitter);
+}
+
 /// Desired length of a muscle (spec 5.2): rest * (1 + (Aw*Am) * sin(2pi*(phi_m - phi_w))).
 /// Note the minus: a forward-running wave runs each muscle's own phase backward.
-/// The sine is the engine's own (sine.hpp), never the C library's.
 inline double muscle_target_length(double rest, double wave_amplitude, double muscle_amplitude,
-                                   double muscle_phase, double wave_phase) {
-  const double power = (wave_amplitude * muscle_amplitude) * sine(kTwoPi * (muscle_phase - wave_phase));
+                                   double muscle_phase, double wave_phase, const SineJitter& jitter) {
+  const double power = (wave_amplitude * muscle_amplitude) * muscle_sine(muscle_phase, wave_phase, jitter);
   return rest * (1.0 + power);
 }
 
 /// Desired length of link i of a model at wave phase `wave_phase`: its rest length,
 /// or for a muscle muscle_target_length.
-inline double link_target_length(const Model& m, int i, double wave_phase) {
+inline double link_target_length(const Model& m, int i, double wave_phase, const SineJitter& jitter) {
   return m.link_muscle[i] ? muscle_target_length(m.link_rest[i], m.wave_amplitude, m.link_amplitude[i],
-                                                 m.link_phase[i], wave_phase)
+                                                 m.link_phase[i], wave_phase, jitter)
                           : m.link_rest[i];
 }
 

@@ -22,7 +22,7 @@ namespace {
     const double dy = s.y[b] - s.y[a];
     const double length = std::sqrt(dx * dx + dy * dy);
     if (length == 0.0) continue; // coincident ends: no direction, no force
-    const double target = rules::link_target_length(m, i, s.wave_phase);
+    const double target = rules::link_target_length(m, i, s.wave_phase, s.jitter);
     const double c = rules::link_impulse_factor(m.springyness, length, target) * dt;
     if (m.is_mass(a)) {
       s.vx[a] += c * dx;

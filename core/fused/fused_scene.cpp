@@ -80,9 +80,14 @@ bool FusedScene::frame_in_registers() const { return d_->frame_in_registers; }
 
 void FusedScene::run(State* const* states, long long frames) {
   SceneData& s = *d_;
+  const bool alone = s.creatures.size() == 1;
+  const char* who = alone ? "FastStepper::run" : "FusedScene::run";
   require_batch_states(
-      states, static_cast<int>(s.creatures.size()), [&](int c) { return s.creatures[c].model->point_count; },
-      s.creatures.size() == 1 ? "FastStepper::run" : "FusedScene::run");
+      states, static_cast<int>(s.creatures.size()), [&](int c) { return s.creatures[c].model->point_count; }, who);
+  // Exact sines only, until the jitter is part of the rows of sines.
+  for (std::size_t c = 0; c < s.creatures.size(); ++c) {
+    require_no_jitter(states[c]->jitter, who, alone ? -1 : static_cast<int>(c));
+  }
   if (frames <= 0) return;
   s.load_state(states);
   s.leave_rows(); // the states may be others, or changed since

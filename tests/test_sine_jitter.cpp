@@ -1,0 +1,171 @@
+// Sine jitter (core/sine_jitter.hpp): the hash as documented, the share of moved
+// sines, purity, and a jittered replica in the reference, continuous and fast
+// steppers.
+#include <catch2/catch.hpp>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/batch_step.hpp"
+#include "core/continuous_step.hpp"
+#include "core/fast_step.hpp"
+#include "core/lockstep_batch.hpp"
+#include "core/model.hpp"
+#include "core/sine_jitter.hpp"
+#include "core/step.hpp"
+#include "test_support.hpp"
+
+namespace {
+
+using sodaevo::test::compare_states;
+using sodaevo::test::load_scene;
+using sodaevo::test::models_dir;
+using sodaevo::test::same_bits;
+
+/// The hash of interfaces.md written out again from its description, as a
+/// reference: h = mix64(bits(x) ^ mix64(seed)), splitmix64's finaliser; a hit iff
+/// (h >> 11) < floor(p * 2^53); +1 iff h is odd.
+int documented_steps(double x, std::uint64_t seed, double p) {
+  auto mix = [](std::uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  };
+  if (seed == 0) return 0;
+  const std::uint64_t h = mix(std::bit_cast<std::uint64_t>(x) ^ mix(seed));
+  const auto threshold = static_cast<std::uint64_t>(std::ldexp(p, 53));
+  if ((h >> 11) >= threshold) return 0;
+  return (h & 1) != 0 ? 1 : -1;
+}
+
+std::vector<double> muscle_arguments(int n) {
+  std::vector<double> args;
+  std::uint64_t s = 2026;
+  for (int i = 0; i < n; ++i) {
+    s = s * 6364136223846793005ULL + 1442695040888963407ULL;
+    args.push_back(soda::kTwoPi * (static_cast<double>(s >> 11) * 0x1p-53 - 0.5));
+  }
+  return args;
+}
+
+} // namespace
+
+TEST_CASE("sine jitter follows the documented hash, and seed 0 moves nothing", "[sine_jitter]") {
+  const std::vector<double> args = muscle_arguments(200'000);
+  for (std::uint64_t seed : {0ULL, 1ULL, 7ULL, 0xdeadbeefULL}) {
+    for (double p : {0.0, 0.002, 0.3, 1.0}) {
+      const soda::SineJitter j{seed, p};
+      int bad = 0;
+      for (double x : args) bad += soda::jitter_steps(x, j) == documented_steps(x, seed, p) ? 0 : 1;
+      INFO("seed " << seed << ", p " << p);
+      CHECK(bad == 0);
+    }
+  }
+  // A move is one ulp toward +inf or -inf, nothing else.
+  const soda::SineJitter all{3, 1.0};
+  for (double x : {0.5, -2.0, 3.0, 1e-3}) {
+    const double s = std::sin(x);
+    const double moved = soda::jittered(s, x, all);
+    CHECK(same_bits(moved, std::nextafter(s, soda::jitter_steps(x, all) > 0 ? HUGE_VAL : -HUGE_VAL)));
+    CHECK(same_bits(soda::jittered(s, x, soda::SineJitter{0, 1.0}), s));
+  }
+}
+
+TEST_CASE("the share of jittered sines over 1e6 arguments is close to p", "[sine_jitter]") {
+  const std::vector<double> args = muscle_arguments(1'000'000);
+  for (double p : {0.002, 0.05}) {
+    const soda::SineJitter j{11, p};
+    long up = 0, down = 0;
+    for (double x : args) {
+      const int k = soda::jitter_steps(x, j);
+      up += k > 0;
+      down += k < 0;
+    }
+    // Binomial(n, p): hits within 5 standard deviations of n p, and the two
+    // directions within 5 standard deviations of half the hits each.
+    const double n = static_cast<double>(args.size());
+    const double hits = static_cast<double>(up + down);
+    INFO("p " << p << ": " << up << " up, " << down << " down");
+    CHECK(std::fabs(hits - n * p) < 5.0 * std::sqrt(n * p * (1.0 - p)));
+    CHECK(std::fabs(static_cast<double>(up - down)) < 5.0 * std::sqrt(hits));
+  }
+}
+
+TEST_CASE("sine jitter is a pure function of the argument and the seed", "[sine_jitter]") {
+  const std::vector<double> args = muscle_arguments(100'000);
+  const soda::SineJitter j{5, 0.01};
+  std::vector<int> forward, backward(args.size());
+  for (double x : args) forward.push_back(soda::jitter_steps(x, j));
+  for (std::size_t i = args.size(); i-- > 0;) backward[i] = soda::jitter_steps(args[i], j);
+  CHECK(forward == backward);
+  // Another seed moves other arguments.
+  int differ = 0;
+  for (std::size_t i = 0; i < args.size(); ++i) differ += soda::jitter_steps(args[i], {6, 0.01}) != forward[i];
+  CHECK(differ > 1000);
+}
+
+TEST_CASE("a jittered walker is deterministic and leaves the exact run", "[sine_jitter]") {
+  const auto scene = load_scene(models_dir() / "dainty_walker.xml");
+  const soda::Model& m = scene.model;
+  auto run = [&](std::uint64_t seed, int frames) {
+    soda::State s = soda::make_state(m);
+    s.jitter = {seed, 0.002};
+    soda::run(m, s, frames);
+    return s;
+  };
+  const soda::State exact = run(0, 3000);
+  const soda::State a = run(1, 3000), again = run(1, 3000), b = run(2, 3000);
+  CHECK(compare_states(m, a, again).empty());
+  CHECK_FALSE(compare_states(m, a, exact).empty());
+  CHECK_FALSE(compare_states(m, a, b).empty());
+  // Seed 0 is the engine as it was: an explicit exact jitter changes nothing.
+  soda::State explicit_exact = soda::make_state(m);
+  explicit_exact.jitter = {0, 1.0};
+  soda::run(m, explicit_exact, 3000);
+  CHECK(compare_states(m, explicit_exact, exact).empty());
+
+  // The continuous mode's Euler at one step per frame is the reference step,
+  // jitter included.
+  soda::State continuous = soda::make_state(m);
+  continuous.jitter = {1, 0.002};
+  soda::ContinuousStepper(m, {soda::Integrator::Euler, 1}).run(continuous, 3000);
+  CHECK(compare_states(m, continuous, a).empty());
+  soda::State rk4_exact = soda::make_state(m), rk4_jittered = soda::make_state(m);
+  rk4_jittered.jitter = {1, 0.05};
+  soda::ContinuousStepper(m, {soda::Integrator::Rk4, 2}).run(rk4_exact, 2000);
+  soda::ContinuousStepper(m, {soda::Integrator::Rk4, 2}).run(rk4_jittered, 2000);
+  CHECK_FALSE(compare_states(m, rk4_exact, rk4_jittered).empty());
+}
+
+TEST_CASE("the fast steppers refuse a jittered state rather than drop its jitter", "[sine_jitter]") {
+  const auto scene = load_scene(models_dir() / "dainty_walker.xml");
+  const soda::Model& m = scene.model;
+  soda::State exact = soda::make_state(m), jittered = soda::make_state(m);
+  jittered.jitter = {9, 0.002};
+  auto message = [](auto&& call) {
+    try {
+      call();
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  soda::FastStepper fast(m, 10);
+  CHECK(message([&] { fast.run(jittered, 10); }).find("FastStepper::run: the state has sine jitter (seed 9)") == 0);
+  CHECK(jittered.frame == 0);
+  soda::BatchStepper batch({&m, &m}, 10);
+  CHECK(message([&] { batch.run({&exact, &jittered}, 10); }).find("BatchStepper::run: state 1 has sine jitter") == 0);
+  if (soda::LockstepBatch::usable()) {
+    std::vector<const soda::Model*> models(8, &m);
+    std::vector<soda::State> states(8, soda::make_state(m));
+    states[5].jitter = {2, 0.5};
+    std::vector<soda::State*> pointers;
+    for (soda::State& s : states) pointers.push_back(&s);
+    soda::LockstepBatch lockstep(models);
+    CHECK(message([&] { lockstep.run(pointers.data(), 10); }).find("LockstepBatch::run: state 5 has sine jitter") == 0);
+  }
+}
