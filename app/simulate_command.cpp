@@ -1,10 +1,12 @@
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -18,6 +20,8 @@
 #include "core/step.hpp"
 #include "core/stepping.hpp"
 #include "evolve/honesty.hpp"
+#include "evolve/replica_ensemble.hpp"
+#include "evolve/sample_summary.hpp"
 #include "formats/model_file.hpp"
 #include "formats/trace_csv.hpp"
 
@@ -36,6 +40,10 @@ struct SimulateOptions {
   bool energy_check = false;
   bool honesty = false;
   int honesty_factor = 4;
+  // --replicas (simulate_replicas)
+  int replicas = 0; ///< 0: one plain run
+  double jitter = 0.002;
+  long long settle = 0;
 };
 
 struct SimulateSummary {
@@ -203,6 +211,81 @@ void run_simulate(const SimulateOptions& opt) {
   print_summary(opt, s);
 }
 
+// --- simulate --replicas: the distribution of the distance over sine-jitter
+// replicas (evolve/replica_ensemble.hpp) ---------------------------------------
+
+void print_replica_summary(const SimulateOptions& opt, const std::string& stepping, const sodaevo::ReplicaResults& r) {
+  std::vector<double> finite;
+  for (double d : r.distances) {
+    if (std::isfinite(d)) finite.push_back(d);
+  }
+  const int non_finite = static_cast<int>(r.distances.size() - finite.size());
+  if (finite.empty()) throw soda::InputError(opt.model + ": every replica's run turned non-finite (the model blows up)");
+  const sodaevo::SampleSummary s = sodaevo::summarize_sample(finite);
+  if (opt.json) {
+    nlohmann::json j = {{"model", opt.model},     {"stepping", stepping},
+                        {"replicas", opt.replicas}, {"jitter", opt.jitter},
+                        {"settle", opt.settle},     {"frames", opt.frames},
+                        {"n", s.n},                 {"mean", s.mean},
+                        {"median", s.median},       {"sd", s.sd},
+                        {"min", s.min},             {"max", s.max},
+                        {"interval95", {s.interval95_low, s.interval95_high}},
+                        {"non_finite", non_finite}, {"distances", r.distances}};
+    j["horizon"] = r.horizon >= 0 ? nlohmann::json(r.horizon) : nlohmann::json(nullptr);
+    std::cout << j.dump() << '\n';
+    return;
+  }
+  std::printf("model               %s\n", opt.model.c_str());
+  std::printf("stepping            %s\n", stepping.c_str());
+  std::printf("replicas            %d (replica 0 exact; replica r's sines moved by 1 ulp with p = %g, seed r)\n",
+              opt.replicas, opt.jitter);
+  std::printf("frames              %lld measured after %lld settling frames\n", opt.frames, opt.settle);
+  if (non_finite > 0) std::printf("NON-FINITE          %d replicas blew up; the figures are over the others\n", non_finite);
+  std::printf("distance            n %d, mean %+.6f px, median %+.6f px, sd %.6f px\n", s.n, s.mean, s.median, s.sd);
+  std::printf("range               min %+.6f px, max %+.6f px\n", s.min, s.max);
+  std::printf("interval95          [%+.6f, %+.6f] px (where one more replica falls 95 %% of the time)\n",
+              s.interval95_low, s.interval95_high);
+  if (r.horizon >= 0) {
+    std::printf("horizon             frame %lld (the first at which replicas differ by more than %g px)\n", r.horizon,
+                sodaevo::kHorizonTolerance);
+  } else {
+    std::printf("horizon             none: the replicas agree within %g px for all %lld frames\n",
+                sodaevo::kHorizonTolerance, opt.settle + opt.frames);
+  }
+}
+
+void run_simulate_replicas(const SimulateOptions& opt) {
+  soda::LoadedModel loaded = soda::read_model_file(opt.model);
+  for (const std::string& w : loaded.warnings) std::cerr << "sodaevo: warning: " << w << '\n';
+  const soda::Model model = soda::build_model(loaded.def);
+  sodaevo::ReplicaSettings settings;
+  settings.seeds = sodaevo::consecutive_seeds(opt.replicas);
+  settings.probability = opt.jitter;
+  settings.settle = opt.settle;
+  settings.frames = opt.frames;
+  settings.stepping = stepping_of(opt.stepping);
+  print_replica_summary(opt, soda::stepping_label(settings.stepping), sodaevo::run_replicas(model, settings));
+}
+
+void add_replica_options(CLI::App* cmd, SimulateOptions& opt) {
+  CLI::Option* replicas =
+      cmd->add_option("--replicas", opt.replicas,
+                      "Run K replicas, replica 0 exact and replica r with sine jitter of seed r, and report\n"
+                      "the distribution of the centroid's x displacement (n, mean, median, sd, min, max,\n"
+                      "interval95) and the predictability horizon (the first frame at which the replicas\n"
+                      "differ by more than 1e-9 px). Steps with the reference step")
+          ->check(CLI::Range(1, 10000));
+  cmd->add_option("--jitter", opt.jitter,
+                  "With --replicas: the share of sines a jittered replica moves by 1 ulp (default 0.002)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->needs(replicas);
+  cmd->add_option("--settle", opt.settle,
+                  "With --replicas: frames run before the distance is measured over --frames (default 0)")
+      ->check(CLI::Range(0LL, 1'000'000'000LL))
+      ->needs(replicas);
+  for (const char* other : {"--trace", "--out", "--honesty", "--energy-check"}) replicas->excludes(other);
+}
+
 } // namespace
 
 void add_simulate_command(CLI::App& app) {
@@ -239,7 +322,14 @@ void add_simulate_command(CLI::App& app) {
   cmd->add_option("--honesty-factor", opt->honesty_factor, "Sub-step multiplier of --honesty")
       ->default_val(4)
       ->check(CLI::Range(2, 64));
-  cmd->callback([opt] { run_simulate(*opt); });
+  add_replica_options(cmd, *opt);
+  cmd->callback([opt] {
+    if (opt->replicas > 0) {
+      run_simulate_replicas(*opt);
+    } else {
+      run_simulate(*opt);
+    }
+  });
 }
 
 } // namespace sodaevo::app
