@@ -27,7 +27,7 @@ struct SampleSummary {
 SampleSummary summarize_sample(std::vector<double> values);
 
 /// The 0.975 quantile of Student's t with `degrees_of_freedom` >= 1 (12.706 for 1,
-/// tending to 1.95996 for many).
+/// tending to 1.95996 for many); the same bits on every machine.
 double student_t_975(int degrees_of_freedom);
 
 } // namespace sodaevo
