@@ -8,10 +8,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "app/fixed_text.hpp"
+#include "charts/fixed_text.hpp"
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
-#include "app/svg_chart.hpp"
+#include "charts/svg_chart.hpp"
 #include "core/atomic_file.hpp"
 #include "core/input_error.hpp"
 #include "core/model_file.hpp"

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "app/evolve_map_elites.hpp"
 #include "app/run_report.hpp"
 #include "charts/fixed_text.hpp"
 #include "core/input_error.hpp"
@@ -124,6 +125,20 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     }
     const std::string dir = opt.out.empty() ? "results/" + config.name + "-" + timestamp() : opt.out;
     store.emplace(RunStore::create(dir, config, opt.force, command_line));
+  }
+  if (store->config().algorithm == AlgorithmKind::MapElites) {
+    if (launcher_rank_count() > 1) {
+      throw soda::InputError("MAP-Elites runs in one process for now (its evaluations are not yet shared over MPI "
+                             "ranks); run it without mpirun");
+    }
+    if (!opt.quiet) {
+      std::cerr << (opt.resume.empty() ? "evolving" : "resuming") << " '" << store->config().name
+                << "' (MAP-Elites) into " << store->dir().string() << "; Ctrl-C stops after the current iteration\n";
+    }
+    std::signal(SIGINT, on_interrupt);
+    evolve_map_elites(*store, opt.threads, opt.quiet, &g_stop_requested);
+    std::signal(SIGINT, SIG_DFL);
+    return;
   }
   std::unique_ptr<Evaluator> evaluator;
   std::string where;

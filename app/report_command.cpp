@@ -4,6 +4,7 @@
 #include <memory>
 #include <string>
 
+#include "app/archive_report.hpp"
 #include "app/commands.hpp"
 #include "app/run_report.hpp"
 
@@ -27,7 +28,9 @@ void add_report_command(CLI::App& app) {
       "median fitness per generation and the invalid and diverged counts as charts; the best\n"
       "creatures with distance and speed; animations of the champion and of the best of a few\n"
       "generations next to the Dainty Walker under the same fitness settings. `evolve` writes\n"
-      "RUN/report.html itself at the end of a run and every few generations.");
+      "RUN/report.html itself at the end of a run and every few generations.\n"
+      "A MAP-Elites run gets RUN/archive.html instead: the archive as heat maps (click a cell to\n"
+      "play its elite), QD-score and coverage over the run.");
   cmd->add_option("run", opt->run, "Run folder")->required()->check(non_empty_path());
   cmd->add_option("-o,--out", opt->out, "Output .html (default RUN/report.html)");
   cmd->add_option("--rows", opt->report.table_rows, "Best distinct creatures listed in the table")
@@ -42,6 +45,13 @@ void add_report_command(CLI::App& app) {
       ->default_val(400)
       ->check(CLI::Range(2, 100000));
   cmd->callback([opt] {
+    if (has_archive(opt->run)) { // a MAP-Elites run: its archive page
+      const std::filesystem::path out =
+          opt->out.empty() ? default_archive_report_path(opt->run) : std::filesystem::path(opt->out);
+      write_archive_report(opt->run, out);
+      std::cout << "wrote " << out.string() << "\n";
+      return;
+    }
     const std::filesystem::path out = opt->out.empty() ? default_report_path(opt->run) : std::filesystem::path(opt->out);
     write_run_report(opt->run, out, opt->report);
     std::cout << "wrote " << out.string() << "\n";

@@ -48,6 +48,8 @@ enum class Kind {
   Divergence,       ///< /fitness/divergence
   GravityDirection, ///< /world/gravity_direction
   WorldEvolve,      ///< /world/evolve
+  Algorithm,        ///< /algorithm
+  MapElites,        ///< /map_elites: an object read by map_elites_config.cpp
 };
 
 using Accessor = std::variant<std::monostate, int& (*)(RunConfig&), long long& (*)(RunConfig&),
@@ -82,6 +84,7 @@ const std::vector<Field>& fields() {
       integer("/seed", SODAEVO_FIELD(seed), 0, kTwoPow53),
       integer("/generations", SODAEVO_FIELD(budget.generations), 1, 1e6),
       special("/preset", Kind::Preset),
+      special("/algorithm", Kind::Algorithm),
 
       integer("/population/size", SODAEVO_FIELD(population.size), 2, 100000),
       special("/population/seed_models", Kind::SeedModels),
@@ -148,6 +151,8 @@ const std::vector<Field>& fields() {
 
       integer("/save/generation_every", SODAEVO_FIELD(save.generation_every), 0, 1e6),
       integer("/save/checkpoint_every", SODAEVO_FIELD(save.checkpoint_every), 1, 1e6),
+
+      special("/map_elites", Kind::MapElites),
 
       special("/comment", Kind::Comment),
       special("/$schema", Kind::Comment),
@@ -425,6 +430,16 @@ class ConfigReader {
         return read_enum(p, v, kGravityDirections, config_.world.gravity_direction);
       case Kind::WorldEvolve:
         return read_world_evolve(v);
+      case Kind::Algorithm:
+        if (v == "map-elites") config_.algorithm = AlgorithmKind::MapElites;
+        else if (v != "ga") expected(p, "one of " + quoted_list(algorithm_names()), v);
+        return;
+      case Kind::MapElites: {
+        std::vector<ConfigProblem> problems;
+        read_map_elites(v, config_.map_elites, problems);
+        for (const ConfigProblem& problem : problems) error(problem.pointer, problem.message);
+        return;
+      }
     }
   }
 
@@ -567,6 +582,16 @@ class ConfigReader {
       check_between("/selection/elites", c.selection.elites, 0, c.population.size - 1,
                     "less than /population/size");
     }
+    if (ok("/algorithm") && given("/map_elites") && c.algorithm != AlgorithmKind::MapElites) {
+      error("/map_elites", "expected only with /algorithm \"map-elites\", got it with the GA");
+    }
+    if (ok("/algorithm") && c.algorithm == AlgorithmKind::MapElites &&
+        (c.fitness.mode != soda::PhysicsMode::Soda || c.fitness.divergence != DivergenceCheck::Finite ||
+         c.fitness.honesty_max_change > 0.0)) {
+      error("/algorithm", "expected \"ga\" with /fitness/mode \"continuous\", /fitness/divergence \"energy\" or "
+                          "/fitness/honesty (MAP-Elites measures its descriptors in the soda mode only), "
+                          "got \"map-elites\"");
+    }
     if (ok("/population/seed_models") && ok("/population/random_fraction") &&
         c.population.seed_models.empty() && c.population.random_fraction != 1.0) {
       expected("/population/random_fraction",
@@ -656,6 +681,13 @@ nlohmann::json to_json(const RunConfig& config) {
       case Kind::Divergence: j[p] = divergence_check_name(c.fitness.divergence); break;
       case Kind::GravityDirection: j[p] = gravity_direction_name(c.world.gravity_direction); break;
       case Kind::WorldEvolve: j[p] = c.world.evolve; break;
+      // A GA run's config.json stays as it was before MAP-Elites existed.
+      case Kind::Algorithm:
+        if (c.algorithm != AlgorithmKind::Genetic) j[p] = algorithm_name(c.algorithm);
+        break;
+      case Kind::MapElites:
+        if (c.algorithm != AlgorithmKind::Genetic) j[p] = to_json(c.map_elites);
+        break;
       case Kind::Preset:  // resolved into /world/evolve
       case Kind::Comment: // not part of the configuration
         break;

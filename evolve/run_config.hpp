@@ -16,6 +16,7 @@
 
 #include "core/model_def.hpp"
 #include "core/stepping.hpp"
+#include "evolve/map_elites_config.hpp"
 
 namespace sodaevo {
 
@@ -155,6 +156,8 @@ struct RunConfig {
   FitnessConfig fitness;
   WorldConfig world;
   SaveConfig save;
+  AlgorithmKind algorithm = AlgorithmKind::Genetic; ///< /algorithm: "ga" | "map-elites"
+  MapElitesConfig map_elites;    ///< /map_elites: only with /algorithm "map-elites" (map_elites_config.hpp)
 
   bool operator==(const RunConfig&) const = default;
 };

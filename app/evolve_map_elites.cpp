@@ -1,0 +1,60 @@
+#include "app/evolve_map_elites.hpp"
+
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+
+#include "app/archive_report.hpp"
+#include "charts/fixed_text.hpp"
+#include "evolve/map_elites_run.hpp"
+
+namespace sodaevo::app {
+
+namespace {
+
+constexpr int kReportEveryIterations = 20;
+
+} // namespace
+
+void evolve_map_elites(const RunStore& store, int threads, bool quiet, const std::atomic<bool>* stop) {
+  const RunConfig& config = store.config();
+  const MapElitesConfig& me = config.map_elites;
+  const bool tty = ::isatty(STDERR_FILENO) != 0;
+  auto refresh_report = [&] {
+    try {
+      write_archive_report(store.dir(), default_archive_report_path(store.dir()));
+    } catch (const std::exception& e) {
+      std::cerr << "\nsodaevo: warning: archive report not written: " << e.what() << '\n';
+    }
+  };
+  MapElitesOptions options;
+  options.stop_requested = stop;
+  options.on_iteration = [&](const MapElitesProgress& p) {
+    if (quiet) return;
+    char line[256];
+    std::snprintf(line, sizeof line, "iteration %d/%d  %lld evaluations  filled %zu of %zu (%.1f %%)  QD-score %s  best %s",
+                  p.iteration, p.iterations, p.evaluations, p.metrics.filled, p.metrics.cells,
+                  100.0 * p.metrics.coverage, fixed(p.metrics.qd_score, 0).c_str(), fixed(p.metrics.best, 2).c_str());
+    if (tty) std::cerr << "\r\033[K" << line << std::flush;
+    else if (p.iteration % kReportEveryIterations == 0 || p.iteration == p.iterations) std::cerr << line << '\n';
+  };
+  const MapElitesOutcome outcome =
+      run_map_elites(store.dir(), config, me, described_evaluator_on_threads(config, me, threads), options);
+  refresh_report();
+  if (!quiet) {
+    if (tty) std::cerr << '\n';
+    std::cerr << "stopped: " << outcome.stopped_because << " after iteration " << outcome.last_iteration << " ("
+              << outcome.evaluations << " evaluations)\n";
+  }
+  const QdMetrics& m = outcome.metrics;
+  std::cout << "run folder   " << store.dir().string() << "\n"
+            << "archive      " << m.filled << " of " << m.cells << " cells (" << fixed(100.0 * m.coverage, 1)
+            << " %), QD-score " << fixed(m.qd_score, 1) << ", best " << fixed(m.best, 2) << " px, mean elite "
+            << fixed(m.mean, 2) << " px\n"
+            << "report       " << default_archive_report_path(store.dir()).string() << "\n"
+            << "export with  sodaevo export " << store.dir().string() << " --archive --out DIR\n";
+}
+
+} // namespace sodaevo::app
