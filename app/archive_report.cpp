@@ -12,9 +12,9 @@
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
 #include "charts/svg_chart.hpp"
-#include "core/atomic_file.hpp"
+#include "formats/atomic_file.hpp"
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
+#include "formats/model_file.hpp"
 #include "core/number_text.hpp"
 #include "evolve/run_config.hpp"
 

@@ -3,9 +3,9 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/atomic_file.hpp"
+#include "formats/atomic_file.hpp"
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
+#include "formats/model_file.hpp"
 #include "core/number_text.hpp"
 #include "evolve/fitness.hpp"
 #include "evolve/run_store.hpp"

@@ -43,7 +43,11 @@ std::vector<Individual> map_elites_children(const RunConfig& config, const MapEl
                           kMapElitesPurpose);
     const ArchiveEntry& a = *elites[rng.below(elites.size())];
     Individual child;
-    child.id = "i" + std::to_string(iteration) + "-" + std::to_string(k);
+    // Appended piece by piece: "i" + std::string trips GCC 12's -Wrestrict (a false positive).
+    child.id = std::to_string(iteration);
+    child.id.insert(0, 1, 'i');
+    child.id += '-';
+    child.id += std::to_string(k);
     child.parents = {a.id};
     if (me.crossover_rate > 0.0 && rng.chance(me.crossover_rate)) {
       const ArchiveEntry& b = *elites[rng.below(elites.size())];

@@ -27,8 +27,8 @@ struct MapElitesConfig {
   /// /map_elites/descriptors, /bins, /ranges: the grid's axes, 2 or 3. Default:
   /// width, height and mass count (OpenELM's Sodarace axes), 12 x 12 x 12 = 1,728 cells.
   std::vector<GridAxis> axes = {
-      {Descriptor::Width, 12, 0.0, 240.0},
-      {Descriptor::Height, 12, 0.0, 120.0},
+      {Descriptor::Width, 12, 40.0, 300.0},
+      {Descriptor::Height, 12, 0.0, 100.0},
       {Descriptor::MassCount, 12, 2.5, 14.5},
   };
   int iterations = 100;        ///< /map_elites/iterations [1, 1e6]: batches after the initial population

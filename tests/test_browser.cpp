@@ -13,7 +13,10 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "formats/atomic_file.hpp"
+
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
@@ -61,11 +64,11 @@ std::string chromium_command(const std::string& chromium, const fs::path& profil
 
 /// Opens `page` (at `frame` if >= 0, else playing as a user sees it) and dumps the DOM.
 LoadedPage load(const std::string& chromium, const fs::path& page, long long frame, const fs::path& work,
-                const std::string& extra_flags = "") {
+                const std::string& extra_flags = "", const std::string& more_fragment = "") {
   static int runs = 0;
   const fs::path profile = work / ("profile" + std::to_string(++runs));
   const fs::path dom = work / ("dom" + std::to_string(runs) + ".html"), log = work / ("log" + std::to_string(runs) + ".txt");
-  const std::string url = "file://" + fs::absolute(page).string() + (frame >= 0 ? "#frame=" + std::to_string(frame) : "");
+  const std::string url = "file://" + fs::absolute(page).string() + (frame >= 0 ? "#frame=" + std::to_string(frame) + more_fragment : "");
   const auto r = run_shell("( " + chromium_command(chromium, profile) + " " + extra_flags + " --dump-dom '" + url + "' > " + dom.string() +
                            " 2> " + log.string() + " )");
   INFO("chromium on " << url << ":\n" << r.output);
@@ -213,5 +216,35 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
     screenshot(chromium, url + "#frame=60", shots / "report_frame60.png", "1400,2000", work);
     screenshot(chromium, url + "#frame=400", shots / "report_frame400.png", "1400,2000", work);
     CHECK(soda::read_whole_file(shots / "report_frame60.png") != soda::read_whole_file(shots / "report_frame400.png"));
+  }
+  SECTION("MAP-Elites archive: a click on a cell plays its elite") {
+    soda::write_file_atomically(work / "me.json",
+                        "{\"name\": \"browser-me\", \"seed\": 2, \"algorithm\": \"map-elites\","
+                        " \"population\": {\"size\": 12, \"seed_models\": [\"" + dainty.string() + "\"], \"random_fraction\": 0.75},"
+                        " \"fitness\": {\"frames\": 400, \"settle_frames\": 50},"
+                        " \"map_elites\": {\"iterations\": 4, \"batch_size\": 12}}");
+    const auto r = run_sodaevo("evolve " + (work / "me.json").string() + " --out " + (work / "me").string() + " --quiet --threads 1");
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    const fs::path page = work / "me" / "archive.html";
+    REQUIRE(fs::exists(page));
+    const nlohmann::json archive = nlohmann::json::parse(soda::read_whole_file(work / "me" / "archive.json"));
+    REQUIRE(archive["cells"].size() >= 2);
+    const nlohmann::json& cell = archive["cells"][1];
+    const std::string click = "&cell=" + std::to_string(cell["cell"].get<long long>());
+    const LoadedPage a = load(chromium, page, 60, work, "", click);
+    const LoadedPage b = load(chromium, page, 400, work, "", click);
+    require_clean(a);
+    require_clean(b);
+    REQUIRE(a.players.size() == 1);
+    require_drawn_and_moving(a, b, 60, 400);
+    // The player shows the elite of the clicked cell.
+    CHECK_THAT(a.dom, Catch::Contains("<div id=\"player-slot\" data-id=\"" + cell["id"].get<std::string>() + "\">"));
+    CHECK_THAT(a.dom, Catch::Contains("class=\"cell chosen\""));
+    // Without a click: the heat maps and no player.
+    const LoadedPage idle = load(chromium, page, 60, work);
+    require_clean(idle);
+    CHECK(idle.players.empty());
+    screenshot(chromium, "file://" + page.string() + "#frame=300" + click, shots / "archive.png", "1400,1400", work);
   }
 }

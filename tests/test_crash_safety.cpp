@@ -333,3 +333,65 @@ TEST_CASE("a full disk stops the run with a clear error, loses nothing, and the 
   require_same_results(dir / "whole", partial);
   fs::remove_all(dir.parent_path());
 }
+
+TEST_CASE("a MAP-Elites run killed with SIGKILL resumes to the uninterrupted archive", "[crash][map-elites]") {
+  const fs::path dir = work_dir("map_elites_kill");
+  const nlohmann::json config = {
+      {"name", "crash-me"},
+      {"seed", 5},
+      {"algorithm", "map-elites"},
+      {"population",
+       {{"size", 16},
+        {"seed_models", {fs::absolute(sodaevo::test::models_dir() / "dainty_walker.xml").string()}},
+        {"random_fraction", 0.75}}},
+      {"fitness", {{"frames", 300}, {"settle_frames", 40}}},
+      {"map_elites",
+       {{"descriptors", {"width", "mass_count"}},
+        {"bins", {8, 8}},
+        {"ranges", {{40, 300}, {2.5, 10.5}}},
+        {"iterations", 30},
+        {"batch_size", 12},
+        {"snapshot_every", 5}}},
+      {"save", {{"checkpoint_every", 3}}}};
+  const fs::path config_path = dir / "me.json";
+  std::ofstream(config_path) << config.dump(2);
+  const fs::path log = dir / "log.txt";
+  REQUIRE(run(evolve_args({config_path.string(), "--out", (dir / "whole").string()}), log) == 0);
+
+  // Killed once it has logged a few iterations past a checkpoint, twice, then finished.
+  const fs::path killed = dir / "killed";
+  auto logged = [&] {
+    std::error_code ec;
+    if (!fs::exists(killed / "qd.csv", ec)) return 0L;
+    const std::string text = text_of(killed / "qd.csv");
+    return static_cast<long>(std::count(text.begin(), text.end(), '\n')) - 1;
+  };
+  int kills = 0;
+  for (const long target : {5L, 16L}) {
+    const pid_t pid = spawn(kills == 0 ? evolve_args({config_path.string(), "--out", killed.string()})
+                                       : evolve_args({"--resume", killed.string()}),
+                            log);
+    int status = 0;
+    pid_t done = 0;
+    auto running = [&] { return done == 0 && (done = ::waitpid(pid, &status, WNOHANG)) == 0; };
+    while (running() && logged() < target) std::this_thread::sleep_for(std::chrono::microseconds(300));
+    if (done == 0) {
+      ::kill(pid, SIGKILL);
+      if (wait_for(pid) == 128 + SIGKILL) ++kills;
+    }
+  }
+  CHECK(kills >= 1);
+  REQUIRE(run(evolve_args({"--resume", killed.string()}), log) == 0);
+  for (const char* name : {"qd.csv", "archive.json", "snapshots/archive_00015.json", "snapshots/archive_00030.json"}) {
+    INFO(name);
+    CHECK(text_of(killed / name) == text_of(dir / "whole" / name));
+  }
+  const auto elites = [](const fs::path& run) {
+    std::vector<std::string> texts;
+    for (const fs::directory_entry& e : fs::directory_iterator(run / "elites")) texts.push_back(text_of(e.path()));
+    std::sort(texts.begin(), texts.end());
+    return texts;
+  };
+  CHECK(elites(killed) == elites(dir / "whole"));
+  fs::remove_all(dir.parent_path());
+}

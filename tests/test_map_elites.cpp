@@ -8,9 +8,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "core/atomic_file.hpp"
+#include "formats/atomic_file.hpp"
 #include "core/model.hpp"
-#include "core/model_file.hpp"
+#include "formats/model_file.hpp"
 #include "core/step.hpp"
 #include "evolve/described_evaluation.hpp"
 #include "evolve/fitness.hpp"
