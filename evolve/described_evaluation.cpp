@@ -6,6 +6,7 @@
 
 #include "core/batch_step.hpp"
 #include "core/input_error.hpp"
+#include "evolve/walk_problem.hpp"
 
 namespace sodaevo {
 
@@ -90,13 +91,16 @@ std::vector<DescribedEvaluation> evaluate_described_batch(const std::vector<cons
 std::vector<DescribedEvaluation> evaluate_described_creatures(const std::vector<const soda::ModelDef*>& creatures,
                                                               const RunConfig& config, long long sample_every) {
   std::vector<DescribedEvaluation> results(creatures.size());
+  const WalkProblem problem(config);
   std::vector<soda::ModelDef> prepared;
   prepared.reserve(creatures.size());
   std::vector<std::size_t> index; // result index of prepared[k]
   for (std::size_t i = 0; i < creatures.size(); ++i) {
-    if (std::optional<soda::ModelDef> p = prepare_creature(*creatures[i], config, results[i].evaluation.reason)) {
-      prepared.push_back(std::move(*p));
+    try {
+      prepared.push_back(problem.prepare(*creatures[i]));
       index.push_back(i);
+    } catch (const std::exception& ex) {
+      results[i].evaluation.reason = ex.what();
     }
   }
   std::vector<const soda::ModelDef*> ptrs;

@@ -6,7 +6,7 @@
 
 #include "core/model_def.hpp"
 #include "evolve/descriptors.hpp"
-#include "evolve/fitness.hpp"
+#include "evolve/evaluation.hpp"
 #include "evolve/run_config.hpp"
 
 namespace sodaevo {

@@ -4,7 +4,7 @@
 #include <chrono>
 
 #include "core/batch_step.hpp"
-#include "evolve/batch_evaluation.hpp"
+#include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
 #include "evolve/genetic_algorithm.hpp"
 #include "evolve/parallel_for.hpp"

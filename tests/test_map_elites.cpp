@@ -13,7 +13,7 @@
 #include "formats/model_file.hpp"
 #include "core/step.hpp"
 #include "evolve/described_evaluation.hpp"
-#include "evolve/fitness.hpp"
+#include "evolve/walk_problem.hpp"
 #include "evolve/grid_archive.hpp"
 #include "evolve/map_elites_config.hpp"
 #include "evolve/map_elites_run.hpp"
@@ -63,11 +63,12 @@ TEST_CASE("described evaluation: the fitness of evaluate_prepared_batch, descrip
           "[map-elites]") {
   RunConfig config = test::walker_run_config("d", 1, 4, 1, 300, 40);
   const soda::ModelDef walker = soda::read_model_file(test::models_dir() / "dainty_walker.xml").def;
-  const soda::ModelDef prepared = prepare_for_evaluation(walker, config.fitness, config.world);
+  const WalkProblem problem(config);
+  const soda::ModelDef prepared = problem.prepare(walker);
   const long long every = 7; // 300 = 42 * 7 + 6: the last sample comes after a shorter chunk
   const std::vector<DescribedEvaluation> described =
       evaluate_described_batch({&prepared, &prepared}, config.fitness, every);
-  const Evaluation plain = evaluate_prepared_batch({&prepared}, config.fitness).front();
+  const Evaluation plain = problem.rollouts({&prepared}).front();
   REQUIRE(described.size() == 2);
   REQUIRE(described[0].evaluation.ok());
   CHECK(test::same_bits(described[0].evaluation.fitness, plain.fitness));
@@ -328,7 +329,7 @@ TEST_CASE("MAP-Elites run: the same archive on 1 and 2 threads, and resumed afte
   REQUIRE(archive["cells"].size() == a.metrics.filled);
   for (const auto& cell : archive["cells"]) {
     const soda::ModelDef prepared = soda::read_model_file(one / cell["file"].get<std::string>()).def;
-    const Evaluation e = evaluate_prepared(prepared, run.config.fitness);
+    const Evaluation e = WalkProblem(run.config).rollouts({&prepared}).front();
     CHECK(e.distance == cell["distance"].get<double>());
   }
   CHECK(std::filesystem::exists(one / "snapshots" / "archive_00000.json"));
