@@ -8,15 +8,16 @@
 
 #include <nlohmann/json.hpp>
 
-#include "formats/atomic_file.hpp"
+#include "core/input_error.hpp"
 #include "core/model.hpp"
-#include "formats/model_file.hpp"
 #include "core/step.hpp"
 #include "evolve/described_evaluation.hpp"
-#include "evolve/walk_problem.hpp"
 #include "evolve/grid_archive.hpp"
 #include "evolve/map_elites_config.hpp"
 #include "evolve/map_elites_run.hpp"
+#include "evolve/walk_problem.hpp"
+#include "formats/atomic_file.hpp"
+#include "formats/model_file.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo;
@@ -335,4 +336,35 @@ TEST_CASE("MAP-Elites run: the same archive on 1 and 2 threads, and resumed afte
   CHECK(std::filesystem::exists(one / "snapshots" / "archive_00000.json"));
   CHECK(std::filesystem::exists(one / "snapshots" / "archive_00002.json"));
   CHECK(std::filesystem::exists(one / "snapshots" / "archive_00004.json"));
+}
+
+TEST_CASE("run config: /algorithm and /map_elites read, resolve and round-trip; misuse names the pointer",
+          "[map-elites][config]") {
+  const RunConfig c = parse_run_config(R"({"algorithm": "map-elites", "map_elites": {"batch_size": 7,
+      "descriptors": ["floor_contact", "centroid_height"], "bins": [3, 9], "ranges": [[0, 1], [0, 90]]}})",
+                                       "me.json", "/nowhere");
+  CHECK(c.algorithm == AlgorithmKind::MapElites);
+  CHECK(c.map_elites.batch_size == 7);
+  REQUIRE(c.map_elites.axes.size() == 2);
+  CHECK(c.map_elites.axes[1] == GridAxis{Descriptor::CentroidHeight, 9, 0.0, 90.0});
+  CHECK(parse_run_config(to_json(c).dump(), "resolved", "/nowhere") == c);
+  // A GA run's resolved config names neither key (its run folder is as before).
+  const nlohmann::json ga = to_json(parse_run_config("{}", "ga.json", "/nowhere"));
+  CHECK(!ga.contains("algorithm"));
+  CHECK(!ga.contains("map_elites"));
+  const auto error_of = [](const std::string& text) {
+    try {
+      parse_run_config(text, "x.json", "/nowhere");
+    } catch (const soda::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("(no error)");
+  };
+  CHECK(error_of(R"({"algorithm": "cma-es"})") == "x.json: /algorithm: expected one of \"ga\" or \"map-elites\", got \"cma-es\"");
+  CHECK(error_of(R"({"map_elites": {"batch_size": 3}})") ==
+        "x.json: /map_elites: expected only with /algorithm \"map-elites\", got it with the GA");
+  CHECK(error_of(R"({"algorithm": "map-elites", "map_elites": {"batch_size": 0}})") ==
+        "x.json: /map_elites/batch_size: expected an integer in [1, 100000], got 0");
+  CHECK_THAT(error_of(R"({"algorithm": "map-elites", "fitness": {"mode": "continuous"}})"),
+             Catch::StartsWith("x.json: /algorithm: expected \"ga\" with /fitness/mode \"continuous\""));
 }
