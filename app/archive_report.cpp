@@ -20,6 +20,12 @@
 
 namespace sodaevo::app {
 
+using charts::fixed;
+using charts::format_tick;
+using charts::LineChart;
+using charts::LineSeries;
+using charts::render_line_chart;
+
 namespace fs = std::filesystem;
 using nlohmann::json;
 

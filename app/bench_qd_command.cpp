@@ -27,6 +27,11 @@
 
 namespace sodaevo::app {
 
+using charts::fixed;
+using charts::BarChart;
+using charts::BarSeries;
+using charts::render_bar_chart;
+
 namespace {
 
 namespace fs = std::filesystem;

@@ -12,6 +12,8 @@
 
 namespace sodaevo::app {
 
+using charts::fixed;
+
 namespace {
 
 constexpr int kReportEveryIterations = 20;
