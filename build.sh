@@ -6,7 +6,8 @@
 #                     then build it again with AddressSanitizer + UBSan (into
 #                     build-asan/) and run it again there
 #   ./build.sh deps   only install the Debian packages the project needs
-#   ./build.sh build  only configure and build (into build/)
+#   ./build.sh build  only configure and build (into build/), with the designer's
+#                     WebAssembly engine (installs emscripten)
 #   ./build.sh fuzz [SECONDS [TARGET...]]
 #                     build the libFuzzer targets with clang-14 (into build-fuzz/)
 #                     and run each for SECONDS (default 600); see fuzz/README.md
@@ -22,6 +23,8 @@ FUZZ_DIR=${SODAEVO_FUZZ_DIR:-build-fuzz}
 PACKAGES=(g++ cmake make libpugixml-dev libcli11-dev nlohmann-json3-dev catch2 libopenmpi-dev openmpi-bin)
 # Only the test suite needs these: headless Chromium opens the rendered pages.
 TEST_PACKAGES=(chromium)
+# The designer's WebAssembly engine (web/, `sodaevo designer`): Debian's Emscripten.
+WEB_PACKAGES=(emscripten)
 # Only for `fuzz`: clang 14 and its runtime libraries (libclang_rt.fuzzer, asan, ubsan).
 FUZZ_PACKAGES=(clang-14 libclang-rt-14-dev)
 
@@ -39,6 +42,24 @@ install_deps() {
   "${sudo[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 }
 
+# pugixml's source for the WebAssembly build: Debian ships pugixml only as a native
+# library, and a copy of its source inside libopenimageio-dev, which is unpacked
+# into $BUILD_DIR/wasm-deps (not installed: it would pull in 120 packages).
+fetch_pugixml_source() {
+  local dir="$BUILD_DIR/wasm-deps"
+  [ -f "$dir/usr/include/OpenImageIO/detail/pugixml/pugixml.cpp" ] && return 0
+  [ -f /usr/include/OpenImageIO/detail/pugixml/pugixml.cpp ] && return 0
+  mkdir -p "$dir"
+  echo "build.sh: unpacking pugixml's source from Debian's libopenimageio-dev into $dir"
+  (cd "$dir" && { apt-get download libopenimageio-dev 2>/dev/null || { apt-get update -qq && apt-get download libopenimageio-dev; }; } &&
+    dpkg-deb -x libopenimageio-dev_*.deb . && rm -f libopenimageio-dev_*.deb)
+}
+
+install_web_deps() {
+  install_deps "${WEB_PACKAGES[@]}" "$@"
+  fetch_pugixml_source
+}
+
 build() {
   cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
   cmake --build "$BUILD_DIR" -j "$(nproc)"
@@ -51,7 +72,8 @@ build() {
 # would report as findings of ours (the MPI tests run in the Release suite).
 build_asan() {
   cmake -S . -B "$ASAN_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
-    -DSODAEVO_SANITIZE=address,undefined -DSODAEVO_MPI=OFF
+    -DSODAEVO_SANITIZE=address,undefined -DSODAEVO_MPI=OFF \
+    -DSODAEVO_WASM_PREBUILT="$PWD/$BUILD_DIR/web/soda_engine_wasm.js"
   cmake --build "$ASAN_DIR" -j "$(nproc)"
 }
 
@@ -72,7 +94,7 @@ build_fuzz() {
 
 case "${1:-}" in
   deps) install_deps ;;
-  build) install_deps; build ;;
+  build) install_web_deps; build ;;
   run)
     install_deps; build
     # The main job: evolve walkers from the default config into
@@ -80,7 +102,7 @@ case "${1:-}" in
     "$BUILD_DIR/sodaevo" evolve configs/default.json
     ;;
   test)
-    install_deps "${TEST_PACKAGES[@]}"; build
+    install_web_deps "${TEST_PACKAGES[@]}"; build
     ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$(nproc)"
     build_asan
     run_asan_tests
@@ -91,7 +113,7 @@ case "${1:-}" in
     SODAEVO_FUZZ_DIR="$FUZZ_DIR" fuzz/run.sh "$@"
     ;;
   *)
-    sed -n '2,16p' "$0" | sed 's/^# \{0,1\}//'
+    sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
     exit 2
     ;;
 esac

@@ -22,7 +22,9 @@ std::string script_safe(std::string text) {
   return text;
 }
 
-std::string style_json() {
+} // namespace
+
+std::string creature_style_json() {
   using namespace style;
   nlohmann::json j = {
       {"background", kBackground}, {"floor", kFloor}, {"ground", kGround}, {"tick", kTick}, {"spring", kSpring},
@@ -34,6 +36,8 @@ std::string style_json() {
       {"muscleWidthContracted", kMuscleWidthContracted}, {"muscleWidthStretched", kMuscleWidthStretched}};
   return script_safe(j.dump());
 }
+
+namespace {
 
 constexpr const char* kCss = R"css(
 .soda-player { display: inline-block; margin: 8px 12px 16px 0; vertical-align: top; }
@@ -327,7 +331,7 @@ std::string player_element(const Motion& motion, const PlayerView& view) {
 }
 
 std::string player_script() {
-  return "<script type=\"application/json\" id=\"soda-style\">" + style_json() + "</script>\n<script>" +
+  return "<script type=\"application/json\" id=\"soda-style\">" + creature_style_json() + "</script>\n<script>" +
          kPlayerScript + "</script>\n";
 }
 

@@ -44,6 +44,10 @@ std::string player_script();
 /// A whole page with one player (what `sodaevo render X.html` writes).
 std::string render_player_page(const Motion& motion, const std::string& title, const std::string& subtitle);
 
+/// The creature colours and sizes of creature_style.hpp as JSON for a page's
+/// scripts (safe inside a <script> element).
+std::string creature_style_json();
+
 /// Text for HTML content or attributes: & < > " ' escaped.
 std::string html_escape(const std::string& text);
 

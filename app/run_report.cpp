@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/classic_models.hpp"
+#include "app/designer_page.hpp"
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
 #include "charts/fixed_text.hpp"
@@ -311,6 +312,18 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   if (ranked.empty()) {
     o << "<p class=\"note\">No creature has been scored yet.</p>\n";
   } else {
+    // One click opens a creature in the designer (RUN/designer.html, written with the report).
+    const auto designer_link = [](const std::string& xml) {
+      if (!designer_available() || xml.empty()) return std::string();
+      return " &middot; <a href=\"designer.html#" + designer_model_fragment(xml) + "\">open in the designer</a>";
+    };
+    const auto file_text = [](const fs::path& p) {
+      try {
+        return soda::read_whole_file(p);
+      } catch (const std::exception&) {
+        return std::string();
+      }
+    };
     o << "<table class=\"best\">\n<tr><th>#</th><th>creature</th><th>best of generations</th><th>fitness (px)</th>"
       << "<th>distance (px)</th><th>speed (px/frame)</th><th>file</th></tr>\n";
     int rank = 0;
@@ -326,12 +339,13 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
       o << "<tr><td class=\"n\">" << rank << "</td><td>" << esc(r.best_id) << "</td><td class=\"n\">" << generation_ranges(k.generations)
         << "</td><td class=\"n\">" << table_number(r.best, 1) << "</td><td class=\"n\">" << distance << "</td><td class=\"n\">"
         << speed << "</td><td><a href=\"best/" << generation_file_name(r.generation) << "\">best/"
-        << generation_file_name(r.generation) << "</a></td></tr>\n";
+        << generation_file_name(r.generation) << "</a>" << designer_link(file_text(best_file(r.generation))) << "</td></tr>\n";
     }
     if (classic_evaluation && classic_evaluation->ok()) {
       o << "<tr class=\"classic\"><td></td><td>Dainty Walker (classic)</td><td></td><td class=\"n\">"
         << table_number(classic_evaluation->fitness, 1) << "</td><td class=\"n\">" << table_number(classic_evaluation->distance, 1)
-        << "</td><td class=\"n\">" << table_number(classic_evaluation->px_per_frame, 3) << "</td><td>built in</td></tr>\n";
+        << "</td><td class=\"n\">" << table_number(classic_evaluation->px_per_frame, 3) << "</td><td>built in"
+        << designer_link(std::string(dainty_walker_xml())) << "</td></tr>\n";
     }
     o << "</table>\n";
   }
@@ -391,6 +405,12 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
 
 void write_run_report(const fs::path& run_dir, const fs::path& out, const ReportOptions& options) {
   soda::write_file_atomically(out, run_report_html(run_dir, options));
+  // The page the report's "open in the designer" links open, beside it.
+  if (designer_available()) {
+    const fs::path page = out.parent_path() / "designer.html";
+    const std::string text = designer_page();
+    if (!fs::exists(page) || soda::read_whole_file(page) != text) soda::write_file_atomically(page, text);
+  }
 }
 
 } // namespace sodaevo::app

@@ -18,9 +18,12 @@
 
 #include "formats/atomic_file.hpp"
 
+#include "browser_support.hpp"
 #include "test_support.hpp"
 
 namespace fs = std::filesystem;
+using sodaevo::test::chromium_command;
+using sodaevo::test::find_chromium;
 using sodaevo::test::run_shell;
 using sodaevo::test::run_sodaevo;
 
@@ -28,14 +31,6 @@ namespace {
 
 /// Headless Chromium runs animation frames only in virtual time, and only a few.
 const std::string kLetItPlay = "--virtual-time-budget=5000 --run-all-compositor-stages-before-draw";
-
-std::string find_chromium() {
-  for (const char* name : {"chromium", "chromium-browser"}) {
-    const auto r = run_shell(std::string("command -v ") + name);
-    if (r.exit_code == 0 && !r.output.empty()) return r.output.substr(0, r.output.find('\n'));
-  }
-  return {};
-}
 
 struct Player {
   bool ready = false;
@@ -55,12 +50,6 @@ std::string attribute(const std::string& tag, const std::string& name) {
   const std::regex re(" " + name + "=\"([^\"]*)\"");
   std::smatch m;
   return std::regex_search(tag, m, re) ? m[1].str() : std::string();
-}
-
-std::string chromium_command(const std::string& chromium, const fs::path& profile) {
-  return "timeout 90 " + chromium +
-         " --headless --no-sandbox --disable-gpu --disable-background-networking --no-first-run"
-         " --disable-extensions --user-data-dir=" + profile.string() + " --enable-logging=stderr --v=0";
 }
 
 /// Opens `page` (at `frame` if >= 0, else playing as a user sees it) and dumps the DOM.

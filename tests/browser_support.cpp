@@ -1,0 +1,48 @@
+#include "browser_support.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <fstream>
+
+#include "formats/atomic_file.hpp"
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+
+namespace sodaevo::test {
+
+std::string find_chromium() {
+  for (const char* name : {"chromium", "chromium-browser"}) {
+    const auto r = run_shell(std::string("command -v ") + name);
+    if (r.exit_code == 0 && !r.output.empty()) return r.output.substr(0, r.output.find('\n'));
+  }
+  return {};
+}
+
+std::string chromium_command(const std::string& chromium, const fs::path& profile) {
+  return "timeout 90 " + chromium +
+         " --headless --no-sandbox --disable-gpu --disable-background-networking --no-first-run"
+         " --disable-extensions --disable-quic --disable-component-update --disable-sync"
+         " --user-data-dir=" + profile.string() + " --enable-logging=stderr --v=0";
+}
+
+DumpedPage dump_dom(const std::string& chromium, const std::string& url, const fs::path& work,
+                    const std::string& extra_flags) {
+  static int runs = 0;
+  ++runs;
+  const fs::path profile = work / ("dump-profile" + std::to_string(runs));
+  const fs::path dom = work / ("dump" + std::to_string(runs) + ".html"), log = work / ("dump" + std::to_string(runs) + ".log");
+  const auto r = run_shell("( " + chromium_command(chromium, profile) + " " + extra_flags + " --dump-dom '" + url + "' > " +
+                           dom.string() + " 2> " + log.string() + " )");
+  INFO("chromium on " << url.substr(0, 300) << ":\n" << r.output);
+  REQUIRE(r.exit_code == 0);
+  DumpedPage p;
+  p.dom = soda::read_whole_file(dom);
+  std::ifstream in(log);
+  for (std::string line; std::getline(in, line);) {
+    if (line.find(":CONSOLE") != std::string::npos) p.console.push_back(line);
+  }
+  return p;
+}
+
+} // namespace sodaevo::test

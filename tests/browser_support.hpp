@@ -1,0 +1,29 @@
+// Headless Chromium for the browser tests (Debian's `chromium`, installed by
+// ./build.sh test): finding it, the command line, and a page's DOM and console
+// after it ran.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace sodaevo::test {
+
+/// The path of `chromium` or `chromium-browser` on PATH; empty if neither.
+std::string find_chromium();
+
+/// A headless Chromium command (no sandbox, no GPU, no network side traffic, its
+/// own profile folder, the console on stderr), up to a URL or further flags.
+std::string chromium_command(const std::string& chromium, const std::filesystem::path& profile);
+
+struct DumpedPage {
+  std::string dom;
+  std::vector<std::string> console; ///< CONSOLE lines of Chromium's log
+};
+
+/// Opens `url` with `extra_flags` in a fresh profile under `work` and dumps its
+/// DOM (--dump-dom); fails the test if Chromium fails.
+DumpedPage dump_dom(const std::string& chromium, const std::string& url, const std::filesystem::path& work,
+                    const std::string& extra_flags = "");
+
+} // namespace sodaevo::test

@@ -1,0 +1,175 @@
+// The stage: the design or the running creature on a canvas, and what is under
+// the pointer. World: px, y up, floor at y = 0; one world px is one canvas px.
+// Drawn as the player of `sodaevo render` draws (colours of creature_style.hpp):
+// masses round, fixed nodes square, springs grey, fixed bars black, muscles red,
+// dark and thick when contracted, pale and thin when stretched.
+var SodaView = (function () {
+  'use strict';
+  var FLOOR_MARGIN = 24, PICK_RADIUS = 9, LINK_PICK = 6;
+
+  function Stage(canvas, style) {
+    this.canvas = canvas;
+    this.ctx = canvas.getContext('2d');
+    this.style = style;
+    this.cameraX = canvas.width / 2 - 20; // world x at the canvas's centre
+  }
+
+  Stage.prototype.toScreen = function (x, y) {
+    return [x - this.cameraX + this.canvas.width / 2, this.canvas.height - FLOOR_MARGIN - y];
+  };
+  Stage.prototype.toWorld = function (sx, sy) {
+    return [sx + this.cameraX - this.canvas.width / 2, this.canvas.height - FLOOR_MARGIN - sy];
+  };
+  /// Canvas coordinates of a pointer event (the canvas may be shown scaled).
+  Stage.prototype.eventPoint = function (event) {
+    var r = this.canvas.getBoundingClientRect();
+    return [(event.clientX - r.left) * this.canvas.width / r.width, (event.clientY - r.top) * this.canvas.height / r.height];
+  };
+
+  /// Index of the node nearest canvas point (sx, sy) within reach, or -1.
+  Stage.prototype.nodeAt = function (xy, sx, sy) {
+    var best = -1, bestD = PICK_RADIUS * PICK_RADIUS;
+    for (var i = 0; 2 * i < xy.length; ++i) {
+      var p = this.toScreen(xy[2 * i], xy[2 * i + 1]), dx = p[0] - sx, dy = p[1] - sy, d = dx * dx + dy * dy;
+      if (d <= bestD) { best = i; bestD = d; }
+    }
+    return best;
+  };
+
+  /// Index of the link nearest canvas point (sx, sy) within reach, or -1.
+  Stage.prototype.linkAt = function (design, xy, sx, sy) {
+    var best = -1, bestD = LINK_PICK;
+    for (var i = 0; i < design.links.length; ++i) {
+      var l = design.links[i];
+      var a = this.toScreen(xy[2 * l.a], xy[2 * l.a + 1]), b = this.toScreen(xy[2 * l.b], xy[2 * l.b + 1]);
+      var dx = b[0] - a[0], dy = b[1] - a[1], len2 = dx * dx + dy * dy;
+      var t = len2 > 0 ? Math.max(0, Math.min(1, ((sx - a[0]) * dx + (sy - a[1]) * dy) / len2)) : 0;
+      var d = Math.hypot(a[0] + t * dx - sx, a[1] + t * dy - sy);
+      if (d < bestD) { best = i; bestD = d; }
+    }
+    return best;
+  };
+
+  function muscleStyle(S, stretch) {
+    var to = stretch < 0 ? S.muscleContracted : S.muscleStretched, t = Math.abs(stretch), c = [];
+    for (var i = 0; i < 3; ++i) c.push(Math.round(S.muscleRest[i] + (to[i] - S.muscleRest[i]) * t));
+    var mid = (S.muscleWidthContracted + S.muscleWidthStretched) / 2;
+    return { color: 'rgb(' + c.join(',') + ')', width: mid + (S.muscleWidthStretched - S.muscleWidthContracted) / 2 * stretch };
+  }
+
+  Stage.prototype.drawGround = function (design) {
+    var ctx = this.ctx, S = this.style, W = this.canvas.width, H = this.canvas.height, floorY = H - FLOOR_MARGIN;
+    ctx.fillStyle = S.background;
+    ctx.fillRect(0, 0, W, H);
+    ctx.fillStyle = S.ground;
+    ctx.fillRect(0, floorY, W, FLOOR_MARGIN);
+    ctx.strokeStyle = S.floor;
+    ctx.lineWidth = 2;
+    ctx.beginPath();
+    ctx.moveTo(0, floorY);
+    ctx.lineTo(W, floorY);
+    ctx.stroke();
+    // Ticks every 100 px of world x, labelled.
+    ctx.fillStyle = S.tick;
+    ctx.font = '10px sans-serif';
+    var left = this.toWorld(0, 0)[0], right = this.toWorld(W, 0)[0];
+    for (var x = Math.ceil(left / 100) * 100; x <= right; x += 100) {
+      var sx = this.toScreen(x, 0)[0];
+      ctx.fillRect(sx, floorY, 1, 5);
+      ctx.fillText(String(x), sx + 2, floorY + 15);
+    }
+    // The container's side walls (the engine bounces masses off them).
+    ctx.strokeStyle = S.tick;
+    ctx.setLineDash([4, 4]);
+    ctx.lineWidth = 1;
+    [0, design.width].forEach(function (wx) {
+      var sx = this.toScreen(wx, 0)[0];
+      if (sx < 0 || sx > W) return;
+      ctx.beginPath();
+      ctx.moveTo(sx, 0);
+      ctx.lineTo(sx, floorY);
+      ctx.stroke();
+    }, this);
+    ctx.setLineDash([]);
+  };
+
+  /// Draws the design at positions xy; options: selectedLink, pending {from: [sx, sy], to: [sx, sy]}.
+  Stage.prototype.draw = function (design, xy, options) {
+    options = options || {};
+    var ctx = this.ctx, S = this.style, self = this;
+    this.drawGround(design);
+    var pt = function (i) { return self.toScreen(xy[2 * i], xy[2 * i + 1]); };
+    ctx.lineCap = 'round';
+    design.links.forEach(function (l, i) {
+      var a = pt(l.a), b = pt(l.b);
+      if (i === options.selectedLink) {
+        ctx.strokeStyle = 'rgba(255, 200, 0, 0.8)';
+        ctx.lineWidth = 10;
+        ctx.beginPath();
+        ctx.moveTo(a[0], a[1]);
+        ctx.lineTo(b[0], b[1]);
+        ctx.stroke();
+      }
+      if (l.kind === 'bar') {
+        ctx.strokeStyle = S.bar;
+        ctx.lineWidth = S.barWidth;
+      } else if (l.kind === 'muscle') {
+        var length = Math.hypot(b[0] - a[0], b[1] - a[1]);
+        var stretch = l.rest > 0 ? Math.max(-1, Math.min(1, (length / l.rest - 1) / S.muscleRange)) : 0;
+        var m = muscleStyle(S, stretch);
+        ctx.strokeStyle = m.color;
+        ctx.lineWidth = m.width;
+      } else {
+        ctx.strokeStyle = S.spring;
+        ctx.lineWidth = S.springWidth;
+      }
+      ctx.beginPath();
+      ctx.moveTo(a[0], a[1]);
+      ctx.lineTo(b[0], b[1]);
+      ctx.stroke();
+    });
+    if (options.pending) {
+      ctx.strokeStyle = '#1f4e8c';
+      ctx.setLineDash([5, 4]);
+      ctx.lineWidth = 1.5;
+      ctx.beginPath();
+      ctx.moveTo(options.pending.from[0], options.pending.from[1]);
+      ctx.lineTo(options.pending.to[0], options.pending.to[1]);
+      ctx.stroke();
+      ctx.setLineDash([]);
+    }
+    if (!design.nodes.length) {
+      ctx.fillStyle = S.tick;
+      ctx.font = '16px sans-serif';
+      ctx.textAlign = 'center';
+      ctx.fillText('An empty design: click to add a mass, drag from it to add a spring, or open a model.', this.canvas.width / 2, this.canvas.height / 2);
+      ctx.textAlign = 'start';
+    }
+    design.nodes.forEach(function (n, i) {
+      var p = pt(i);
+      if (n.fixed) {
+        ctx.fillStyle = S.fixed;
+        ctx.fillRect(p[0] - S.fixedSide / 2, p[1] - S.fixedSide / 2, S.fixedSide, S.fixedSide);
+      } else {
+        ctx.fillStyle = S.mass;
+        ctx.beginPath();
+        ctx.arc(p[0], p[1], S.massRadius, 0, 2 * Math.PI);
+        ctx.fill();
+      }
+    });
+  };
+
+  /// Mean position of the free masses (null without any).
+  function centroid(design, xy) {
+    var sx = 0, sy = 0, n = 0;
+    design.nodes.forEach(function (node, i) {
+      if (node.fixed) return;
+      sx += xy[2 * i];
+      sy += xy[2 * i + 1];
+      ++n;
+    });
+    return n ? [sx / n, sy / n] : null;
+  }
+
+  return { Stage: Stage, centroid: centroid };
+})();
