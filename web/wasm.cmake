@@ -43,7 +43,7 @@ if(SODAEVO_WASM_MISSING)
 elseif(NOT SODAEVO_WASM_ENGINE)
   message(STATUS "sodaevo: WebAssembly engine with ${SODAEVO_EMXX}, pugixml from ${_soda_pugixml_dir}")
   set(SODAEVO_WASM_ENGINE ${CMAKE_BINARY_DIR}/web/soda_engine_wasm.js)
-  file(GLOB _soda_wasm_inputs CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/core/*.cpp ${CMAKE_SOURCE_DIR}/core/*.hpp
+  file(GLOB_RECURSE _soda_wasm_inputs CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/core/*.cpp ${CMAKE_SOURCE_DIR}/core/*.hpp
        ${CMAKE_SOURCE_DIR}/formats/*.cpp ${CMAKE_SOURCE_DIR}/formats/*.hpp)
   add_custom_command(OUTPUT ${SODAEVO_WASM_ENGINE}
     COMMAND ${CMAKE_SOURCE_DIR}/web/build_wasm.sh ${CMAKE_BINARY_DIR}/web ${_soda_pugixml_dir}
