@@ -73,7 +73,7 @@ build() {
 build_asan() {
   cmake -S . -B "$ASAN_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
     -DSODAEVO_SANITIZE=address,undefined -DSODAEVO_MPI=OFF \
-    -DSODAEVO_WASM_PREBUILT="$PWD/$BUILD_DIR/web/soda_engine_wasm.js"
+    -DSODAEVO_WASM_PREBUILT="$(cd "$BUILD_DIR" && pwd)/web/soda_engine_wasm.js"
   cmake --build "$ASAN_DIR" -j "$(nproc)"
 }
 
