@@ -26,6 +26,7 @@ void add_bench_qd_command(CLI::App& bench);
 void add_render_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 void add_designer_command(CLI::App& app);
+void add_race_command(CLI::App& app);
 /// `bench accuracy` and `bench stress`, registered on the `bench` subcommand.
 void add_bench_accuracy_commands(CLI::App& bench);
 

@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
   sodaevo::app::add_render_command(app);
   sodaevo::app::add_report_command(app);
   sodaevo::app::add_designer_command(app);
+  sodaevo::app::add_race_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -26,17 +26,12 @@ bool finite_state(const soda::Model& model, const soda::State& s) {
 
 } // namespace
 
-Motion record_motion(const soda::ModelDef& def, long long frames, int every, const soda::Stepping& stepping) {
-  if (frames < 0) throw std::invalid_argument("record_motion: negative frame count");
-  if (every < 1) every = 1;
-  const soda::Model model = soda::build_model(def);
+Motion motion_of_model(const soda::Model& model, const std::string& name) {
   Motion m;
-  m.name = def.name;
+  m.name = name;
   m.masses = model.mass_count;
   m.width = model.width;
   m.height = model.height;
-  m.frames = frames;
-  m.every = every;
   for (int p = model.mass_count; p < model.point_count; ++p) {
     m.fixed_xy.push_back(model.x0[p]);
     m.fixed_xy.push_back(model.y0[p]);
@@ -46,6 +41,16 @@ Motion record_motion(const soda::ModelDef& def, long long frames, int every, con
                        model.link_muscle[l] ? soda::LinkKind::Muscle : soda::LinkKind::Spring, model.link_rest[l]});
   }
   for (int b = 0; b < model.bar_count(); ++b) m.links.push_back({model.bar_a[b], model.bar_b[b], soda::LinkKind::FixedBar, 0.0});
+  return m;
+}
+
+Motion record_motion(const soda::ModelDef& def, long long frames, int every, const soda::Stepping& stepping) {
+  if (frames < 0) throw std::invalid_argument("record_motion: negative frame count");
+  if (every < 1) every = 1;
+  const soda::Model model = soda::build_model(def);
+  Motion m = motion_of_model(model, def.name);
+  m.frames = frames;
+  m.every = every;
 
   // Without masses (a bare terrain) the camera looks at the middle of the fixed nodes.
   double fixed_centre = 0.0;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/model.hpp"
 #include "core/model_def.hpp"
 #include "core/stepping.hpp"
 
@@ -19,6 +20,12 @@ struct MotionLink {
   int a = 0, b = 0;          ///< point indices: masses [0, masses), then fixed nodes
   soda::LinkKind kind = soda::LinkKind::Spring;
   double rest = 0.0;         ///< rest length (springs and muscles), px
+};
+
+/// A vertical line the player draws at x (e.g. a race's start and finish).
+struct MotionMark {
+  double x = 0.0;
+  std::string label;
 };
 
 struct Motion {
@@ -32,6 +39,7 @@ struct Motion {
   std::vector<long long> sample_frames;     ///< frame number of each sample, from 0
   std::vector<std::vector<double>> mass_xy; ///< per sample: x0 y0 x1 y1 ... of the masses, rounded to 0.1 px
   std::vector<double> centroid_x;           ///< per sample: mean x of the masses (not rounded); of the fixed nodes if there are no masses
+  std::vector<MotionMark> marks;            ///< lines to draw (races: start, finish)
   /// Non-empty if the state became non-finite: the recording stops before it.
   std::string diverged;
 
@@ -42,6 +50,9 @@ struct Motion {
 
 /// The sample interval that keeps at most `max_samples` samples of `frames` frames.
 int sample_interval(long long frames, int max_samples);
+
+/// A Motion with `model`'s constant parts (container, fixed nodes, links) and no samples.
+Motion motion_of_model(const soda::Model& model, const std::string& name);
 
 /// Runs `def` (as loaded: its own world and container) for `frames` frames and
 /// keeps frame 0, every `every`-th frame and the last. Throws soda::InputError if

@@ -170,6 +170,14 @@ constexpr const char* kPlayerScript = R"js(
           ctx.fillText(' scoring starts here ', fx, floorY + 38);
         }
       }
+      // Marks (a race's start and finish): dashed lines across the scene.
+      (data.marks || []).forEach(function (mark) {
+        var mx = sx(mark.x / 10);
+        if (mx < 0 || mx > W) return;
+        ctx.strokeStyle = S.tick; ctx.lineWidth = 1; ctx.setLineDash([6, 4]);
+        ctx.beginPath(); ctx.moveTo(mx, 0); ctx.lineTo(mx, floorY); ctx.stroke(); ctx.setLineDash([]);
+        ctx.textAlign = 'center'; ctx.fillStyle = S.tick; ctx.fillText(mark.label, mx, 14);
+      });
       // Container walls and ceiling, where they are in view.
       ctx.strokeStyle = S.floor; ctx.lineWidth = 3;
       [0, data.width].forEach(function (wx) {
@@ -304,6 +312,9 @@ std::string motion_json(const Motion& m, long long scored_from) {
   j["xy"] = std::move(xy);
   j["cx"] = cx;
   j["diverged"] = m.diverged;
+  nlohmann::json marks = nlohmann::json::array();
+  for (const MotionMark& mark : m.marks) marks.push_back({{"x", tenths(mark.x)}, {"label", mark.label}});
+  j["marks"] = std::move(marks);
   return script_safe(j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
 }
 

@@ -44,6 +44,7 @@ struct SimulateOptions {
   int replicas = 0; ///< 0: one plain run
   double jitter = 0.002;
   long long settle = 0;
+  std::string bar_engine = "2003";
 };
 
 struct SimulateSummary {
@@ -54,6 +55,8 @@ struct SimulateSummary {
   double centroid_dy = 0.0;
   double wall_seconds = 0.0;
   std::string stepping = "soda";
+  std::string bar_engine = "2003";
+  int bars = 0;
   soda::Divergence divergence;
   bool honesty = false;
   std::string honesty_stepping;
@@ -76,6 +79,8 @@ void print_summary(const SimulateOptions& opt, const SimulateSummary& s) {
                         {"wall_seconds", s.wall_seconds},
                         {"frames_per_second", fps},
                         {"stepping", s.stepping},
+                        {"fixed_bars", s.bars},
+                        {"bar_engine", s.bar_engine},
                         {"diverged", s.divergence.diverged}};
     if (s.divergence.diverged) {
       j["diverged_frame"] = s.divergence.frame;
@@ -102,6 +107,8 @@ void print_summary(const SimulateOptions& opt, const SimulateSummary& s) {
   }
   std::printf("masses              %d\n", s.masses);
   std::printf("links               %d (springs and muscles)\n", s.links);
+  std::printf("fixed bars          %d (%s engine's rule%s)\n", s.bars, s.bar_engine.c_str(),
+              s.bar_engine == "2003" ? ", SodaConstructor" : ", the racer's");
   std::printf("centroid dx, dy     %+.6f px, %+.6f px\n", s.centroid_dx, s.centroid_dy);
   std::printf("speed               %+.6f px/frame (%s)\n", px_per_frame,
               px_per_frame > 0 ? "walks right" : px_per_frame < 0 ? "walks left" : "stands");
@@ -139,10 +146,19 @@ soda::Divergence run_watched(const soda::Model& model, soda::State& state, long 
   return {};
 }
 
+soda::BarEngine bar_engine_of(const SimulateOptions& opt) {
+  soda::BarEngine engine{};
+  if (!soda::parse_bar_engine(opt.bar_engine, engine)) {
+    throw soda::InputError("--bar-engine: expected 2003 or 2004, got '" + opt.bar_engine + "'");
+  }
+  return engine;
+}
+
 void run_simulate(const SimulateOptions& opt) {
   soda::LoadedModel loaded = soda::read_model_file(opt.model);
   for (const std::string& w : loaded.warnings) std::cerr << "sodaevo: warning: " << w << '\n';
-  const soda::Model model = soda::build_model(loaded.def);
+  const soda::BarEngine bar_engine = bar_engine_of(opt);
+  const soda::Model model = soda::build_model(loaded.def, bar_engine);
   soda::State state = soda::make_state(model);
   const soda::Stepping stepping = stepping_of(opt.stepping);
 
@@ -191,6 +207,8 @@ void run_simulate(const SimulateOptions& opt) {
 
   SimulateSummary s;
   s.stepping = soda::stepping_label(stepping);
+  s.bar_engine = soda::bar_engine_name(bar_engine);
+  s.bars = model.bar_count();
   s.divergence = divergence;
   if (opt.honesty) {
     const soda::Stepping refined = sodaevo::refined_stepping(stepping, opt.honesty_factor);
@@ -257,7 +275,7 @@ void print_replica_summary(const SimulateOptions& opt, const std::string& steppi
 void run_simulate_replicas(const SimulateOptions& opt) {
   soda::LoadedModel loaded = soda::read_model_file(opt.model);
   for (const std::string& w : loaded.warnings) std::cerr << "sodaevo: warning: " << w << '\n';
-  const soda::Model model = soda::build_model(loaded.def);
+  const soda::Model model = soda::build_model(loaded.def, bar_engine_of(opt));
   sodaevo::ReplicaSettings settings;
   settings.seeds = sodaevo::consecutive_seeds(opt.replicas);
   settings.probability = opt.jitter;
@@ -313,6 +331,10 @@ void add_simulate_command(CLI::App& app) {
                 "Soda mode: use the plain reference step instead of the fast stepper (both give the\n"
                 "same bits; the reference is the readable one, for checking)");
   add_stepping_options(cmd, opt->stepping);
+  cmd->add_option("--bar-engine", opt->bar_engine,
+                  "Fixed bars: 2003 (SodaConstructor's engine: every bar's box normalised) or 2004 (the\n"
+                  "racer's copy: bars running downhill or right to left are practically never hit)")
+      ->default_val("2003");
   cmd->add_flag("--energy-check", opt->energy_check,
                 "Also flag runaway energy (more than the muscles can supply) as divergence, not only\n"
                 "non-finite numbers. A diverged run stops at the last healthy frame and says why");

@@ -98,13 +98,14 @@ void ContinuousStepper::finish_mass(State& s, int i, double x0, double y0, doubl
     s.vy[i] = vy;
     return;
   }
+  const MassMove move = rules::mass_move(x0, y0, x, y, vx, vy);
   const bool crossed_floor_or_ceiling = y < 0.0 || y > m.height;
   const bool crossed_side_wall = x < 0.0 || x > m.width;
   const SideWall hit =
       rules::collide_with_container(x, y, vx, vy, m.width, m.height, surface_keep_, m.surface_reflection);
   rules::friction_while_touching(y0 <= 0.0 || y0 >= m.height, x0 <= 0.0 || x0 >= m.width, crossed_floor_or_ceiling,
                                  crossed_side_wall, vx, vy, surface_keep_);
-  rules::complete_move(m, s, i, hit, dt_, surface_keep_, x0, y0, x, y, vx, vy);
+  rules::complete_move(m, s, i, hit, surface_keep_, move, x, y, vx, vy);
 }
 
 // Kick-drift-kick with Strang-split air friction:

@@ -66,7 +66,7 @@ void validate_world(const ModelDef& def) {
 
 } // namespace
 
-Model build_model(const ModelDef& def) {
+Model build_model(const ModelDef& def, BarEngine bar_engine) {
   validate_world(def);
   if (def.nodes.empty()) fail("nodes", "expected at least one node or mass, got an empty model");
   if (static_cast<long>(def.nodes.size()) > kMaxNodes) {
@@ -142,6 +142,7 @@ Model build_model(const ModelDef& def) {
     m.link_amplitude.push_back(muscle ? link.amplitude : 0.0);
     m.link_phase.push_back(muscle ? link.phase : 0.0);
   }
+  m.fixed_bars = make_fixed_bars(m.bar_a, m.bar_b, m.x0.data(), m.y0.data(), bar_engine);
   set_constants(m);
   return m;
 }
@@ -245,6 +246,8 @@ ModelDef def_with_state(const ModelDef& def, const Model& model, const State& st
     node.y = state.y[p];
     node.vx = state.vx[p];
     node.vy = state.vy[p];
+    // The original's writer puts a mass lying on a bar 1e-4 off it (FixedBar.TWEAK).
+    if (p < model.mass_count) tweak_for_writing(model.fixed_bars, state.bar_memory, p, node.x, node.y);
   }
   out.wave.phase = state.wave_phase;
   out.settings.wave_direction = state.wave_mode;

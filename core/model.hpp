@@ -15,6 +15,7 @@
 #include <functional>
 #include <vector>
 
+#include "fixed_bars.hpp"
 #include "model_def.hpp"
 #include "sine_jitter.hpp"
 
@@ -60,6 +61,7 @@ struct Model {
   // --- fixed bars (collision segments), file order ---
   std::vector<int> bar_a; ///< [bar_count] point index
   std::vector<int> bar_b; ///< [bar_count] point index
+  FixedBars fixed_bars;   ///< their geometry as the engine takes it (from x0, y0), chains, rule
 
   // --- initial state (as loaded) ---
   std::vector<double> x0, y0, vx0, vy0; ///< [point_count]
@@ -79,13 +81,16 @@ struct State {
   SideWall last_side_wall = SideWall::None; ///< autoreverse memory (spec 5.3)
   long long frame = 0;        ///< frames stepped since the state was made
   SineJitter jitter;          ///< this replica's sine jitter (sine_jitter.hpp); seed 0: exact
+  BarMemory bar_memory;       ///< fixed bars: masses each bar remembers, corners (spec 5.4)
 };
 
 /// Validates `def` and builds the static model. Throws InputError naming the node
 /// or link and the field for: no nodes, non-finite numbers, values outside the
 /// original's ranges (constants.hpp), unnormalised amplitudes or phases, bad link
 /// indices, a link from a node to itself, counts above the limits.
-Model build_model(const ModelDef& def);
+/// `bar_engine`: which original's fixed-bar box test the model steps with
+/// (fixed_bars.hpp; SodaConstructor files are the 2003 engine's, a race lane the 2004 racer's).
+Model build_model(const ModelDef& def, BarEngine bar_engine = BarEngine::SodaConstructor2003);
 
 /// Forms the derived constants of `model` from its fields. build_model calls it; call
 /// it again after changing gravity, friction, the wave amplitude or a link's muscle

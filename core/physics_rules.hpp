@@ -158,7 +158,7 @@ inline MassConstants frame_constants(const Model& m) {
 struct MassStepResult {
   bool moved = false;            ///< false: at rest (is_at_rest), neither moved nor collided
   SideWall hit = SideWall::None; ///< the side wall that responded (for autoreverse)
-  double x0 = 0.0, y0 = 0.0;     ///< the position before the move (for the fixed bars)
+  MassMove move;                 ///< start, end before the container, velocity then (fixed bars)
 };
 
 /// One free mass after its link impulses (spec 5.3): gravity, air friction with the
@@ -176,10 +176,10 @@ struct MassStepResult {
   vy = factor * vy;
   if (is_at_rest(vx, vy)) return r;
   r.moved = true;
-  r.x0 = x;
-  r.y0 = y;
-  x = r.x0 + vx * c.dt;
-  y = r.y0 + vy * c.dt;
+  const double x0 = x, y0 = y;
+  x = x0 + vx * c.dt;
+  y = y0 + vy * c.dt;
+  r.move = {x0, y0, x, y, x, y, vx, vy};
   r.hit = collide_with_container(x, y, vx, vy, c.width, c.height, c.surface_friction, c.surface_reflection);
   return r;
 }
@@ -218,112 +218,34 @@ inline double advance_wave_phase(double phase, double speed, WaveDirection mode)
   return wrap_phase(moved);
 }
 
-/// Fixed-bar response (spec 5.4, verified for a single bar crossing): the move from
-/// p0 lasted `dt` frames (1 in the original) and crosses the bar at fraction t of
-/// the move; u is the unit vector along the bar and n its unit normal. The mass is
-/// placed at the crossing point plus (1 - t)*dt*Fs*vt*u (it slides along the bar
-/// for the rest of the move) and its new velocity is Fs*vt*u + Rs*vn*n, with
-/// vt = v.u and vn = v.n. In the `continuous` mode Fs is the per-step Fs^dt.
-struct BarResponse {
-  double x, y, vx, vy;
-};
-inline BarResponse respond_to_bar_dt(double cross_x, double cross_y, double t, double dt, double vx, double vy,
-                                     double ux, double uy, double surface_friction, double surface_reflection) {
-  const double nx = -uy;
-  const double ny = ux;
-  const double vt = vx * ux + vy * uy;
-  const double vn = vx * nx + vy * ny;
-  const double slide = ((1.0 - t) * dt) * surface_friction * vt;
-  return {cross_x + slide * ux, cross_y + slide * uy,
-          surface_friction * vt * ux + surface_reflection * vn * nx,
-          surface_friction * vt * uy + surface_reflection * vn * ny};
-}
-
-
-inline double cross(double ax, double ay, double bx, double by) { return ax * by - ay * bx; }
-
-/// Fixed bars (spec 5.4): the first bar (smallest t) crossed by the move from
-/// (x0, y0) to (x, y), which lasted `dt` frames, responds as respond_to_bar_dt
-/// says; (x, y, vx, vy) are updated.
-/// Bar ends are points `bar_a[k]`, `bar_b[k]` of the position arrays `px`, `py`;
-/// a bar does not stop its own end `self`. Not mapped from the original (never
-/// studied): chains of bars, corners and bar ends, several crossings in one frame.
-/// So that a mass left on a bar is not let through on the next frame, a crossing
-/// is a strict change of side, and the mass is kept strictly on the side it came
-/// from (rounding may put it on the bar; the smallest nudge that helps is used).
-/// Returns true if a bar responded.
-inline bool collide_with_bars_dt(const double* px, const double* py, const int* bar_a, const int* bar_b,
-                                 int bar_count, int self, double dt, double x0, double y0, double& x, double& y,
-                                 double& vx, double& vy, double surface_friction, double surface_reflection) {
-  const double mx = x - x0;
-  const double my = y - y0;
-  int best = -1;
-  double best_t = std::numeric_limits<double>::infinity();
-  double best_side0 = 0.0;
-  for (int bar = 0; bar < bar_count; ++bar) {
-    const int pa = bar_a[bar];
-    const int pb = bar_b[bar];
-    if (pa == self || pb == self) continue;
-    const double ax = px[pa], ay = py[pa];
-    const double sx = px[pb] - ax, sy = py[pb] - ay;
-    const double side0 = cross(sx, sy, x0 - ax, y0 - ay);
-    const double side1 = cross(sx, sy, x - ax, y - ay);
-    if (!((side0 > 0.0 && side1 < 0.0) || (side0 < 0.0 && side1 > 0.0))) continue;
-    const double denom = cross(mx, my, sx, sy);
-    if (denom == 0.0) continue;
-    const double t = cross(ax - x0, ay - y0, sx, sy) / denom;
-    const double along = cross(ax - x0, ay - y0, mx, my) / denom;
-    if (along < 0.0 || along > 1.0 || !(t > 0.0 && t <= 1.0)) continue;
-    if (t < best_t) {
-      best = bar;
-      best_t = t;
-      best_side0 = side0;
-    }
-  }
-  if (best < 0) return false;
-  const double ax = px[bar_a[best]], ay = py[bar_a[best]];
-  const double sx = px[bar_b[best]] - ax, sy = py[bar_b[best]] - ay;
-  const double bar_length = std::sqrt(sx * sx + sy * sy);
-  const double ux = sx / bar_length, uy = sy / bar_length;
-  const BarResponse r = respond_to_bar_dt(x0 + best_t * mx, y0 + best_t * my, best_t, dt, vx, vy, ux, uy,
-                                          surface_friction, surface_reflection);
-  double nx = r.x, ny = r.y;
-  for (int tries = 0; tries < 64; ++tries) {
-    const double side = cross(sx, sy, nx - ax, ny - ay);
-    if ((side > 0.0) == (best_side0 > 0.0) && side != 0.0) break;
-    const double push = (best_side0 > 0.0 ? 1.0 : -1.0) * std::ldexp(1.0, tries - 52) * (1.0 + std::fabs(nx) + std::fabs(ny));
-    nx += -uy * push;
-    ny += ux * push;
-  }
-  x = nx;
-  y = ny;
-  vx = r.vx;
-  vy = r.vy;
-  return true;
-}
-
-/// The original's bar rule: a move of one frame (dt = 1, exact).
-inline bool collide_with_bars(const double* px, const double* py, const int* bar_a, const int* bar_b, int bar_count,
-                              int self, double x0, double y0, double& x, double& y, double& vx, double& vy,
-                              double surface_friction, double surface_reflection) {
-  return collide_with_bars_dt(px, py, bar_a, bar_b, bar_count, self, 1.0, x0, y0, x, y, vx, vy, surface_friction,
-                              surface_reflection);
-}
-
-/// The end of a mass's move (spec 5.3 step 5), after the container: autoreverse on
-/// the side wall `hit`, the new position and velocity stored, then the fixed bars
-/// respond to the move from (x0, y0), which lasted `dt` frames.
-inline void complete_move(const Model& m, State& s, int i, SideWall hit, double dt, double surface_friction,
-                          double x0, double y0, double x, double y, double vx, double vy) {
+/// The end of a mass's move (spec 5.3 steps 5-6), after the container: autoreverse
+/// on the side wall `hit`, the new position and velocity stored, then the fixed bars
+/// (fixed_bars.hpp) test the move `move` (its start, its end before the clamp and the
+/// velocity before the container's response; (x, y) is the clamped end). A bar hit
+/// replaces the container's velocity response; the autoreverse test stays.
+inline void complete_move(const Model& m, State& s, int i, SideWall hit, double surface_friction,
+                          const MassMove& move, double x, double y, double vx, double vy) {
   autoreverse_on_wall_hit(hit, m.autoreverse, s.wave_mode, s.last_side_wall);
   s.x[i] = x;
   s.y[i] = y;
   s.vx[i] = vx;
   s.vy[i] = vy;
-  if (m.bar_count() > 0) {
-    collide_with_bars_dt(s.x.data(), s.y.data(), m.bar_a.data(), m.bar_b.data(), m.bar_count(), i, dt, x0, y0, s.x[i],
-                         s.y[i], s.vx[i], s.vy[i], surface_friction, m.surface_reflection);
-  }
+  if (m.fixed_bars.empty()) return;
+  MassMove clamped = move;
+  clamped.x = x;
+  clamped.y = y;
+  MassEnd end;
+  const Surface surface{surface_friction, m.surface_reflection, m.width, m.height};
+  if (!collide_with_fixed_bars(m.fixed_bars, s.bar_memory, i, clamped, surface, end)) return;
+  s.x[i] = end.x;
+  s.y[i] = end.y;
+  s.vx[i] = end.vx;
+  s.vy[i] = end.vy;
+}
+
+/// The move of a mass from (x0, y0) to (x, y) with velocity (vx, vy), before the container.
+inline MassMove mass_move(double x0, double y0, double x, double y, double vx, double vy) {
+  return {x0, y0, x, y, x, y, vx, vy};
 }
 
 } // namespace soda::rules

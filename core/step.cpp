@@ -46,7 +46,7 @@ namespace {
       s.vy[i] = vy;
       continue;
     }
-    rules::complete_move(m, s, i, r.hit, k.dt, k.surface_friction, r.x0, r.y0, x, y, vx, vy);
+    rules::complete_move(m, s, i, r.hit, k.surface_friction, r.move, x, y, vx, vy);
   }
 }
 

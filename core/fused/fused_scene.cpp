@@ -96,7 +96,9 @@ void FusedScene::run(State* const* states, long long frames) {
   k.wave = s.any_wave;
   k.gravity = s.any_gravity;
   k.bars = s.bars;
-  k.ordered = s.options.force_ordered || s.bars == BarKind::MovingEnds;
+  // Fixed bars: the masses one by one (the bar rules need each move before the
+  // container's response and keep a memory per mass).
+  k.ordered = s.options.force_ordered || s.bars != BarKind::None;
   // Walls: without bars, the walls no mass of any creature can reach within a
   // chunk of frames are not tested in that chunk. A chunk ends when a skipped wall
   // might come into reach; while every wall is tested the reach is re-checked

@@ -147,7 +147,6 @@ bool mass_kernel(SceneData& s) {
       V vx, vy, x, y;
       O::pairs_to_xy(acc + j, vx, vy);
       O::load_pairs(positions + 2 * i, x, y);
-      if (!s.bar_a.empty()) O::store_pairs(s.positions_before_move.data() + 2 * i, x, y);
       move_mass_block<O, Gravity, Floor, Ceiling, Sides>(s, i, x, y, vx, vy, any_side);
       O::store_pairs(positions + 2 * i, x, y);
       O::store_pairs(velocities + 2 * i, vx, vy);
@@ -237,7 +236,6 @@ void run_chunk(SceneData& s, State* const* st, long long frames) {
       }
     }
     if (mass_kernel<O, Gravity, Floor, Ceiling, Sides>(s)) s.replay_side_hits(st);
-    if (!s.bar_a.empty()) s.bars_pass();
     s.advance_waves(st);
   }
 }

@@ -1,22 +1,30 @@
-// A fused scene's masses in file order, and what the SIMD mass pass leaves to be
-// done in mass order: autoreverse (replay_side_hits) and fixed bars (bars_pass).
+// A fused scene's masses in file order (with fixed bars: the bar rules need each
+// move before the container's response), and what the SIMD mass pass leaves to be
+// done in mass order: autoreverse (replay_side_hits).
 #include "core/fused/kernel_table.hpp"
 #include "core/fused/sine_rows.hpp"
 #include "core/physics_rules.hpp"
 
 namespace soda::fused {
 
-// Fixed bars (single-model scenes): rules::collide_with_bars on the pair arrays
-// (x at even, y at odd offsets; bar ends and the mass as doubled indices).
-void SceneData::collide_with_bars(int i, double x0, double y0) {
+// Fixed bars (single-model scenes): collide_with_fixed_bars for mass p (working
+// index i) on the pair arrays, with the state's bar memory.
+void SceneData::collide_with_bars(State& s, int p, int i, const MassMove& move) {
   const Model& m = *creatures[0].model;
-  rules::collide_with_bars(positions.data(), positions.data() + 1, bar_a.data(), bar_b.data(), static_cast<int>(bar_a.size()),
-                           2 * i, x0, y0, px(i), py(i), pvx(i), pvy(i), m.surface_friction, m.surface_reflection);
+  MassMove clamped = move;
+  clamped.x = px(i);
+  clamped.y = py(i);
+  MassEnd end;
+  const Surface surface{m.surface_friction, m.surface_reflection, m.width, m.height};
+  if (!collide_with_fixed_bars(m.fixed_bars, s.bar_memory, p, clamped, surface, end)) return;
+  px(i) = end.x;
+  py(i) = end.y;
+  pvx(i) = end.vx;
+  pvy(i) = end.vy;
 }
 
 // Masses one by one in file order, exactly as step.cpp move_masses (single-model
-// scenes; used when a bar has a free-mass end: a mass's bar test then sees the
-// masses moved before it).
+// scenes; used whenever there are fixed bars).
 void SceneData::ordered_masses(State& s) {
   const Model& m = *creatures[0].model;
   const rules::MassConstants k = rules::frame_constants(m);
@@ -37,7 +45,7 @@ void SceneData::ordered_masses(State& s) {
     rules::autoreverse_on_wall_hit(moved.hit, m.autoreverse, s.wave_mode, s.last_side_wall);
     px(i) = xi;
     py(i) = yi;
-    if (!bar_a.empty()) collide_with_bars(i, moved.x0, moved.y0);
+    if (!bar_a.empty()) collide_with_bars(s, p, i, moved.move);
   }
 }
 
@@ -56,15 +64,6 @@ void SceneData::replay_side_hits(State* const* st) {
                                        st[c]->wave_mode, st[c]->last_side_wall);
       }
     }
-  }
-}
-
-// Bars whose ends are fixed nodes: each mass independent of the others, so the bar
-// tests can follow the SIMD container step, in mass order.
-void SceneData::bars_pass() {
-  for (int p = 0; p < masses; ++p) {
-    const int i = creatures[0].work_of_point[p];
-    collide_with_bars(i, positions_before_move[2 * i], positions_before_move[2 * i + 1]);
   }
 }
 

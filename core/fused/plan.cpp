@@ -92,7 +92,6 @@ void SceneData::place_points(const std::vector<const Model*>& models, long long 
   // (Avx512Ops::load_points reads kRegisterPoints points whatever the scene's size.)
   positions.assign(2 * static_cast<std::size_t>(std::max(spare_point + 1, Avx512Ops::kRegisterPoints)), 0.0);
   velocities.assign(2 * static_cast<std::size_t>(spare_point + 1), 0.0);
-  positions_before_move.assign(2 * static_cast<std::size_t>(padded_masses), 0.0);
   side_hit.assign(2 * static_cast<std::size_t>(padded_masses), 0.0);
 }
 

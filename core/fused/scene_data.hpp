@@ -86,7 +86,6 @@ struct SceneData {
   // spare pair.
   int masses = 0, padded_masses = 0, fixed_points = 0, spare_point = 0;
   AVec<double> positions, velocities;  ///< [2*(spare_point+1)] x, y / vx, vy pairs
-  AVec<double> positions_before_move;   ///< [2*padded_masses] positions before the move (bars)
   AVec<double> side_hit;      ///< [2*padded_masses] side wall hit this frame (-1, 0, +1), twice per mass
   // Per-mass parameters, per block of W masses in kLaneLink order (as load_pairs
   // puts the masses in lanes): each mass's own creature's values.
@@ -266,9 +265,8 @@ struct SceneData {
   [[gnu::always_inline]] void advance_waves(State* const* st);
   void ordered_frame(State& s);
   void replay_side_hits(State* const* st);
-  void bars_pass();
   void ordered_masses(State& s);
-  void collide_with_bars(int i, double x0, double y0);
+  void collide_with_bars(State& s, int p, int i, const MassMove& move);
   void record(const KernelChoice& k);
 };
 

@@ -1,0 +1,219 @@
+// `sodaevo race RACE.xml [CONTENDER.xml ...]`: Sodarace races as the original racer
+// runs them (core/race_lane.hpp): each contender in its own lane on the race's
+// terrain, its result in frames (a timeout as timeout + fraction) and its place.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "app/commands.hpp"
+#include "app/motion.hpp"
+#include "app/player_html.hpp"
+#include "core/fixed_bars.hpp"
+#include "core/input_error.hpp"
+#include "core/model_file.hpp"
+#include "core/race_file.hpp"
+#include "core/race_lane.hpp"
+#include "core/trace_csv.hpp"
+
+namespace sodaevo::app {
+
+namespace {
+
+struct RaceOptions {
+  std::string race;
+  std::vector<std::string> contenders;
+  bool json = false;
+  std::string trace;
+  std::string render;
+  int timeout = -1;
+};
+
+struct Entry {
+  std::string file; ///< the contender's file, or the race file's contender "RACE#k"
+  std::string name;
+  soda::ModelDef model;
+  soda::RaceOutcome outcome;
+  int place = 0;
+};
+
+std::string result_text(const soda::RaceOutcome& o) {
+  char text[64];
+  if (o.finished) {
+    std::snprintf(text, sizeof text, "%.0f", o.result);
+  } else {
+    std::snprintf(text, sizeof text, "%.4f (timeout)", o.result);
+  }
+  return text;
+}
+
+std::vector<Entry> load_entries(const RaceOptions& opt, const soda::RaceDef& race) {
+  std::vector<Entry> out;
+  if (opt.contenders.empty()) {
+    for (std::size_t k = 0; k < race.contenders.size(); ++k) {
+      Entry e;
+      e.file = opt.race + "#" + std::to_string(k + 1);
+      e.model = race.contenders[k].model;
+      e.name = !e.model.name.empty() ? e.model.name : "contender " + std::to_string(k + 1) + " (line " +
+                                                           std::to_string(race.contenders[k].line) + ")";
+      out.push_back(std::move(e));
+    }
+    if (out.empty()) {
+      throw soda::InputError(opt.race + ": the race file has no contenders; name contender model files after it");
+    }
+    return out;
+  }
+  for (const std::string& path : opt.contenders) {
+    soda::LoadedModel loaded = soda::read_model_file(path);
+    for (const std::string& w : loaded.warnings) std::cerr << "sodaevo: warning: " << w << '\n';
+    Entry e;
+    e.file = path;
+    e.model = std::move(loaded.def);
+    e.name = e.model.name.empty() ? std::filesystem::path(path).filename().string() : e.model.name;
+    out.push_back(std::move(e));
+  }
+  return out;
+}
+
+/// Places: 1 for the lowest result; equal results share a place.
+void assign_places(std::vector<Entry>& entries) {
+  for (Entry& e : entries) {
+    e.place = 1;
+    for (const Entry& other : entries) e.place += other.outcome.result < e.outcome.result ? 1 : 0;
+  }
+}
+
+Motion lane_motion(const soda::RaceLane& lane, const soda::Model& model, int timeout, const std::string& name) {
+  constexpr int kMaxSamples = 2000;
+  Motion m = motion_of_model(model, name);
+  // The whole race is recorded once to know its length, then sampled.
+  std::vector<std::vector<double>> xy;
+  std::vector<double> cx;
+  const auto keep = [&](const soda::State& s) {
+    std::vector<double> row;
+    double sum = 0.0;
+    for (int i = 0; i < model.mass_count; ++i) {
+      row.push_back(std::round(s.x[static_cast<std::size_t>(i)] * 10.0) / 10.0);
+      row.push_back(std::round(s.y[static_cast<std::size_t>(i)] * 10.0) / 10.0);
+      sum += s.x[static_cast<std::size_t>(i)];
+    }
+    xy.push_back(std::move(row));
+    cx.push_back(sum / model.mass_count);
+  };
+  keep(soda::make_state(model));
+  const soda::RaceOutcome o = soda::run_race(lane, model, timeout, keep);
+  m.frames = o.updates;
+  m.every = sample_interval(o.updates, kMaxSamples);
+  for (std::size_t f = 0; f < xy.size(); ++f) {
+    if (f % static_cast<std::size_t>(m.every) != 0 && f + 1 != xy.size()) continue;
+    m.sample_frames.push_back(static_cast<long long>(f));
+    m.mass_xy.push_back(xy[f]);
+    m.centroid_x.push_back(cx[f]);
+  }
+  m.marks.push_back({lane.start_x, "start"});
+  m.marks.push_back({lane.finish_x + 6.0, "finish"});
+  return m;
+}
+
+void run_race_command(const RaceOptions& opt) {
+  const soda::RaceDef race = soda::read_race_file(opt.race);
+  const int timeout = opt.timeout >= 0 ? opt.timeout : race.timeout;
+  std::vector<Entry> entries = load_entries(opt, race);
+  if ((!opt.trace.empty() || !opt.render.empty()) && entries.size() != 1) {
+    throw soda::InputError("race: --trace and --render draw one lane: expected one contender, got " +
+                           std::to_string(entries.size()) + " (name one contender file)");
+  }
+  for (Entry& e : entries) {
+    const soda::RaceLane lane = soda::build_lane(race.terrain, race.constraints, e.model, e.file);
+    const soda::Model model = soda::build_lane_model(lane);
+    std::ofstream trace_file;
+    std::optional<soda::TraceCsv> trace;
+    soda::State frame_state;
+    if (!opt.trace.empty()) {
+      trace_file.open(opt.trace, std::ios::binary | std::ios::trunc);
+      if (!trace_file) throw soda::InputError(opt.trace + ": cannot open the trace file for writing");
+      trace.emplace(trace_file, model);
+      trace->write_row(soda::make_state(model));
+    }
+    e.outcome = soda::run_race(lane, model, timeout, [&](const soda::State& s) {
+      if (trace) trace->write_row(s);
+    });
+    if (trace) {
+      trace_file.flush();
+      if (!trace_file) throw soda::InputError(opt.trace + ": writing the trace failed (disk full?)");
+    }
+    if (!opt.render.empty()) {
+      const Motion motion = lane_motion(lane, model, timeout, e.name);
+      std::ofstream out(opt.render, std::ios::binary | std::ios::trunc);
+      out << render_player_page(motion, "Race: " + e.name,
+                                race.source + ": " + result_text(e.outcome) + " frames (fixed bars: " +
+                                    soda::bar_engine_name(soda::BarEngine::Racer2004) + " racer rule)");
+      if (!out) throw soda::InputError(opt.render + ": cannot write the page");
+    }
+  }
+  assign_places(entries);
+  const std::string engine = soda::bar_engine_name(soda::BarEngine::Racer2004);
+  if (opt.json) {
+    nlohmann::json j = {{"race", opt.race}, {"timeout", timeout}, {"bar_engine", engine}};
+    nlohmann::json list = nlohmann::json::array();
+    for (const Entry& e : entries) {
+      list.push_back({{"file", e.file},
+                      {"name", e.name},
+                      {"frames", e.outcome.result},
+                      {"finished", e.outcome.finished},
+                      {"place", e.place}});
+    }
+    j["contenders"] = list;
+    std::cout << j.dump() << '\n';
+    return;
+  }
+  std::printf("race        %s\ntimeout     %d frames\nfixed bars  %s rule (the racer's: bars running downhill or right "
+              "to left are not hit)\n\n",
+              opt.race.c_str(), timeout, engine.c_str());
+  std::printf("%-6s %-22s %s\n", "place", "frames", "contender");
+  std::vector<const Entry*> order;
+  for (const Entry& e : entries) order.push_back(&e);
+  std::stable_sort(order.begin(), order.end(), [](const Entry* a, const Entry* b) { return a->place < b->place; });
+  for (const Entry* e : order) {
+    std::printf("%-6d %-22s %s (%s)\n", e->place, result_text(e->outcome).c_str(), e->name.c_str(), e->file.c_str());
+  }
+}
+
+} // namespace
+
+void add_race_command(CLI::App& app) {
+  auto opt = std::make_shared<RaceOptions>();
+  CLI::App* cmd = app.add_subcommand(
+      "race",
+      "Race contenders on a Sodarace race file's terrain exactly as the original racer (2004) does:\n"
+      "each scaled to half its container's height, placed left of the start, run until it passes\n"
+      "the finish or the timeout. Prints each result in frames (a timeout as timeout + fraction of\n"
+      "the way left to go) and its place; fewer frames is better.");
+  cmd->add_option("race", opt->race, "Race file (<!DOCTYPE sodarace>, e.g. models/terrains/TerrainFlat.xml)")
+      ->required()
+      ->check(non_empty_path())
+      ->check(CLI::ExistingFile);
+  cmd->add_option("contenders", opt->contenders,
+                  "Contender model files (.xml, v1 or v2); none: the race file's own contenders")
+      ->check(non_empty_path())
+      ->check(CLI::ExistingFile);
+  cmd->add_flag("--json", opt->json,
+                "Print {\"race\", \"timeout\", \"bar_engine\", \"contenders\": [{\"file\", \"name\", \"frames\",\n"
+                "\"finished\", \"place\"}]}");
+  cmd->add_option("--trace", opt->trace,
+                  "Write the lane's CSV trace (one contender): frame,wave_phase,wave_mode,x0,y0,vx0,vy0,...");
+  cmd->add_option("--render", opt->render,
+                  "Write an HTML player of the race (one contender): terrain, start and finish lines, frames");
+  cmd->add_option("--timeout", opt->timeout, "Timeout in frames instead of the race file's")
+      ->check(CLI::Range(1, soda::kMaxRaceTimeout));
+  cmd->callback([opt] { run_race_command(*opt); });
+}
+
+} // namespace sodaevo::app

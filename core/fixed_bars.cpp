@@ -1,0 +1,384 @@
+#include "fixed_bars.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace soda {
+
+std::string bar_engine_name(BarEngine engine) {
+  return engine == BarEngine::Racer2004 ? "2004" : "2003";
+}
+
+bool parse_bar_engine(const std::string& text, BarEngine& engine) {
+  if (text == "2003") {
+    engine = BarEngine::SodaConstructor2003;
+  } else if (text == "2004") {
+    engine = BarEngine::Racer2004;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+int relative_ccw(double x1, double y1, double x2, double y2, double px, double py) {
+  x2 -= x1;
+  y2 -= y1;
+  px -= x1;
+  py -= y1;
+  double ccw = px * y2 - py * x2;
+  if (ccw == 0.0) {
+    // On the line: before a counts as left, beyond b as right, on the segment as 0.
+    ccw = px * x2 + py * y2;
+    if (ccw > 0.0) {
+      px -= x2;
+      py -= y2;
+      ccw = px * x2 + py * y2;
+      if (ccw < 0.0) ccw = 0.0;
+    }
+  }
+  return ccw < 0.0 ? -1 : (ccw > 0.0 ? 1 : 0);
+}
+
+namespace {
+
+/// java.awt.geom.Line2D.linesIntersect semantics (touching counts).
+bool lines_intersect(double x1, double y1, double x2, double y2, double x3, double y3, double x4, double y4) {
+  return relative_ccw(x1, y1, x2, y2, x3, y3) * relative_ccw(x1, y1, x2, y2, x4, y4) <= 0 &&
+         relative_ccw(x3, y3, x4, y4, x1, y1) * relative_ccw(x3, y3, x4, y4, x2, y2) <= 0;
+}
+
+int side_of(const FixedBar& bar, double px, double py) {
+  return relative_ccw(bar.x1, bar.y1, bar.x2, bar.y2, px, py);
+}
+
+struct Point {
+  double x, y;
+};
+
+/// Where the line of the move o -> n crosses the bar's line; n for a move parallel to it.
+Point crossing_point(const FixedBar& bar, double ox, double oy, double nx, double ny) {
+  const double mx = nx - ox;
+  const double my = ny - oy;
+  const double num = bar.w * (oy - bar.y1) - bar.h * (ox - bar.x1);
+  const double den = bar.h * mx - bar.w * my;
+  if (den == 0.0) return {nx, ny};
+  return {ox + num * mx / den, oy + num * my / den};
+}
+
+/// The point of the bar's line at parameter s from its start.
+Point point_at(const FixedBar& bar, double s) { return {bar.x1 + s * bar.ux, bar.y1 + s * bar.uy}; }
+
+/// Parameter along the bar of the projection of (px, py).
+double parameter_of(const FixedBar& bar, double px, double py) {
+  return (px - bar.x1) * bar.ux + (py - bar.y1) * bar.uy;
+}
+
+/// The crossing point plus the surface friction's share of the rest of the move along the bar.
+Point slide(const FixedBar& bar, Point p, double nx, double ny, double sf) {
+  const double d = (nx - p.x) * bar.ux + (ny - p.y) * bar.uy;
+  return {p.x + sf * d * bar.ux, p.y + sf * d * bar.uy};
+}
+
+/// The velocity after a hit: tangential part times Fs, normal part times Rs.
+void bar_velocity(const FixedBar& bar, double vx, double vy, const Surface& surface, MassEnd& end) {
+  const double vt = vx * bar.ux + vy * bar.uy;
+  const double vn = vx * -bar.uy + vy * bar.ux;
+  end.vx = surface.friction * vt * bar.ux + surface.reflection * vn * -bar.uy;
+  end.vy = surface.friction * vt * bar.uy + surface.reflection * vn * bar.ux;
+}
+
+bool box_touches(const FixedBar& bar, BarEngine engine, const MassMove& m) {
+  double bx0 = bar.box_x0, bx1 = bar.box_x1, by0 = bar.box_y0, by1 = bar.box_y1;
+  if (engine == BarEngine::Racer2004) {
+    bx0 = bar.x1;
+    bx1 = bar.x1 + bar.w;
+    by0 = bar.y1;
+    by1 = bar.y1 + bar.h;
+  }
+  return std::max(m.x0, m.x) >= bx0 && std::min(m.x0, m.x) <= bx1 && std::max(m.y0, m.y) >= by0 &&
+         std::min(m.y0, m.y) <= by1;
+}
+
+constexpr double kTweak = 1e-4; // FixedBar.TWEAK of the original
+
+bool in_box_with_margin(const FixedBar& bar, Point p) {
+  return p.x >= bar.box_x0 - kTweak && p.x <= bar.box_x1 + kTweak && p.y >= bar.box_y0 - kTweak &&
+         p.y <= bar.box_y1 + kTweak;
+}
+
+bool outside_container(Point p, const Surface& s) {
+  return p.x < 0.0 || p.x > s.width || p.y < 0.0 || p.y > s.height;
+}
+
+/// Bars whose x range the move's x range touches, in link order, into `out`.
+void candidate_bars(const FixedBars& bars, double lo, double hi, std::vector<int>& out) {
+  out.clear();
+  const auto cell = [&](double x) {
+    const double c = std::floor((x - bars.cell_x0) / bars.cell_width);
+    if (!(c > 0.0)) return 0;
+    return c >= bars.cell_count - 1 ? bars.cell_count - 1 : static_cast<int>(c);
+  };
+  const int c0 = cell(lo), c1 = cell(hi);
+  for (int c = c0; c <= c1; ++c) {
+    out.insert(out.end(), bars.cell_bars.begin() + bars.cell_start[c], bars.cell_bars.begin() + bars.cell_start[c + 1]);
+  }
+  if (c1 > c0) {
+    std::sort(out.begin(), out.end());
+    out.erase(std::unique(out.begin(), out.end()), out.end());
+  }
+}
+
+/// A mass in a corner: only the two corner bars count (spec 5.4, research 2.5).
+/// Returns true when the corner decided the position (the mass stays or leaves
+/// along a bar), false when the mass moves freely (the corner ends).
+bool corner_move(const FixedBars& bars, BarMemory& memory, int mass, const MassMove& m, const Surface& surface,
+                 MassEnd& end) {
+  BarCorner& corner = memory.corners[static_cast<std::size_t>(mass)];
+  const FixedBar& c = bars.bars[static_cast<std::size_t>(corner.bar)];
+  const int other = corner.end == 0 ? c.prev : c.next;
+  const auto wrong_side = [&](int b) {
+    if (b < 0) return false;
+    const BarContact* remembered = memory.find(b, mass);
+    const int side = remembered ? remembered->side : 0;
+    return side_of(bars.bars[static_cast<std::size_t>(b)], m.x, m.y) != side;
+  };
+  if (!wrong_side(corner.bar) && !wrong_side(other)) {
+    corner.bar = -1;
+    return false;
+  }
+  // Leave along the bar that starts at the node first, then the one that ends there.
+  const int node = corner.end == 0 ? c.a : c.b;
+  int first = other, second = corner.bar;
+  const bool c_starts = c.a == node;
+  const bool other_starts = other >= 0 && bars.bars[static_cast<std::size_t>(other)].a == node;
+  if (c_starts && !other_starts) std::swap(first, second);
+  end.vx = m.vx;
+  end.vy = m.vy;
+  for (int b : {first, second}) {
+    if (b < 0) continue;
+    const FixedBar& e = bars.bars[static_cast<std::size_t>(b)];
+    const Point r = slide(e, crossing_point(e, m.x0, m.y0, m.x, m.y), m.x, m.y, surface.friction);
+    const double s = parameter_of(e, r.x, r.y);
+    if (s > 0.0 && s < e.length) {
+      end.x = r.x;
+      end.y = r.y;
+      corner.bar = -1;
+      return true;
+    }
+  }
+  end.x = m.x0;
+  end.y = m.y0;
+  return true;
+}
+
+/// After a slide along `bar` that passes one of its ends: the joint with the
+/// neighbour there (research 2.4). `r` is the slide's end; returns the position.
+Point joint(const FixedBars& bars, BarMemory& memory, int mass, int bar_index, int side, Point r,
+            const MassMove& m) {
+  const FixedBar& bar = bars.bars[static_cast<std::size_t>(bar_index)];
+  const double s = parameter_of(bar, r.x, r.y);
+  int next = -1;
+  bool reversed = false;
+  int node = -1;
+  if (s > bar.length && bar.next >= 0) {
+    next = bar.next;
+    reversed = bar.next_reversed;
+    node = bar.b;
+  } else if (s < 0.0 && bar.prev >= 0) {
+    next = bar.prev;
+    reversed = bar.prev_reversed;
+    node = bar.a;
+  }
+  if (next < 0) return r;
+  const FixedBar& c = bars.bars[static_cast<std::size_t>(next)];
+  const int side_on_c = reversed ? -side : side;
+  memory.remember(next, mass, side_on_c);
+  const double on_c = parameter_of(c, m.x, m.y);
+  if (bar.w * c.h - bar.h * c.w == 0.0) return point_at(c, on_c); // colinear: walk on along c
+  if (side_of(c, r.x, r.y) == side_on_c) return r;                 // convex: fly on
+  // Concave: caught in the corner, unless the end point is already beyond the node on c.
+  const std::int8_t end = c.a == node ? 0 : 1;
+  if (end == 0 ? on_c > 0.0 : on_c < c.length) return point_at(c, on_c);
+  memory.corners[static_cast<std::size_t>(mass)] = {next, end};
+  return point_at(c, end == 0 ? 0.0 : c.length);
+}
+
+} // namespace
+
+const BarContact* BarMemory::find(int bar, int mass) const {
+  for (const BarContact& c : contacts) {
+    if (c.bar == bar && c.mass == mass) return &c;
+  }
+  return nullptr;
+}
+
+void BarMemory::remember(int bar, int mass, int side) {
+  for (BarContact& c : contacts) {
+    if (c.bar == bar && c.mass == mass) {
+      c.side = static_cast<std::int8_t>(side);
+      return;
+    }
+  }
+  contacts.push_back({bar, mass, static_cast<std::int8_t>(side)});
+}
+
+void BarMemory::forget(int bar, int mass) {
+  for (std::size_t k = 0; k < contacts.size(); ++k) {
+    if (contacts[k].bar == bar && contacts[k].mass == mass) {
+      contacts[k] = contacts.back();
+      contacts.pop_back();
+      return;
+    }
+  }
+}
+
+FixedBars make_fixed_bars(const std::vector<int>& bar_a, const std::vector<int>& bar_b, const double* px,
+                          const double* py, BarEngine engine) {
+  FixedBars out;
+  out.engine = engine;
+  const int n = static_cast<int>(bar_a.size());
+  out.bars.resize(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    FixedBar& b = out.bars[static_cast<std::size_t>(k)];
+    b.a = bar_a[static_cast<std::size_t>(k)];
+    b.b = bar_b[static_cast<std::size_t>(k)];
+    b.x1 = px[b.a];
+    b.y1 = py[b.a];
+    b.x2 = px[b.b];
+    b.y2 = py[b.b];
+    b.w = b.x2 - b.x1;
+    b.h = b.y2 - b.y1;
+    b.length = std::sqrt(b.w * b.w + b.h * b.h);
+    b.ux = b.w / b.length;
+    b.uy = b.h / b.length;
+    b.box_x0 = std::min(b.x1, b.x2);
+    b.box_x1 = std::max(b.x1, b.x2);
+    b.box_y0 = std::min(b.y1, b.y2);
+    b.box_y1 = std::max(b.y1, b.y2);
+  }
+  // Chains: bars sharing a node (the same point); the last in link order wins.
+  for (int k = 0; k < n; ++k) {
+    FixedBar& b = out.bars[static_cast<std::size_t>(k)];
+    for (int j = 0; j < n; ++j) {
+      if (j == k) continue;
+      const FixedBar& c = out.bars[static_cast<std::size_t>(j)];
+      if (c.a == b.b) b.next = j, b.next_reversed = false;
+      if (c.b == b.b) b.next = j, b.next_reversed = true;
+      if (c.b == b.a) b.prev = j, b.prev_reversed = false;
+      if (c.a == b.a) b.prev = j, b.prev_reversed = true;
+    }
+  }
+  if (n == 0) return out;
+  // The x reach of a bar for the index: its normalised box, and x1 + w too (the
+  // 2004 box's right edge, which can differ from x2 in the last bit).
+  const auto reach_lo = [](const FixedBar& b) { return std::min(b.box_x0, b.x1 + b.w); };
+  const auto reach_hi = [](const FixedBar& b) { return std::max(b.box_x1, b.x1 + b.w); };
+  double lo = reach_lo(out.bars[0]), hi = reach_hi(out.bars[0]);
+  for (const FixedBar& b : out.bars) {
+    lo = std::min(lo, reach_lo(b));
+    hi = std::max(hi, reach_hi(b));
+  }
+  out.cell_x0 = lo;
+  out.cell_width = std::max(FixedBars::kMinCellWidth, (hi - lo) / FixedBars::kMaxCells);
+  out.cell_count = static_cast<int>(std::floor((hi - lo) / out.cell_width)) + 1;
+  std::vector<std::vector<int>> cells(static_cast<std::size_t>(out.cell_count));
+  for (int k = 0; k < n; ++k) {
+    const FixedBar& b = out.bars[static_cast<std::size_t>(k)];
+    const int c0 = static_cast<int>(std::floor((reach_lo(b) - lo) / out.cell_width));
+    const int c1 = std::min(out.cell_count - 1, static_cast<int>(std::floor((reach_hi(b) - lo) / out.cell_width)));
+    for (int c = c0; c <= c1; ++c) cells[static_cast<std::size_t>(c)].push_back(k);
+  }
+  out.cell_start.push_back(0);
+  for (const auto& cell : cells) {
+    out.cell_bars.insert(out.cell_bars.end(), cell.begin(), cell.end());
+    out.cell_start.push_back(static_cast<int>(out.cell_bars.size()));
+  }
+  return out;
+}
+
+bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass, const MassMove& m,
+                             const Surface& surface, MassEnd& end) {
+  if (memory.corners.size() <= static_cast<std::size_t>(mass)) {
+    memory.corners.resize(static_cast<std::size_t>(mass) + 1);
+  }
+  if (memory.corners[static_cast<std::size_t>(mass)].bar >= 0) {
+    if (corner_move(bars, memory, mass, m, surface, end)) return true;
+    return false;
+  }
+  thread_local std::vector<int> candidates;
+  candidate_bars(bars, std::min(m.x0, m.x), std::max(m.x0, m.x), candidates);
+  // Bars that remember the mass but are out of reach: their box test fails.
+  for (std::size_t k = memory.contacts.size(); k-- > 0;) {
+    const BarContact c = memory.contacts[k];
+    if (c.mass == mass && !std::binary_search(candidates.begin(), candidates.end(), c.bar)) {
+      memory.contacts[k] = memory.contacts.back();
+      memory.contacts.pop_back();
+    }
+  }
+  int best = -1;
+  int best_side = 0;
+  Point best_point{0.0, 0.0};
+  double best_distance = 0.0;
+  for (int k : candidates) {
+    const FixedBar& bar = bars.bars[static_cast<std::size_t>(k)];
+    if (!box_touches(bar, bars.engine, m)) {
+      memory.forget(k, mass);
+      continue;
+    }
+    const BarContact* remembered = memory.find(k, mass);
+    const int s0 = remembered ? remembered->side : side_of(bar, m.x0, m.y0);
+    const int s1 = side_of(bar, m.x, m.y);
+    if (s0 == s1 && s0 != 0) {
+      memory.forget(k, mass);
+      continue;
+    }
+    Point p{0.0, 0.0};
+    if (remembered) {
+      p = crossing_point(bar, m.x0, m.y0, m.x, m.y);
+      if (!in_box_with_margin(bar, p)) {
+        memory.forget(k, mass);
+        continue;
+      }
+    } else {
+      if (!lines_intersect(m.x0, m.y0, m.x, m.y, bar.x1, bar.y1, bar.x2, bar.y2)) continue;
+      p = crossing_point(bar, m.x0, m.y0, m.x, m.y);
+    }
+    memory.remember(k, mass, s0);
+    const double dx = p.x - m.x0, dy = p.y - m.y0;
+    const double distance = std::sqrt(dx * dx + dy * dy);
+    if (best < 0 || distance < best_distance) {
+      best = k;
+      best_side = s0;
+      best_point = p;
+      best_distance = distance;
+    }
+  }
+  if (best < 0) return false;
+  const FixedBar& bar = bars.bars[static_cast<std::size_t>(best)];
+  bar_velocity(bar, m.vx, m.vy, surface, end);
+  const bool clamped = m.free_x != m.x || m.free_y != m.y;
+  Point at{0.0, 0.0};
+  if (clamped) {
+    // The container clamped the end: the unclamped end projected on the bar.
+    const double s = parameter_of(bar, m.free_x, m.free_y);
+    at = s <= 0.0 ? Point{bar.x1, bar.y1} : s >= bar.length ? Point{bar.x2, bar.y2} : point_at(bar, s);
+    if (outside_container(at, surface)) at = best_point;
+  } else {
+    at = joint(bars, memory, mass, best, best_side, slide(bar, best_point, m.x, m.y, surface.friction), m);
+  }
+  end.x = at.x;
+  end.y = at.y;
+  return true;
+}
+
+void tweak_for_writing(const FixedBars& bars, const BarMemory& memory, int mass, double& x, double& y) {
+  for (const BarContact& c : memory.contacts) {
+    if (c.mass != mass || c.side == 0) continue;
+    const FixedBar& bar = bars.bars[static_cast<std::size_t>(c.bar)];
+    const double sign = c.side < 0 ? 1.0 : -1.0;
+    x += sign * kTweak * -bar.uy;
+    y += sign * kTweak * bar.ux;
+  }
+}
+
+} // namespace soda

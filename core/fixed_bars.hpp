@@ -1,0 +1,127 @@
+// Fixed bars (terrain): the original engine's collision rules, exact (spec 5.4,
+// terrain-research.md section 2).
+//
+// Split as Model/State (MuJoCo): FixedBars is constant (each bar's geometry, taken
+// once from the positions at the first update, its chain neighbours, an index by x),
+// built with the Model; BarMemory is dynamic and lives in the State (each bar's
+// memory of the masses lying on it, and each mass's corner). A stepper calls
+// collide_with_fixed_bars once per moving mass, after the container clamp.
+//
+// The two originals differ in one place only, the box pre-test of a bar: the 2003
+// SodaConstructor engine normalises a bar's box, the 2004 racer's copy takes
+// [x1, x1 + w] x [y1, y1 + h] as is (so it lets creatures fall through bars that run
+// downhill or right to left). BarEngine names the rule; there is no silent default:
+// every Model says which one it steps with, and the outputs name it.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace soda {
+
+/// Which original's box test the fixed bars follow.
+enum class BarEngine : std::uint8_t {
+  SodaConstructor2003, ///< simulator.jar (2003): normalised bar box
+  Racer2004,           ///< the racer's copy (easysoda.jar, 2004): box taken as is
+};
+std::string bar_engine_name(BarEngine engine); ///< "2003" | "2004"
+/// "2003" or "2004"; false for anything else.
+bool parse_bar_engine(const std::string& text, BarEngine& engine);
+
+/// One bar's constant geometry: from a to b, as the engine takes it once.
+struct FixedBar {
+  int a = 0, b = 0;                 ///< point indices of the ends (chain identity)
+  double x1 = 0, y1 = 0, x2 = 0, y2 = 0;
+  double w = 0, h = 0;              ///< x2 - x1, y2 - y1
+  double length = 0;                ///< sqrt(w*w + h*h)
+  double ux = 0, uy = 0;            ///< w/length, h/length
+  double box_x0 = 0, box_x1 = 0, box_y0 = 0, box_y1 = 0; ///< normalised box
+  int next = -1, prev = -1;         ///< chain neighbours at b and at a (bar index)
+  bool next_reversed = false;       ///< the next bar ends (not starts) at b
+  bool prev_reversed = false;       ///< the previous bar starts (not ends) at a
+};
+
+/// The bars of a model: geometry, chains and an index of bars by x (so a mass tests
+/// only the bars whose x range its move reaches: terrains are 100,000 px wide).
+struct FixedBars {
+  BarEngine engine = BarEngine::SodaConstructor2003;
+  std::vector<FixedBar> bars; ///< link order
+  // Index by x: cells of cell_width px from cell_x0; cell c holds the bars whose
+  // normalised x range touches it, in link order (cell_start[c] .. cell_start[c+1]).
+  double cell_x0 = 0.0;
+  double cell_width = kMinCellWidth;
+  int cell_count = 0;
+  std::vector<int> cell_start;
+  std::vector<int> cell_bars;
+  static constexpr double kMinCellWidth = 128.0; ///< a move is at most ~20 px
+  static constexpr double kMaxCells = 65536.0;
+
+  [[nodiscard]] bool empty() const { return bars.empty(); }
+  [[nodiscard]] int size() const { return static_cast<int>(bars.size()); }
+};
+
+/// Builds the geometry of bars (ends[2k], ends[2k+1]) from the positions px, py.
+FixedBars make_fixed_bars(const std::vector<int>& bar_a, const std::vector<int>& bar_b, const double* px,
+                          const double* py, BarEngine engine);
+
+/// A bar's memory of a mass lying on it: the side the mass came from.
+struct BarContact {
+  int bar = 0;
+  int mass = 0;
+  std::int8_t side = 0; ///< -1 left of a->b, +1 right, 0 started on the line
+  bool operator==(const BarContact&) const = default;
+};
+
+/// A mass caught in a concave corner: the bar it went to and which end is the node.
+struct BarCorner {
+  int bar = -1;          ///< -1: not in a corner
+  std::int8_t end = 0;   ///< 0: the node is the bar's start, 1: its end
+  bool operator==(const BarCorner&) const = default;
+};
+
+/// The dynamic part of the bar rules (belongs to a State).
+struct BarMemory {
+  std::vector<BarContact> contacts; ///< unordered; one entry per (bar, mass)
+  std::vector<BarCorner> corners;   ///< [mass_count] once a mass met a bar, else empty
+  bool operator==(const BarMemory&) const = default;
+
+  /// The remembered side, or nullptr.
+  [[nodiscard]] const BarContact* find(int bar, int mass) const;
+  void remember(int bar, int mass, int side);
+  void forget(int bar, int mass);
+};
+
+/// One mass's move this frame, as the container left it.
+struct MassMove {
+  double x0 = 0, y0 = 0;          ///< position before the move
+  double free_x = 0, free_y = 0;  ///< end of the move before the container clamp
+  double x = 0, y = 0;            ///< end after the clamp
+  double vx = 0, vy = 0;          ///< velocity after gravity and friction (before the container's response)
+};
+
+/// Where a bar (or a corner) put the mass.
+struct MassEnd {
+  double x = 0, y = 0, vx = 0, vy = 0;
+};
+
+struct Surface {
+  double friction = 1.0;   ///< Fs
+  double reflection = 0.0; ///< Rs
+  double width = 0.0, height = 0.0; ///< the container
+};
+
+/// The bar rules for mass `mass` after its move and the container clamp. Returns
+/// true when bars decided the mass's position and velocity (`end`); false when the
+/// mass moves as the container left it (position and velocity unchanged).
+bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass, const MassMove& move,
+                             const Surface& surface, MassEnd& end);
+
+/// Where the original's writer puts mass `mass` at (x, y): 1e-4 (FixedBar.TWEAK) off
+/// each bar that remembers it, toward the remembered side (spec 5.4).
+void tweak_for_writing(const FixedBars& bars, const BarMemory& memory, int mass, double& x, double& y);
+
+/// java.awt.geom.Line2D.relativeCCW semantics: -1, 0 or +1 (spec 5.4).
+int relative_ccw(double x1, double y1, double x2, double y2, double px, double py);
+
+} // namespace soda

@@ -1,0 +1,207 @@
+#include "race_lane.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "input_error.hpp"
+#include "step.hpp"
+
+namespace soda {
+
+int java_int(double v) {
+  if (std::isnan(v)) return 0;
+  if (v >= 2147483647.0) return std::numeric_limits<int>::max();
+  if (v <= -2147483648.0) return std::numeric_limits<int>::min();
+  return static_cast<int>(v);
+}
+
+namespace {
+
+/// The contender after FilterScaledSquare: its masses and the springs and muscles
+/// between them, scaled by s = (H/2) / sqrt(sum of Lmax^2) about the middle of its
+/// top (spec 3.2 step 4).
+struct ScaledContender {
+  std::vector<NodeDef> masses;
+  std::vector<LinkDef> links; ///< ends index `masses`
+  double scale = 1.0;
+};
+
+ScaledContender scale_contender(const ModelDef& c, const std::string& name) {
+  ScaledContender out;
+  std::vector<int> index(c.nodes.size(), -1);
+  for (std::size_t i = 0; i < c.nodes.size(); ++i) {
+    if (c.nodes[i].fixed) continue;
+    index[i] = static_cast<int>(out.masses.size());
+    out.masses.push_back(c.nodes[i]);
+  }
+  double sum = 0.0;
+  for (const LinkDef& l : c.links) {
+    if (l.kind == LinkKind::FixedBar || index[static_cast<std::size_t>(l.a)] < 0 ||
+        index[static_cast<std::size_t>(l.b)] < 0) {
+      continue;
+    }
+    LinkDef kept = l;
+    kept.a = index[static_cast<std::size_t>(l.a)];
+    kept.b = index[static_cast<std::size_t>(l.b)];
+    out.links.push_back(kept);
+    const double lmax =
+        l.kind == LinkKind::Muscle ? l.rest_length * (1.0 + l.amplitude * c.wave.amplitude) : l.rest_length;
+    sum += lmax * lmax;
+  }
+  if (out.masses.empty() || out.links.empty() || !(sum > 0.0)) {
+    throw InputError(name + ": cannot race this contender: expected free masses joined by springs or muscles "
+                            "(the racer scales a contender by their lengths), got " +
+                     std::to_string(out.masses.size()) + " masses and " + std::to_string(out.links.size()) +
+                     " springs and muscles between them" + (out.links.empty() ? "" : " of total length 0"));
+  }
+  out.scale = (static_cast<double>(c.height) / 2.0) / std::sqrt(sum);
+  double min_x = out.masses[0].x, max_x = min_x, max_y = out.masses[0].y;
+  for (const NodeDef& m : out.masses) {
+    min_x = std::min(min_x, m.x);
+    max_x = std::max(max_x, m.x);
+    max_y = std::max(max_y, m.y);
+  }
+  const double cx = (min_x + max_x) / 2.0;
+  const double cy = max_y;
+  for (NodeDef& m : out.masses) {
+    m.x = cx + (m.x - cx) * out.scale;
+    m.y = cy + (m.y - cy) * out.scale;
+    m.vx = m.vx * out.scale;
+    m.vy = m.vy * out.scale;
+  }
+  for (LinkDef& l : out.links) l.rest_length = l.rest_length * out.scale;
+  return out;
+}
+
+template <typename T>
+T pick(RaceSource source, const T& contender, const T& racer) {
+  return source == RaceSource::Racer ? racer : contender;
+}
+
+} // namespace
+
+RaceLane build_lane(const ModelDef& terrain, const RaceConstraints& rc, const ModelDef& contender,
+                    const std::string& contender_name) {
+  RaceLane lane;
+  ModelDef& d = lane.def;
+  // Terrain (FilterFixedBars): fixed nodes in order, bars between them.
+  std::vector<int> index(terrain.nodes.size(), -1);
+  for (std::size_t i = 0; i < terrain.nodes.size(); ++i) {
+    if (!terrain.nodes[i].fixed) continue;
+    index[i] = static_cast<int>(d.nodes.size());
+    d.nodes.push_back(terrain.nodes[i]);
+  }
+  if (d.nodes.empty()) throw InputError("race terrain: expected fixed nodes, got none");
+  std::size_t start = 0, finish = 0;
+  for (std::size_t i = 1; i < d.nodes.size(); ++i) {
+    if (d.nodes[i].x < d.nodes[start].x) start = i;
+    if (d.nodes[i].x > d.nodes[finish].x) finish = i;
+  }
+  const double dx = kRacePlatformWidth - d.nodes[start].x;
+  for (NodeDef& n : d.nodes) n.x = n.x + dx;
+  lane.start_x = d.nodes[start].x;
+  lane.start_y = d.nodes[start].y;
+  lane.finish_x = d.nodes[finish].x;
+  lane.finish_y = d.nodes[finish].y;
+  const int left_platform = static_cast<int>(d.nodes.size());
+  d.nodes.push_back({"", true, 0.0, lane.start_y, 0.0, 0.0});
+  d.nodes.push_back({"", true, lane.finish_x + kRacePlatformWidth, lane.finish_y, 0.0, 0.0});
+  std::vector<LinkDef> bars;
+  for (const LinkDef& l : terrain.links) {
+    if (l.kind != LinkKind::FixedBar) continue;
+    const int a = index[static_cast<std::size_t>(l.a)], b = index[static_cast<std::size_t>(l.b)];
+    if (a < 0 || b < 0) continue;
+    bars.push_back({LinkKind::FixedBar, a, b, 0.0, 0.0, 0.0});
+  }
+  bars.push_back({LinkKind::FixedBar, left_platform, static_cast<int>(start), 0.0, 0.0, 0.0});
+  bars.push_back({LinkKind::FixedBar, static_cast<int>(finish), left_platform + 1, 0.0, 0.0, 0.0});
+
+  // Contender (FilterScaledSquare), placed 6 px left of the start and 7 px above it.
+  ScaledContender sc = scale_contender(contender, contender_name);
+  lane.scale = sc.scale;
+  double min_y = sc.masses[0].y, max_x = sc.masses[0].x;
+  for (const NodeDef& m : sc.masses) {
+    min_y = std::min(min_y, m.y);
+    max_x = std::max(max_x, m.x);
+  }
+  const double px = (lane.start_x - 6.0) - static_cast<double>(java_int(max_x));
+  const double py = (lane.start_y + 7.0) - static_cast<double>(java_int(min_y));
+  const int first_mass = static_cast<int>(d.nodes.size());
+  for (NodeDef m : sc.masses) {
+    m.x = m.x + px;
+    m.y = m.y + py;
+    d.nodes.push_back(m);
+  }
+  for (LinkDef l : sc.links) {
+    l.a += first_mass;
+    l.b += first_mass;
+    d.links.push_back(l);
+  }
+  d.links.insert(d.links.end(), bars.begin(), bars.end());
+  for (std::size_t i = 0; i < d.nodes.size(); ++i) {
+    d.nodes[i].id = (d.nodes[i].fixed ? "n" : "m") + std::to_string(i);
+  }
+
+  // Header: the contender's values or the terrain's, as the constraints say.
+  d.name = contender.name;
+  d.width = java_int(lane.finish_x + kRacePlatformWidth);
+  d.height = terrain.height;
+  const ModelDef& c = contender;
+  const ModelDef& t = terrain;
+  d.environment.gravity = pick(rc.gravity, c.environment.gravity * sc.scale, t.environment.gravity);
+  d.environment.friction = pick(rc.friction, c.environment.friction, t.environment.friction);
+  d.environment.springyness = pick(rc.springyness, c.environment.springyness, t.environment.springyness);
+  d.collisions.surface_friction =
+      pick(rc.surface_friction, c.collisions.surface_friction, t.collisions.surface_friction);
+  d.collisions.surface_reflection =
+      pick(rc.surface_reflection, c.collisions.surface_reflection, t.collisions.surface_reflection);
+  d.wave.amplitude = pick(rc.wave_amplitude, c.wave.amplitude, t.wave.amplitude);
+  d.wave.phase = pick(rc.wave_phase, c.wave.phase, t.wave.phase);
+  d.wave.speed = pick(rc.wave_speed, c.wave.speed, t.wave.speed);
+  d.settings.gravity_direction =
+      pick(rc.gravity_direction, c.settings.gravity_direction, t.settings.gravity_direction);
+  d.settings.autoreverse = pick(rc.autoreverse, c.settings.autoreverse, t.settings.autoreverse);
+  const bool racer_wave = rc.wave_direction == RaceSource::Racer && rc.wave_speed == RaceSource::Racer;
+  d.settings.wave_direction = racer_wave ? t.settings.wave_direction : c.settings.wave_direction;
+  return lane;
+}
+
+Model build_lane_model(const RaceLane& lane) { return build_model(lane.def, BarEngine::Racer2004); }
+
+bool race_ends(const RaceLane& lane, int timeout, long long updates, double min_x, double max_x,
+               RaceOutcome& out) {
+  const int left = java_int(min_x);
+  const int right = java_int(max_x);
+  out.updates = updates;
+  if (static_cast<double>(left) > lane.finish_x + 6.0) {
+    out.result = static_cast<double>(updates - 2);
+    out.finished = true;
+    return true;
+  }
+  if (updates - 2 > timeout) {
+    const double fraction = (lane.finish_x + 6.0 - left) / (lane.finish_x - lane.start_x + 12.0 + (right - left));
+    out.result = static_cast<double>(static_cast<float>(timeout + fraction));
+    out.finished = false;
+    return true;
+  }
+  return false;
+}
+
+RaceOutcome run_race(const RaceLane& lane, const Model& model, int timeout,
+                     const std::function<void(const State&)>& on_frame) {
+  State state = make_state(model);
+  RaceOutcome out;
+  for (long long u = 1; u <= 50000; ++u) {
+    step(model, state);
+    if (on_frame) on_frame(state);
+    double min_x = state.x[0], max_x = state.x[0];
+    for (int i = 1; i < model.mass_count; ++i) {
+      min_x = std::min(min_x, state.x[static_cast<std::size_t>(i)]);
+      max_x = std::max(max_x, state.x[static_cast<std::size_t>(i)]);
+    }
+    if (race_ends(lane, timeout, u, min_x, max_x, out)) return out;
+  }
+  throw InputError("race: still in progress after 50000 updates (the racer's limit)");
+}
+
+} // namespace soda

@@ -1,0 +1,57 @@
+// A Sodarace lane and its race, as the original headless racer (2004) runs them
+// (spec 3.2, terrain-research.md section 3): the terrain's fixed nodes and bars moved
+// to start at x = 50000 between two flat platforms, the contender scaled to half its
+// own container's height and placed left of the start, then frames until the
+// contender's integer box passes the finish or the timeout.
+//
+// A lane is a plain ModelDef (the racer's lane model at frame 0, as the golden lanes
+// write it), stepped with the 2004 racer's bar rule (BarEngine::Racer2004).
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "model.hpp"
+#include "race_file.hpp"
+
+namespace soda {
+
+/// The racer's platform on either side of the terrain (Racer.PLATFORM_WIDTH).
+inline constexpr double kRacePlatformWidth = 50000.0;
+
+struct RaceLane {
+  ModelDef def;          ///< nodes: terrain, two platform nodes, the contender's masses
+  double start_x = 0, start_y = 0;   ///< the start node, lane coordinates
+  double finish_x = 0, finish_y = 0; ///< the finish node, lane coordinates
+  double scale = 1.0;    ///< the contender's scale factor s
+};
+
+/// Builds the lane for `contender` on `terrain` (a race's terrain model) under the
+/// race constraints. Throws InputError naming `contender_name` for a contender that
+/// has no free mass or no spring or muscle between masses (the scale needs one).
+RaceLane build_lane(const ModelDef& terrain, const RaceConstraints& constraints, const ModelDef& contender,
+                    const std::string& contender_name);
+
+/// The lane's model, stepped with the racer's (2004) fixed-bar rule.
+Model build_lane_model(const RaceLane& lane);
+
+struct RaceOutcome {
+  double result = 0.0;   ///< the racer's float: frames to finish, or timeout + fraction
+  bool finished = false;
+  long long updates = 0; ///< physics updates run
+};
+
+/// Java's (int) of a double: truncation toward zero, NaN to 0, saturated.
+int java_int(double v);
+
+/// The race result after update `updates` if the race ends there (spec 3.2), given
+/// the contender's min and max x. Finish first: (int)min x > finish.x + 6 gives
+/// updates - 2; else updates - 2 > timeout gives (float)(timeout + fraction).
+bool race_ends(const RaceLane& lane, int timeout, long long updates, double min_x, double max_x, RaceOutcome& out);
+
+/// Runs the lane from frame 0 until the race ends. `on_frame`, if given, sees the
+/// state after every update (for traces and drawings).
+RaceOutcome run_race(const RaceLane& lane, const Model& model, int timeout,
+                     const std::function<void(const State&)>& on_frame = {});
+
+} // namespace soda
