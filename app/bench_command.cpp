@@ -124,6 +124,7 @@ void add_bench_command(CLI::App& app) {
   });
   add_bench_evolve_command(*bench);
   add_bench_qd_command(*bench);
+  add_bench_races_command(*bench);
 }
 
 } // namespace sodaevo::app

@@ -29,5 +29,7 @@ void add_designer_command(CLI::App& app);
 void add_race_command(CLI::App& app);
 /// `bench accuracy` and `bench stress`, registered on the `bench` subcommand.
 void add_bench_accuracy_commands(CLI::App& bench);
+/// `bench races`, registered on the `bench` subcommand.
+void add_bench_races_command(CLI::App& bench);
 
 } // namespace sodaevo::app

@@ -360,6 +360,7 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
   Point at{0.0, 0.0};
   if (clamped) {
     // The container clamped the end: the unclamped end projected on the bar.
+    ++memory.floor_and_bar_hits;
     const double s = parameter_of(bar, m.free_x, m.free_y);
     at = s <= 0.0 ? Point{bar.x1, bar.y1} : s >= bar.length ? Point{bar.x2, bar.y2} : point_at(bar, s);
     if (outside_container(at, surface)) at = best_point;

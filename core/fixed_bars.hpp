@@ -84,6 +84,9 @@ struct BarCorner {
 struct BarMemory {
   std::vector<BarContact> contacts; ///< unordered; one entry per (bar, mass)
   std::vector<BarCorner> corners;   ///< [mass_count] once a mass met a bar, else empty
+  /// Bar hits whose move the container had clamped (the floor-and-bar case whose last
+  /// bits the specification leaves open, section 9); for diagnostics.
+  long long floor_and_bar_hits = 0;
   bool operator==(const BarMemory&) const = default;
 
   /// The remembered side, or nullptr.

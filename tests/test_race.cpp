@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 
+#include "bench/golden_races.hpp"
 #include "core/input_error.hpp"
 #include "core/model_file.hpp"
 #include "core/race_file.hpp"
@@ -150,4 +151,91 @@ TEST_CASE("race lanes frame by frame: bit for bit as far as the README says, the
     CHECK(r.bit_exact_rows >= exact_rows.at(k.name));
     CHECK(r.max_error <= 1e-5);
   }
+}
+
+// The original racer's results (races.tsv): the flat terrain's 44 races to the last
+// bit of the result (the research port: flat terrains 132 of 132; every contender of
+// them finishes or times out there without bars in play). All 880: `sodaevo bench races`.
+TEST_CASE("golden race results on the flat terrain, to the last bit", "[race][golden]") {
+  const auto races = sodaevo::bench::race_golden(data_dir(), "terrain/TerrainFlat.xml");
+  REQUIRE(races.size() == 44);
+  int same = 0;
+  for (const auto& g : races) {
+    INFO(g.contender << ": original " << g.golden << ", ours " << g.ours);
+    CHECK(g.same());
+    same += g.same() ? 1 : 0;
+  }
+  CHECK(same == 44);
+}
+
+TEST_CASE("race results: a timeout is timeout + fraction, the finish is two frames before the update",
+          "[race]") {
+  soda::RaceLane lane;
+  lane.start_x = 50000.0;
+  lane.finish_x = 50651.0;
+  soda::RaceOutcome o;
+  // Spec 3.2: finish when (int)min x > finish.x + 6, result U - 2.
+  CHECK_FALSE(soda::race_ends(lane, 10000, 500, 50657.9, 50700.0, o)); // (int) 50657 is not > 50657
+  REQUIRE(soda::race_ends(lane, 10000, 500, 50658.0, 50700.0, o));
+  CHECK(o.finished);
+  CHECK(o.result == 498.0);
+  // Timeout at update T + 3: T + (finish + 6 - left) / (finish - start + 12 + (right - left)), as a float.
+  CHECK_FALSE(soda::race_ends(lane, 10000, 10002, 49990.5, 50000.7, o));
+  REQUIRE(soda::race_ends(lane, 10000, 10003, 49990.5, 50000.7, o));
+  CHECK_FALSE(o.finished);
+  CHECK(o.result == static_cast<double>(static_cast<float>(10000.0 + 667.0 / 673.0)));
+}
+
+namespace {
+
+std::string race_text(const std::string& head, const std::string& body) {
+  return "<?xml version=\"1.0\"?>\n<race " + head + ">\n" + body + "</race>\n";
+}
+
+const char* const kTerrain =
+    "<terrain filter=\"racer.FilterFixedBars\"><model><container width=\"651\" height=\"422\"/><nodes>"
+    "<node id=\"n0\" x=\"0.0\" y=\"10.0\"/><node id=\"n1\" x=\"651.0\" y=\"10.0\"/></nodes>"
+    "<links><fixedbar a=\"n0\" b=\"n1\"/></links></model></terrain>\n";
+
+std::string error_of(const std::string& text) {
+  try {
+    (void)soda::read_race_text(text, "bad.xml");
+  } catch (const soda::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+} // namespace
+
+TEST_CASE("bad race files: errors name file, line, column, element, attribute, expected and got", "[race]") {
+  const std::string timeout = "<timeout value=\"10000\"/>\n";
+  CHECK(error_of(race_text("racer=\"racer.Racer\"", timeout + kTerrain)).empty());
+  std::string e = error_of(race_text("racer=\"racer.Racer\"", timeout));
+  CHECK_THAT(e, Catch::Contains("bad.xml:2:") && Catch::Contains("<race") && Catch::Contains("terrain"));
+  e = error_of(race_text("racer=\"my.Racer\"", timeout + kTerrain));
+  CHECK_THAT(e, Catch::Contains("racer") && Catch::Contains("'racer.Racer'") && Catch::Contains("'my.Racer'"));
+  e = error_of(race_text("", "<timeout value=\"-5\"/>\n" + std::string(kTerrain)));
+  CHECK_THAT(e, Catch::Contains("bad.xml:3:") && Catch::Contains("value") && Catch::Contains("'-5'"));
+  e = error_of(race_text("", "<timeout value=\"100000000\"/>\n" + std::string(kTerrain)));
+  CHECK_THAT(e, Catch::Contains("expected an integer in [1, 49997]"));
+  e = error_of(race_text("", timeout + kTerrain + "<race_constraints><wave speed=\"BOTH\"/></race_constraints>\n"));
+  CHECK_THAT(e, Catch::Contains("bad.xml:5:") && Catch::Contains("speed") && Catch::Contains("CONTENDER or RACER") &&
+                    Catch::Contains("'BOTH'"));
+  std::string terrain = kTerrain;
+  terrain.replace(terrain.find("racer.FilterFixedBars"), 21, "racer.FilterOther");
+  e = error_of(race_text("", timeout + terrain));
+  CHECK_THAT(e, Catch::Contains("filter") && Catch::Contains("'racer.FilterOther'"));
+  terrain = kTerrain;
+  terrain.replace(terrain.find("x=\"651.0\""), 9, "x=\"3e9\"");
+  e = error_of(race_text("", timeout + terrain));
+  CHECK_THAT(e, Catch::Contains("terrain at most"));
+  // A contender with only fixed nodes: refused when its lane is built, naming it.
+  const soda::RaceDef race = soda::read_race_text(race_text("", timeout + kTerrain), "ok.xml");
+  soda::ModelDef fixed_only;
+  fixed_only.nodes.push_back({"n0", true, 0.0, 0.0, 0.0, 0.0});
+  fixed_only.nodes.push_back({"n1", true, 10.0, 0.0, 0.0, 0.0});
+  fixed_only.links.push_back({soda::LinkKind::Spring, 0, 1, 10.0, 0.0, 0.0});
+  CHECK_THROWS_WITH(soda::build_lane(race.terrain, race.constraints, fixed_only, "c.xml"),
+                    Catch::Contains("c.xml") && Catch::Contains("0 masses"));
 }

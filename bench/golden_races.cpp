@@ -1,0 +1,92 @@
+#include "bench/golden_races.hpp"
+
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include "core/model_file.hpp"
+#include "core/race_file.hpp"
+#include "core/race_lane.hpp"
+
+namespace sodaevo::bench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path local_path(const fs::path& data, const std::string& p) {
+  const std::string terrain = "shared/models/soda/golden/terrain/";
+  const std::string soda = "shared/models/soda/";
+  if (p.rfind(terrain, 0) == 0) return data / "terrain" / p.substr(terrain.size());
+  if (p.rfind(soda, 0) == 0) return data / "soda" / p.substr(soda.size());
+  return p;
+}
+
+} // namespace
+
+std::vector<GoldenRace> race_golden(const fs::path& data, const std::string& race_filter, int limit) {
+  std::ifstream in(data / "terrain" / "races.tsv");
+  if (!in) throw std::runtime_error((data / "terrain" / "races.tsv").string() + ": cannot open");
+  std::string line;
+  std::getline(in, line); // header
+  std::map<std::string, soda::RaceDef> races;
+  std::vector<GoldenRace> out;
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    GoldenRace g;
+    if (!(row >> g.race >> g.contender >> g.golden)) continue;
+    if (!race_filter.empty() && g.race.find(race_filter) == std::string::npos) continue;
+    if (limit > 0 && static_cast<int>(out.size()) >= limit) break;
+    auto it = races.find(g.race);
+    if (it == races.end()) it = races.emplace(g.race, soda::read_race_file(local_path(data, g.race))).first;
+    const soda::RaceDef& race = it->second;
+    const soda::ModelDef contender = soda::read_model_file(local_path(data, g.contender)).def;
+    const soda::RaceLane lane = soda::build_lane(race.terrain, race.constraints, contender, g.contender);
+    const soda::Model model = soda::build_lane_model(lane);
+    long long update = 0;
+    const soda::RaceOutcome o = soda::run_race(lane, model, race.timeout, [&](const soda::State& s) {
+      ++update;
+      if (g.first_floor_and_bar < 0 && s.bar_memory.floor_and_bar_hits > 0) g.first_floor_and_bar = update;
+    });
+    g.ours = o.result;
+    g.ours_finished = o.finished;
+    out.push_back(g);
+  }
+  return out;
+}
+
+std::string golden_races_report(const std::vector<GoldenRace>& races) {
+  std::map<std::string, std::pair<int, int>> per_race; // same, total
+  int same = 0, with_residue = 0;
+  for (const GoldenRace& g : races) {
+    auto& c = per_race[fs::path(g.race).filename().string()];
+    c.second += 1;
+    c.first += g.same() ? 1 : 0;
+    same += g.same() ? 1 : 0;
+    with_residue += (!g.same() && g.first_floor_and_bar >= 0) ? 1 : 0;
+  }
+  std::ostringstream o;
+  char text[256];
+  std::snprintf(text, sizeof text, "Same result as the original racer: **%d of %zu** races.\n\n", same, races.size());
+  o << text;
+  o << "| race file | same | of |\n|---|---|---|\n";
+  for (const auto& [name, c] : per_race) o << "| " << name << " | " << c.first << " | " << c.second << " |\n";
+  const int differ = static_cast<int>(races.size()) - same;
+  std::snprintf(text, sizeof text,
+                "\n%d differ; %d of them after a floor-or-wall and bar collision in one update (the residue of "
+                "spec 9), %d without one (a muscle sine: glibc's here, Java's in the original; or a rule).\n\n",
+                differ, with_residue, differ - with_residue);
+  o << text;
+  o << "| race | contender | original | ours | first floor+bar update |\n|---|---|---|---|---|\n";
+  for (const GoldenRace& g : races) {
+    if (g.same()) continue;
+    std::snprintf(text, sizeof text, "| %s | %s | %.4f | %.4f | %lld |\n", fs::path(g.race).filename().c_str(),
+                  fs::path(g.contender).filename().c_str(), g.golden, g.ours, g.first_floor_and_bar);
+    o << text;
+  }
+  return o.str();
+}
+
+} // namespace sodaevo::bench

@@ -1,0 +1,34 @@
+// The golden race results of the original racer (races.tsv of the golden terrain
+// data: 20 public race files x 44 contenders), raced again with core/race_lane.hpp.
+//
+// A race whose result differs is diagnosed from our own run: the first frame where a
+// mass hit the floor or a wall and a bar in the same update (the known last-bit
+// residue of the rules, spec 9), or none (then the drift starts elsewhere: a muscle
+// sine, which is glibc's here and Java's in the original, or a rule).
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace sodaevo::bench {
+
+struct GoldenRace {
+  std::string race, contender; ///< as races.tsv names them
+  double golden = 0.0;         ///< the original's result
+  double ours = 0.0;
+  bool ours_finished = false;
+  long long first_floor_and_bar = -1; ///< update of the first container + bar collision, -1: none
+  [[nodiscard]] bool same() const { return golden == ours; }
+};
+
+/// Reads races.tsv in `data`/terrain (paths under shared/models/soda/ are looked up in
+/// `data`/soda and `data`/terrain) and races the rows whose race file name contains
+/// `race_filter` (empty: all), at most `limit` rows (0: all).
+std::vector<GoldenRace> race_golden(const std::filesystem::path& data, const std::string& race_filter = "",
+                                    int limit = 0);
+
+/// A Markdown report: counts per race file, every difference with its diagnosis.
+std::string golden_races_report(const std::vector<GoldenRace>& races);
+
+} // namespace sodaevo::bench
