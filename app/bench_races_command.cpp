@@ -1,12 +1,13 @@
 // `sodaevo bench races`: the 880 golden race results of the original racer, raced
 // again (bench/golden_races.hpp); writes results/bench/races.md.
 #include <chrono>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 
 #include "app/commands.hpp"
 #include "bench/golden_races.hpp"
-#include "core/atomic_file.hpp"
+#include "formats/atomic_file.hpp"
 
 namespace sodaevo::app {
 
@@ -16,6 +17,7 @@ struct BenchRacesOptions {
   std::string data = "tests/data";
   std::string out = "results/bench";
   std::string race_filter;
+  bool speed = true;
 };
 
 void run_bench_races(const BenchRacesOptions& opt) {
@@ -25,6 +27,18 @@ void run_bench_races(const BenchRacesOptions& opt) {
   std::string report = "# Golden races (sodaevo bench races)\n\nThe results of the original racer (" + opt.data +
                        "/terrain/races.tsv) raced again with `sodaevo race`'s lane, in " +
                        std::to_string(static_cast<int>(seconds)) + " s.\n\n" + bench::golden_races_report(races);
+  if (opt.speed) {
+    const std::filesystem::path data(opt.data);
+    const auto speed = bench::measure_lane_speed(data / "soda/wwagner4_wodka/lib_wodka_jar/terrain/TerrainFlat.xml",
+                                                 data / "terrain/contenders/dw_v1_wavereverse.xml", 10000, 5);
+    char text[400];
+    std::snprintf(text, sizeof text,
+                  "\n## Lane speed\n\nThe Dainty Walker (wave reversed) in the TerrainFlat lane, FastStepper, best of 5 "
+                  "alternated runs of 10,000 frames: %.0f frames/s with the lane's bars, %.0f frames/s in the same "
+                  "lane model without its bars (on the container floor): **%.2fx**.\n",
+                  speed.lane_fps, speed.floor_fps, speed.ratio());
+    report += text;
+  }
   std::cout << report;
   if (opt.race_filter.empty()) {
     std::filesystem::create_directories(opt.out);
@@ -42,6 +56,7 @@ void add_bench_races_command(CLI::App& bench) {
                "how many agree to the last bit, and each difference with its diagnosis. Writes races.md.");
   cmd->add_option("--data", opt->data, "Folder holding soda/ and terrain/ (the golden data)")->default_val(opt->data);
   cmd->add_option("--out", opt->out, "Output directory")->default_val(opt->out);
+  cmd->add_flag("!--no-speed", opt->speed, "Skip the lane speed measurement");
   cmd->add_option("--race", opt->race_filter, "Only race files whose path contains this (prints, writes nothing)");
   cmd->callback([opt] { run_bench_races(*opt); });
 }

@@ -18,10 +18,10 @@
 #include "app/player_html.hpp"
 #include "core/fixed_bars.hpp"
 #include "core/input_error.hpp"
-#include "core/model_file.hpp"
-#include "core/race_file.hpp"
+#include "formats/model_file.hpp"
+#include "formats/race_file.hpp"
 #include "core/race_lane.hpp"
-#include "core/trace_csv.hpp"
+#include "formats/trace_csv.hpp"
 
 namespace sodaevo::app {
 

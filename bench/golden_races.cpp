@@ -1,13 +1,16 @@
 #include "bench/golden_races.hpp"
 
+#include <algorithm>
+#include <chrono>
 #include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 
-#include "core/model_file.hpp"
-#include "core/race_file.hpp"
+#include "formats/model_file.hpp"
+#include "formats/race_file.hpp"
+#include "core/fast_step.hpp"
 #include "core/race_lane.hpp"
 
 namespace sodaevo::bench {
@@ -26,7 +29,8 @@ fs::path local_path(const fs::path& data, const std::string& p) {
 
 } // namespace
 
-std::vector<GoldenRace> race_golden(const fs::path& data, const std::string& race_filter, int limit) {
+std::vector<GoldenRace> race_golden(const fs::path& data, const std::string& race_filter,
+                                    const std::string& contender_filter) {
   std::ifstream in(data / "terrain" / "races.tsv");
   if (!in) throw std::runtime_error((data / "terrain" / "races.tsv").string() + ": cannot open");
   std::string line;
@@ -38,7 +42,7 @@ std::vector<GoldenRace> race_golden(const fs::path& data, const std::string& rac
     GoldenRace g;
     if (!(row >> g.race >> g.contender >> g.golden)) continue;
     if (!race_filter.empty() && g.race.find(race_filter) == std::string::npos) continue;
-    if (limit > 0 && static_cast<int>(out.size()) >= limit) break;
+    if (!contender_filter.empty() && g.contender.find(contender_filter) == std::string::npos) continue;
     auto it = races.find(g.race);
     if (it == races.end()) it = races.emplace(g.race, soda::read_race_file(local_path(data, g.race))).first;
     const soda::RaceDef& race = it->second;
@@ -87,6 +91,44 @@ std::string golden_races_report(const std::vector<GoldenRace>& races) {
     o << text;
   }
   return o.str();
+}
+
+} // namespace sodaevo::bench
+
+namespace sodaevo::bench {
+
+namespace {
+
+double best_fps(const soda::Model& model, long long frames, int repeats) {
+  double best = 0.0;
+  soda::FastStepper stepper(model, frames);
+  for (int r = 0; r < repeats; ++r) {
+    soda::State state = soda::make_state(model);
+    const auto t0 = std::chrono::steady_clock::now();
+    stepper.run(state, frames);
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (s > 0.0) best = std::max(best, static_cast<double>(frames) / s);
+  }
+  return best;
+}
+
+} // namespace
+
+LaneSpeed measure_lane_speed(const fs::path& race_file, const fs::path& contender, long long frames, int repeats) {
+  const soda::RaceDef race = soda::read_race_file(race_file);
+  const soda::RaceLane lane =
+      soda::build_lane(race.terrain, race.constraints, soda::read_model_file(contender).def, contender.string());
+  const soda::Model with_bars = soda::build_lane_model(lane);
+  soda::ModelDef floor = lane.def;
+  std::erase_if(floor.links, [](const soda::LinkDef& l) { return l.kind == soda::LinkKind::FixedBar; });
+  const soda::Model without_bars = soda::build_model(floor);
+  LaneSpeed out;
+  // Alternated, so that both see the same machine load.
+  for (int r = 0; r < repeats; ++r) {
+    out.lane_fps = std::max(out.lane_fps, best_fps(with_bars, frames, 1));
+    out.floor_fps = std::max(out.floor_fps, best_fps(without_bars, frames, 1));
+  }
+  return out;
 }
 
 } // namespace sodaevo::bench

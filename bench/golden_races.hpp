@@ -24,11 +24,26 @@ struct GoldenRace {
 
 /// Reads races.tsv in `data`/terrain (paths under shared/models/soda/ are looked up in
 /// `data`/soda and `data`/terrain) and races the rows whose race file name contains
-/// `race_filter` (empty: all), at most `limit` rows (0: all).
+/// `race_filter` and whose contender contains `contender_filter` (empty: all).
 std::vector<GoldenRace> race_golden(const std::filesystem::path& data, const std::string& race_filter = "",
-                                    int limit = 0);
+                                    const std::string& contender_filter = "");
 
 /// A Markdown report: counts per race file, every difference with its diagnosis.
 std::string golden_races_report(const std::vector<GoldenRace>& races);
+
+} // namespace sodaevo::bench
+
+namespace sodaevo::bench {
+
+/// Lane speed: frames per second of one creature in a race lane (the FastStepper,
+/// bars tested) and of the same lane model without its bars (the creature on the
+/// container's floor), each the best of `repeats` runs of `frames` frames.
+struct LaneSpeed {
+  double lane_fps = 0.0;
+  double floor_fps = 0.0;
+  [[nodiscard]] double ratio() const { return floor_fps > 0.0 ? lane_fps / floor_fps : 0.0; }
+};
+LaneSpeed measure_lane_speed(const std::filesystem::path& race_file, const std::filesystem::path& contender,
+                             long long frames, int repeats);
 
 } // namespace sodaevo::bench

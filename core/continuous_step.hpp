@@ -26,7 +26,8 @@
 //   tangential velocity kept per frame of contact, so it becomes Fs^dt per step
 //   in contact: a mass resting on the floor for one frame loses the same share as
 //   in the original. Corner rule and autoreverse as in the original, per step.
-// - Fixed bars: the original rule for the move of one step (respond_to_bar_dt).
+// - Fixed bars: the original rules (fixed_bars.hpp) for the move of one step, with
+//   Fs^dt as the surface friction of the slide.
 // - Wave: advances speed*dt per step (wrapped); muscles see the phase of the time
 //   at which the integrator evaluates the force (RK4 stages at t + dt/2, t + dt).
 // Contact, syrup and the rest test are first-order events: an integrator reaches

@@ -12,7 +12,7 @@
 #include <string>
 
 #include "model.hpp"
-#include "race_file.hpp"
+#include "race_def.hpp"
 
 namespace soda {
 

@@ -14,7 +14,7 @@
 
 #include "core/fast_step.hpp"
 #include "core/fixed_bars.hpp"
-#include "core/model_file.hpp"
+#include "formats/model_file.hpp"
 #include "core/step.hpp"
 #include "test_support.hpp"
 

@@ -1,14 +1,12 @@
-// Sodarace race files (`<!DOCTYPE sodarace>`, spec 3.1): a timeout, a terrain model
-// read through the racer's FilterFixedBars, the race constraints (each header value
-// from the CONTENDER or the RACER, i.e. the terrain), and contenders with the results
-// the file recorded. Plain definition structs, as ModelDef; the lane is built from
-// them by race_lane.hpp.
+// A Sodarace race as plain definition structs (spec 3.1), like ModelDef: a timeout,
+// a terrain model (the racer keeps its fixed nodes and bars: FilterFixedBars), the
+// race constraints (each header value of the lane from the CONTENDER or the RACER,
+// i.e. the terrain), and contenders with the results the file recorded. Read by
+// formats/race_file.hpp; the lane is built from them by race_lane.hpp.
 #pragma once
 
-#include <filesystem>
 #include <optional>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include "model_def.hpp"
@@ -50,16 +48,5 @@ struct RaceDef {
   RaceConstraints constraints;
   std::vector<RaceContenderDef> contenders;
 };
-
-/// Reads race XML held in memory; `source_name` names it in messages. Throws
-/// InputError naming file, line, column, element and attribute, expected and got, for:
-/// another root, an unknown racer class or filter, no terrain (or no fixed node in
-/// it), a terrain wider than the lane's container can be, a timeout that is not an
-/// integer in [1, kMaxRaceTimeout], a constraint other than CONTENDER or RACER.
-RaceDef read_race_text(std::string_view text, const std::string& source_name);
-RaceDef read_race_file(const std::filesystem::path& path);
-
-/// Whether the XML text's root element is <race> (cheap look at the text).
-bool looks_like_race(std::string_view text);
 
 } // namespace soda

@@ -1,16 +1,16 @@
 // Reader of Sodarace race files (race_file.hpp). The models inside are v1 <model>
 // elements, read by the v1 reader with positions in this file.
 
-#include "race_file.hpp"
+#include "formats/race_file.hpp"
 
 #include <cstring>
 #include <fstream>
 #include <sstream>
 
-#include "constants.hpp"
-#include "input_error.hpp"
-#include "number_text.hpp"
-#include "xml_util.hpp"
+#include "core/constants.hpp"
+#include "core/input_error.hpp"
+#include "core/number_text.hpp"
+#include "formats/xml_util.hpp"
 
 namespace soda {
 
