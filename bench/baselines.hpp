@@ -6,7 +6,7 @@
 //    per spring (the quadrant restored when dy < 0, else the literal formula makes
 //    every creature explode), a force accumulator per mass, then the mass update
 //    of Algorithm 2.
-//    It is not SodaConstructor physics (see DESIGN.md); it is the speed yardstick.
+//    It is not SodaConstructor physics (bench/README.md); it is the speed yardstick.
 //  - PlainLoop: the exact rules (physics_rules.hpp) as a plain, unoptimised scalar
 //    loop: array of structs, one struct per link with its kind, branching per link
 //    on the kind and on fixed ends, one sin per muscle per frame. Bit-identical to

@@ -1,28 +1,28 @@
 // Constants of the SodaConstructor engine and file formats.
 //
 // Every number the physics or the XML reader depends on is named here once, with
-// its meaning and where it comes from (the specification is
-// docs/sodaconstructor-format-and-physics.md in the shared project documents,
-// "spec" below; the values were read off the original 2003 Soda simulator).
+// its meaning and where it comes from (docs/physics.md and docs/file-formats.md
+// describe the rules and formats that use them; the values were read off the
+// original 2003 Soda simulator).
 #pragma once
 
 namespace soda {
 
-// --- physics (spec section 5.3) ------------------------------------------------
+// --- physics (docs/physics.md, part 2) ------------------------------------------
 
 /// Speed limit of the "syrup" friction: above this speed (px/frame) the velocity is
-/// scaled down to it. Spec 5.3 step 2, constant SYRUP_THRESHOLD of the original.
+/// scaled down to it. docs/physics.md part 2 step 2, constant SYRUP_THRESHOLD of the original.
 inline constexpr double kSyrupThreshold = 20.0;
 
 /// A mass whose |vx| and |vy| are both below this is not moved that frame.
-/// Spec 5.3 step 3, constant ZERO_VELOCITY of the original.
+/// docs/physics.md part 2 step 3, constant ZERO_VELOCITY of the original.
 inline constexpr double kZeroVelocity = 1e-5;
 
 /// 2*pi exactly as the original's double literal; part of the bit-exact muscle
-/// formula (spec 5.7).
+/// formula (docs/physics.md, "Part 1: links").
 inline constexpr double kTwoPi = 6.283185307179586;
 
-// --- defaults of an empty model (spec 2.1/2.2) ---------------------------------
+// --- defaults of an empty model (docs/file-formats.md, v1) ----------------------
 
 inline constexpr int kDefaultWidth = 651;
 inline constexpr int kDefaultHeight = 422;
@@ -35,7 +35,7 @@ inline constexpr double kDefaultWaveAmplitude = 0.5;
 inline constexpr double kDefaultWavePhase = 0.0;
 inline constexpr double kDefaultWaveSpeed = 0.01;
 
-// --- ranges the original parser enforces (spec 2.2) ----------------------------
+// --- ranges the original parser enforces (docs/file-formats.md, v1) ------------
 
 struct Range {
   double min;

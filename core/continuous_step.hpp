@@ -1,5 +1,5 @@
 // The `continuous` mode: the SodaConstructor model read as an ODE and stepped with
-// dt = 1/substeps frame (DESIGN "Two physics modes, one engine").
+// dt = 1/substeps frame (docs/continuous-mode.md).
 //
 // Why: the original takes one semi-implicit Euler step per frame. That is the
 // model, for walkers bred in it, but it is also a coarse integration of a

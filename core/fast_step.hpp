@@ -1,4 +1,4 @@
-// FastStepper: the exact SodaConstructor step (spec 5), fast.
+// FastStepper: the exact SodaConstructor step (docs/physics.md), fast.
 //
 // Equal bit for bit to the reference step (step.hpp) for every model and every
 // number of frames: same operations in the same order per value, only grouped

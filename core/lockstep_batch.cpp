@@ -319,8 +319,8 @@ template <int N>
       }
     }
   }
-  // The wave advance after the physics (spec 5.1). Where a direction turned (or
-  // the sines were not computed above), the next frame's sines again.
+  // The wave advance after the physics (docs/physics.md, "The wave"). Where a direction turned
+  // (or the sines were not computed above), the next frame's sines again.
   for (int n = 0; n < N; ++n) {
     const int g = g0 + n;
     const V phase = simd_rules::advance_wave_phase<O>(O::load(world_row(g, kPhase)), O::load(world_row(g, kSpeed)),

@@ -24,7 +24,7 @@ namespace soda {
 enum class SideWall : std::int8_t { None = 0, Left = -1, Right = 1 };
 
 struct Model {
-  // --- world (spec 2.2) ---
+  // --- world (docs/file-formats.md, v1) ---
   double width = kDefaultWidth;   ///< container: 0 <= x <= width
   double height = kDefaultHeight; ///< container: 0 <= y <= height
   double springyness = kDefaultSpringyness;
@@ -78,7 +78,7 @@ struct State {
   std::vector<double> vx, vy; ///< [point_count] velocities (0 for fixed nodes)
   double wave_phase = 0.0;    ///< cycles, in [0, 1)
   WaveDirection wave_mode = WaveDirection::Forward;
-  SideWall last_side_wall = SideWall::None; ///< autoreverse memory (spec 5.3)
+  SideWall last_side_wall = SideWall::None; ///< autoreverse memory (docs/physics.md, part 2)
   long long frame = 0;        ///< frames stepped since the state was made
   SineJitter jitter;          ///< this replica's sine jitter (sine_jitter.hpp); seed 0: exact
   BarMemory bar_memory;       ///< fixed bars: masses each bar remembers, corners (spec 5.4)

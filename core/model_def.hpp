@@ -18,10 +18,11 @@
 
 namespace soda {
 
-/// Gravity direction d in `vy -= g*d` (spec 5.3): down = +1, up = -1, off = 0.
+/// Gravity direction d in `vy -= g*d` (docs/physics.md, part 2): down = +1, up = -1, off = 0.
 enum class GravityDirection : int { Up = -1, Off = 0, Down = 1 };
 
-/// Wave mode: the sign of the phase advance (spec 5.1). Manual does not advance.
+/// Wave mode: the sign of the phase advance (docs/physics.md, "The wave"). Manual does not
+/// advance.
 enum class WaveDirection : int { Reverse = -1, Manual = 0, Forward = 1 };
 
 enum class LinkKind : std::uint8_t { Spring, Muscle, FixedBar };
@@ -119,12 +120,12 @@ inline double wrap_phase(double cycles) {
   return wrapped >= 1.0 ? 0.0 : wrapped;
 }
 
-/// The canonical form the original writer produces (spec 2.1): fixed nodes first,
+/// The canonical form the original writer produces (docs/file-formats.md): fixed nodes first,
 /// then masses (order kept inside each group), ids regenerated from one running
 /// index (n0, n1, ..., m<k>, m<k+1>, ...), links grouped as springs, then muscles,
 /// then fixed bars (order kept inside each group), endpoint indices remapped.
 /// Idempotent. Mass order is unchanged, so traces keep their column order; link
-/// regrouping can change trajectories in the last bits (spec 5.7).
+/// regrouping can change trajectories in the last bits (docs/physics.md).
 ModelDef canonical_form(const ModelDef& def);
 
 } // namespace soda

@@ -16,7 +16,7 @@
 //    the masses in file order;
 //  - a wall (floor, ceiling, left, right) that no mass can reach within the
 //    frames asked for is not tested: after the friction step a mass moves at most
-//    20 px/frame (the syrup speed limit, spec 5.3), so kMaxMovePerFrame bounds it;
+//    20 px/frame (the syrup speed limit, docs/physics.md, part 2), so kMaxMovePerFrame bounds it;
 //  - links between two fixed nodes have no effect and are dropped.
 #pragma once
 

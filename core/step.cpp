@@ -9,10 +9,10 @@ namespace soda {
 
 namespace {
 
-/// Part 1 (spec 5.2): springs and muscles in file order, each adding its impulse to
-/// the velocities at once. Links read only positions, which do not change in this
-/// part, so the file order matters only as the order of the additions into each
-/// mass's velocity (which is what bit-exactness needs).
+/// Part 1 (docs/physics.md, part 1): springs and muscles in file order, each adding its impulse
+/// to the velocities at once. Links read only positions, which do not change in this part, so
+/// the file order matters only as the order of the additions into each mass's velocity (which
+/// is what bit-exactness needs).
 [[gnu::always_inline]] inline void apply_links(const Model& m, State& s, double dt) {
   const int n = m.link_count();
   for (int i = 0; i < n; ++i) {
@@ -35,7 +35,7 @@ namespace {
   }
 }
 
-/// Part 2 (spec 5.3): the masses in order, each by rules::move_mass, then
+/// Part 2 (docs/physics.md, part 2): the masses in order, each by rules::move_mass, then
 /// autoreverse and the fixed bars (rules::complete_move).
 [[gnu::always_inline]] inline void move_masses(const Model& m, State& s, const rules::MassConstants& k) {
   for (int i = 0; i < m.mass_count; ++i) {

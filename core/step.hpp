@@ -1,4 +1,4 @@
-// One frame of the SodaConstructor engine (spec 5.1).
+// One frame of the SodaConstructor engine (docs/physics.md, "One frame").
 //
 // This is the reference step: a plain loop over the rules in physics_rules.hpp in
 // the original's order. Faster steppers must equal it bit for bit.

@@ -1,6 +1,6 @@
 // Stepping: which physics mode and integrator advance a scene, chosen at run time.
 //
-// Two modes (DESIGN "Two physics modes, one engine"): `soda`, one update per frame
+// Two modes (docs/continuous-mode.md): `soda`, one update per frame
 // exactly as the original (step.hpp), and `continuous`, the same model read as an
 // ODE and stepped with dt = 1/substeps frame by one of several integrators
 // (continuous_step.hpp). The command line, the GA config and the benchmarks all

@@ -26,14 +26,14 @@ enum class FitnessScaling { None, Sodarace };
 /// runaway energy beyond what the muscles can supply.
 enum class DivergenceCheck { Finite, Energy };
 
-/// How a creature is scored (DESIGN: fitness = distance walked by the centroid).
+/// How a creature is scored (the distance walked by the centroid; configs/README.md, /fitness).
 struct FitnessConfig {
   long long frames = 2000;        ///< /fitness/frames: scored frames, [1, 1e7]
   long long settle_frames = 200;  ///< /fitness/settle_frames: unscored frames first, [0, 1e7]
   WalkDirection direction = WalkDirection::Right; ///< /fitness/direction: "right" | "left" | "either"
   /// /fitness/scaling: "sodarace" scales the creature as the Sodarace racer did
-  /// (spec 3.2: s = 211/sqrt(sum Lmax^2), positions, rest lengths, velocities and
-  /// gravity times s) so that growing is no way to win; "none" leaves it.
+  /// (configs/README.md, /fitness/scaling: s = 211/sqrt(sum Lmax^2), positions, rest lengths,
+  /// velocities and gravity times s) so that growing is no way to win; "none" leaves it.
   FitnessScaling scaling = FitnessScaling::Sodarace;
   double drop_height = 5.0;       ///< /fitness/drop_height: lowest mass placed this high, px, [0, 1000]
   /// /fitness/mode, /fitness/integrator, /fitness/substeps: how the physics is

@@ -1,15 +1,14 @@
 // WalkProblem: how far a creature walks on a flat floor, measured the same way
 // every time (the Problem of every run today).
 //
-// A creature (a ModelDef of free masses and links) is first checked against the
-// limits and prepared: the world applied (except the parameters the creature may
-// evolve), scaled as the Sodarace racer scaled contenders (spec 3.2) unless
-// disabled, put in a container wide and tall enough that no wall can be reached
-// at 20 px/frame, its lowest mass `drop_height` above the floor, wave forward,
-// autoreverse off. The prepared model is exactly what `export` writes, so the
-// original program runs it the same way. A rollout settles it for
-// `settle_frames` and scores the centroid's displacement over the next `frames`
-// frames in the configured direction.
+// A creature (a ModelDef of free masses and links) is first checked against the limits and
+// prepared: the world applied (except the parameters the creature may evolve), scaled as the
+// Sodarace racer scaled contenders (configs/README.md, /fitness/scaling) unless disabled, put
+// in a container wide and tall enough that no wall can be reached at 20 px/frame, its lowest
+// mass `drop_height` above the floor, wave forward, autoreverse off. The prepared model is
+// exactly what `export` writes, so the original program runs it the same way. A rollout settles
+// it for `settle_frames` and scores the centroid's displacement over the next `frames` frames
+// in the configured direction.
 #pragma once
 
 #include <optional>
@@ -20,8 +19,9 @@
 
 namespace sodaevo {
 
-/// The Sodarace scale factor s = 211 / sqrt(sum of Lmax^2) (spec 3.2), Lmax the
-/// rest length of a spring, rest*(1 + Am*Aw) of a muscle. nullopt without links.
+/// The Sodarace scale factor s = 211 / sqrt(sum of Lmax^2) (configs/README.md,
+/// /fitness/scaling), Lmax the rest length of a spring, rest*(1 + Am*Aw) of a muscle. nullopt
+/// without links.
 std::optional<double> sodarace_scale(const soda::ModelDef& creature);
 
 class WalkProblem final : public Problem {

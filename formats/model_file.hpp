@@ -1,18 +1,19 @@
 // Reading and writing SodaConstructor model files.
 //
 // Reading accepts the two model formats and tells them apart by the root element:
-//  - v1: `<model>` (SodaConstructor 1.x and Sodarace contenders), spec section 2;
+//  - v1: `<model>` (SodaConstructor 1.x and Sodarace contenders);
 //  - v2: `<object type="com.sodaplay.soda.constructor2.ConstructorApplication">`,
-//    the SodaConstructor 2 object graph, spec section 4, mapped onto the v1 model.
+//    the SodaConstructor 2 object graph, mapped onto the v1 model
+// (both described in docs/file-formats.md).
 // A Sodarace race file (`<race>`) is recognised and refused with a clear message.
 //
-// The reader is order-independent (the original is not: see spec 2.2), applies the
+// The reader is order-independent (the original is not: docs/file-formats.md), applies the
 // original's defaults, clamps and wraps, ignores unknown elements, and rejects
 // everything else with an InputError naming file:line:column, the element, the
 // attribute, what was expected and what it got. Numbers are parsed strictly
 // (number_text.hpp).
 //
-// Writing always produces canonical v1 (spec 2.1): the original's element order
+// Writing always produces canonical v1 (docs/file-formats.md): the original's element order
 // and layout, the comment escaped (the original did not), numbers shortest
 // round-trip, so write -> read is exact.
 #pragma once

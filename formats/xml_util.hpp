@@ -104,10 +104,11 @@ std::string element_text(ReadContext& ctx, pugi::xml_node element);
 
 // --- the two readers (xml_v1_reader.cpp, xml_v2_reader.cpp) ----------------------
 
-/// Reads a v1 `<model>` element (spec 2.2) into `def`.
+/// Reads a v1 `<model>` element (docs/file-formats.md, v1) into `def`.
 void read_v1_model(ReadContext& ctx, pugi::xml_node model, ModelDef& def);
 
-/// Reads a v2 object graph whose root `<object>` is given (spec 4) into `def`.
+/// Reads a v2 object graph whose root `<object>` is given (docs/file-formats.md, v2) into
+/// `def`.
 void read_v2_model(ReadContext& ctx, pugi::xml_node root, ModelDef& def);
 
 } // namespace soda::xml

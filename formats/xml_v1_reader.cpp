@@ -1,4 +1,4 @@
-// Reader of the v1 `<model>` format (spec 2.2).
+// Reader of the v1 `<model>` format (docs/file-formats.md, v1).
 //
 // Unlike the original parser, this one does not depend on element order: every
 // child of <model> is found first, then the header, the nodes and the links are

@@ -1,4 +1,4 @@
-// Writer of canonical v1 XML (spec 2.1): the original writer's layout and element
+// Writer of canonical v1 XML (docs/file-formats.md): the original writer's layout and element
 // order, ids and link order of canonical_form(), numbers shortest round-trip, and
 // text escaped for an ISO-8859-1 document (the original did not escape).
 

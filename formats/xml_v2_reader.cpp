@@ -1,4 +1,5 @@
-// Reader of the SodaConstructor 2 object graph (spec 4), mapped onto the v1 model.
+// Reader of the SodaConstructor 2 object graph (docs/file-formats.md, v2),
+// mapped onto the v1 model.
 //
 // An object is `<object id=".." type="..">` holding `<field name="..">` children,
 // each with one value element: <double>, <int>, <boolean>, <string>, <ref refid=".."/>,

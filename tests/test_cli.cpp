@@ -104,7 +104,7 @@ TEST_CASE("simulate --out writes a final state that reloads and continues exactl
   REQUIRE(run_sodaevo("simulate " + mid.string() + " --frames 50 --trace " + (dir / "b.csv").string()).exit_code == 0);
   // Frames 100..150 continued from the saved state follow the golden rows. Not to
   // the bit: the writer regroups links (springs before muscles), which changes the
-  // order of additions (spec 5.7); the saved numbers themselves are exact.
+  // order of additions (docs/physics.md); the saved numbers themselves are exact.
   const auto golden = read_golden_trace(golden_dir() / "random_16.trace.txt");
   std::ifstream in(dir / "b.csv");
   std::string line;

@@ -105,7 +105,8 @@ TEST_CASE("SplitMix64 matches the reference sequence", "[evolve]") {
 }
 
 TEST_CASE("Sodarace scaling: a single spring is scaled to length 211", "[evolve]") {
-  // Spec 3.2: s = 211/sqrt(sum Lmax^2); for one spring of rest R, s = 211/R.
+  // configs/README.md, /fitness/scaling: s = 211/sqrt(sum Lmax^2); for one spring of
+  // rest R, s = 211/R.
   soda::ModelDef c;
   c.nodes = {{"m0", false, 0, 0, 0, 0}, {"m1", false, 50, 0, 0, 0}};
   c.links = {{soda::LinkKind::Spring, 0, 1, 50.0, 0, 0}};

@@ -3,7 +3,7 @@
 // canonical v1 that reads back exactly.
 //
 // Expected values come from the files themselves (independent string counts), from
-// the specification (defaults, layout) or are written by hand; none is computed
+// docs/file-formats.md (defaults, layout) or are written by hand; none is computed
 // with the code under test.
 
 #include <catch2/catch.hpp>
@@ -511,8 +511,8 @@ TEST_CASE("the writer produces the canonical v1 layout", "[model_file]") {
   def.links.push_back(LinkDef{LinkKind::Spring, 0, 2, 20.0, 0.0, 0.0});
   def.links.push_back(LinkDef{LinkKind::Spring, 2, 1, -7.5, 0.0, 0.0});
 
-  // Written by hand from spec 2.1: fixed nodes first, one running index for ids,
-  // links grouped springs, muscles, fixed bars.
+  // Written by hand from docs/file-formats.md (canonical form): fixed nodes first, one running
+  // index for ids, links grouped springs, muscles, fixed bars.
   const std::string expected =
       "<?xml version=\"1.0\" encoding=\"ISO-8859-1\" standalone=\"no\"?>\n"
       "<!DOCTYPE sodaconstructor>\n"
@@ -738,7 +738,7 @@ TEST_CASE("the reader does not depend on element order", "[model_file]") {
   const auto shuffled = read_text("<model>" + links + header_settings + nodes + header_wave +
                                   "<comment>c</comment>" + env + "</model>");
   CHECK(shuffled.def == canonical.def);
-  // The original would have left the wave in manual mode here (spec 2.2).
+  // The original would have left the wave in manual mode here (docs/file-formats.md, v1).
   CHECK(shuffled.def.settings.wave_direction == soda::WaveDirection::Reverse);
   CHECK(shuffled.def.settings.gravity_direction == soda::GravityDirection::Up);
   CHECK(shuffled.def.wave.phase == 0.5);

@@ -1,5 +1,5 @@
 // Physics checks that do not depend on the golden data: closed forms of the
-// frame recurrence (spec 5.1-5.3) and a conservation law.
+// frame recurrence (docs/physics.md) and a conservation law.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -45,7 +45,7 @@ TEST_CASE("free fall follows the closed form of the frame recurrence", "[physics
 
 TEST_CASE("the syrup threshold caps the speed at 20 px/frame", "[physics]") {
   // Without air friction gravity 1 would reach 21 px/frame after 21 frames; the
-  // speed limiter scales it back to 20 (spec 5.3 step 2).
+  // speed limiter scales it back to 20 (docs/physics.md, part 2 step 2).
   soda::ModelDef def = open_world(1.0, 0.0, 0.2);
   def.nodes.push_back(mass(500.0, 90000.0));
   const soda::Model model = soda::build_model(def);
@@ -95,8 +95,8 @@ TEST_CASE("a single spring oscillates with the period the recurrence predicts", 
 }
 
 TEST_CASE("without friction, gravity and walls, momentum is conserved", "[physics]") {
-  // Every link adds +c*d to one end and -c*d to the other (spec 5.2), so the sum of
-  // velocities only changes by rounding. A random creature with springs and muscles.
+  // Every link adds +c*d to one end and -c*d to the other (docs/physics.md, part 1), so the sum
+  // of velocities only changes by rounding. A random creature with springs and muscles.
   sodaevo::Rng rng(12345);
   auto uniform = [&rng]() { return rng.uniform(); };
   soda::ModelDef def = open_world(0.0, 0.0, 0.05);
@@ -176,8 +176,8 @@ TEST_CASE("a mass crossing a fixed bar responds as spec 5.4 says", "[physics]") 
   CHECK(s.y[0] == Approx(107.5).epsilon(1e-9));
 }
 
-// wrap_phase finds floor by comparisons on [-1, 2); its definition (spec 5.1, the
-// original's parser) is x - floor(x) with a result of 1.0 mapped to 0.
+// wrap_phase finds floor by comparisons on [-1, 2); its definition (docs/physics.md, "The
+// wave", the original's parser) is x - floor(x) with a result of 1.0 mapped to 0.
 TEST_CASE("wrap_phase equals x - floor(x) bit for bit, signed zeros and edges included", "[physics]") {
   auto by_definition = [](double x) {
     const double w = x - std::floor(x);

@@ -66,7 +66,7 @@ struct SideHits {
   typename O::M left; ///< of those and others: the left wall was crossed
 };
 
-/// One mass per lane after its impulses (spec 5.3; step.cpp move_masses):
+/// One mass per lane after its impulses (docs/physics.md, part 2; step.cpp move_masses):
 /// rules::apply_gravity, rules::friction_factor, rules::is_at_rest, the move, and
 /// rules::collide_with_container, without the walls the caller knows no lane can
 /// reach (Floor, Ceiling, Sides false) and without gravity when every lane's is +0

@@ -26,7 +26,7 @@
 
 namespace soda::fused {
 
-/// The links (spec 5.2; step.cpp apply_links): impulses of all acting links in
+/// The links (docs/physics.md, part 1; step.cpp apply_links): impulses of all acting links in
 /// SIMD from the positions (which do not change while links act). With
 /// PointRegisters (Avx512Ops, small scenes) the ends' coordinates come from
 /// registers holding every point (O::load_points, O::point).
@@ -86,12 +86,11 @@ void link_kernel(SceneData& s) {
   }
 }
 
-/// The mass step of one block of W masses starting at working index i (spec 5.3),
-/// after their impulses: gravity, friction with the syrup limit, rest test, move,
-/// container walls, each mass with its own creature's parameters. (x, y) are the
-/// positions before the move and (vx, vy) the velocities after the impulses; all
-/// four are replaced by the stored results. Side-wall hits go to s.side_hit and
-/// any_side.
+/// The mass step of one block of W masses starting at working index i (docs/physics.md,
+/// part 2), after their impulses: gravity, friction with the syrup limit, rest test, move,
+/// container walls, each mass with its own creature's parameters. (x, y) are the positions
+/// before the move and (vx, vy) the velocities after the impulses; all four are replaced by the
+/// stored results. Side-wall hits go to s.side_hit and any_side.
 template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
 [[gnu::always_inline]] inline void move_mass_block(SceneData& s, int i, typename O::V& x, typename O::V& y, typename O::V& vx,
                             typename O::V& vy, typename O::M& any_side) {
@@ -109,10 +108,10 @@ template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
   }
 }
 
-/// The masses (spec 5.3) in SIMD over masses: first each mass's impulses added to
-/// its velocity in file order of the links (the order of the additions into one
-/// velocity is the reference's), then move_mass_block. Returns whether some mass
-/// responded to a side wall (autoreverse is then replayed in mass order).
+/// The masses (docs/physics.md, part 2) in SIMD over masses: first each mass's impulses added
+/// to its velocity in file order of the links (the order of the additions into one velocity is
+/// the reference's), then move_mass_block. Returns whether some mass responded to a side wall
+/// (autoreverse is then replayed in mass order).
 ///
 /// The sums go by groups of kGatherGroup consecutive masses (numbered by degree at
 /// build), one round per impulse; impulse_slots hold double offsets (2 * pair index), so
