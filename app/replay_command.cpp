@@ -1,4 +1,6 @@
 #include <cstdio>
+#include <map>
+#include <memory>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -33,10 +35,23 @@ int run_replay(const ReplayOptions& opt) {
     generation = saved.back();
   }
   const Generation g = read_saved_generation(run, generation);
-  std::vector<const soda::ModelDef*> creatures;
-  for (const Individual& individual : g.individuals) creatures.push_back(&individual.creature);
   const RunRoles roles = roles_of(config);
-  const std::vector<Evaluation> replayed = ThreadEvaluator(opt.threads).evaluate(creatures, *roles.problem, *roles.estimator);
+  // Each creature on as many replicas as it was logged with (survivors gather
+  // more, evolve/replica_estimator.hpp): one evaluation per replica count.
+  std::map<int, std::vector<std::size_t>> by_rollouts;
+  for (std::size_t i = 0; i < g.individuals.size(); ++i) {
+    by_rollouts[g.individuals[i].evaluation.estimate.rollouts].push_back(i);
+  }
+  ThreadEvaluator evaluator(opt.threads);
+  std::vector<Evaluation> replayed(g.individuals.size());
+  for (const auto& [rollouts, who] : by_rollouts) {
+    std::vector<const soda::ModelDef*> creatures;
+    for (std::size_t i : who) creatures.push_back(&g.individuals[i].creature);
+    std::unique_ptr<Estimator> logged_count = rollouts > 0 ? roles.estimator->with_rollouts(rollouts) : nullptr;
+    const Estimator& estimator = logged_count ? *logged_count : *roles.estimator;
+    std::vector<Evaluation> r = evaluator.evaluate(creatures, *roles.problem, estimator);
+    for (std::size_t k = 0; k < who.size(); ++k) replayed[who[k]] = std::move(r[k]);
+  }
   int mismatches = 0;
   for (std::size_t i = 0; i < replayed.size(); ++i) {
     const Evaluation& logged = g.individuals[i].evaluation;

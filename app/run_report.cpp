@@ -83,7 +83,10 @@ std::vector<GenerationRow> read_generations_csv(const fs::path& path) {
       if (cells.size() < 9 || cells[0] != "generation") throw soda::InputError(where + ": expected the header 'generation,evaluations,best,...'");
       continue;
     }
-    if (cells.size() != 9) throw soda::InputError(where + ": expected 9 columns, got " + std::to_string(cells.size()));
+    // 9 columns, 13 since runs log the best creature's replicas (ignored here).
+    if (cells.size() != 9 && cells.size() != 13) {
+      throw soda::InputError(where + ": expected 9 or 13 columns, got " + std::to_string(cells.size()));
+    }
     GenerationRow r;
     auto at = [&](int i) { return where + " (" + kColumns[i] + ")"; };
     r.generation = static_cast<int>(csv_integer(cells[0], at(0)));

@@ -2,6 +2,7 @@
 
 #include <exception>
 
+#include "evolve/replica_estimator.hpp"
 #include "evolve/wire_format.hpp"
 
 namespace sodaevo {
@@ -42,6 +43,7 @@ void SingleRollout::write(WireWriter& out) const { out.text(kind()); }
 std::unique_ptr<Estimator> read_estimator(WireReader& in) {
   const std::string kind = in.text();
   if (kind == "single") return std::make_unique<SingleRollout>();
+  if (kind == "replicas") return std::make_unique<ReplicaEstimator>(ReplicaEstimator::read_fields(in));
   throw WireError("unknown estimator kind '" + kind + "'");
 }
 

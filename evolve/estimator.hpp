@@ -34,6 +34,13 @@ class Estimator {
   [[nodiscard]] virtual std::vector<Evaluation> estimate(const Problem& problem,
                                                          const std::vector<const soda::ModelDef*>& creatures) const = 0;
 
+  /// Adaptive resampling: how many rollouts a creature that survives with
+  /// evaluation `kept` should be estimated on now, or 0 to keep `kept` as it is.
+  [[nodiscard]] virtual int resample_to(const Evaluation& /*kept*/) const { return 0; }
+  /// This estimator with `rollouts` rollouts per creature (asked only where
+  /// resample_to gave that count; estimators that never resample give null).
+  [[nodiscard]] virtual std::unique_ptr<Estimator> with_rollouts(int /*rollouts*/) const { return nullptr; }
+
   /// Writes the settings, kind tag first, for read_estimator.
   virtual void write(WireWriter& out) const = 0;
 };

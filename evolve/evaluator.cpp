@@ -1,6 +1,8 @@
 #include "evaluator.hpp"
 
 #include <algorithm>
+#include <map>
+#include <memory>
 
 #include "core/batch_step.hpp"
 #include "evolve/parallel_for.hpp"
@@ -11,17 +13,33 @@ long long evaluate_generation(Evaluator& evaluator, Generation& g, const Problem
                               const Estimator& estimator) {
   std::vector<std::size_t> todo;
   std::vector<const soda::ModelDef*> creatures;
+  // Survivors the estimator wants to see again, by the rollout count it wants
+  // (adaptive resampling; an estimator without it never asks).
+  std::map<int, std::vector<std::size_t>> resample;
   for (std::size_t i = 0; i < g.individuals.size(); ++i) {
-    if (g.individuals[i].evaluated) continue;
+    if (g.individuals[i].evaluated) {
+      if (const int n = estimator.resample_to(g.individuals[i].evaluation); n > 0) resample[n].push_back(i);
+      continue;
+    }
     todo.push_back(i);
     creatures.push_back(&g.individuals[i].creature);
   }
   std::vector<Evaluation> results = evaluator.evaluate(creatures, problem, estimator);
+  std::vector<std::pair<std::size_t, Evaluation>> resampled;
+  for (const auto& [rollouts, who] : resample) {
+    std::vector<const soda::ModelDef*> again;
+    for (std::size_t i : who) again.push_back(&g.individuals[i].creature);
+    const std::unique_ptr<Estimator> more = estimator.with_rollouts(rollouts);
+    std::vector<Evaluation> r = evaluator.evaluate(again, problem, *more);
+    for (std::size_t k = 0; k < who.size(); ++k) resampled.emplace_back(who[k], std::move(r[k]));
+  }
+  // Stored only once every evaluation succeeded: all or nothing.
   for (std::size_t k = 0; k < todo.size(); ++k) {
     g.individuals[todo[k]].evaluation = std::move(results[k]);
     g.individuals[todo[k]].evaluated = true;
   }
-  return static_cast<long long>(todo.size());
+  for (auto& [i, e] : resampled) g.individuals[i].evaluation = std::move(e);
+  return static_cast<long long>(todo.size() + resampled.size());
 }
 
 std::size_t evaluation_batch_size(std::size_t count, int threads) {

@@ -14,12 +14,23 @@
 #include <vector>
 
 #include "core/model_def.hpp"
+#include "core/sine_jitter.hpp"
 #include "evolve/evaluation.hpp"
 
 namespace sodaevo {
 
 class WireWriter;
 class WireReader;
+
+/// One rollout to run: a prepared model and its state's sine jitter (seed 0: the
+/// exact engine). Replicas of one creature are rollouts of the same prepared model
+/// that differ only in the jitter.
+struct Rollout {
+  // Implicit from a model alone: an exact rollout.
+  Rollout(const soda::ModelDef* model, soda::SineJitter state_jitter = {}) : prepared(model), jitter(state_jitter) {}
+  const soda::ModelDef* prepared;
+  soda::SineJitter jitter;
+};
 
 class Problem {
  public:
@@ -33,11 +44,11 @@ class Problem {
   /// it cannot be prepared).
   [[nodiscard]] virtual soda::ModelDef prepare(const soda::ModelDef& creature) const = 0;
 
-  /// Steps each prepared model once from its start and scores that run, on this
-  /// thread: one rollout each. Result i belongs to *prepared[i], whatever else is
-  /// in the list. A run that blows up is Diverged, a model that cannot be built
+  /// Steps each rollout's model from its start with its jitter and scores that
+  /// run, on this thread. Result i belongs to runs[i], whatever else is in the
+  /// list (rollouts of one model share its build and step together). A run that blows up is Diverged, a model that cannot be built
   /// Invalid; never throws for physics reasons.
-  [[nodiscard]] virtual std::vector<Evaluation> rollouts(const std::vector<const soda::ModelDef*>& prepared) const = 0;
+  [[nodiscard]] virtual std::vector<Evaluation> rollouts(const std::vector<Rollout>& runs) const = 0;
 
   /// The prepared creature as `export` and the run store's best/ files hold it:
   /// named `id`, with its score and how it was measured in the comment.

@@ -46,6 +46,7 @@ enum class Kind {
   Mode,             ///< /fitness/mode
   Integrator,       ///< /fitness/integrator
   Divergence,       ///< /fitness/divergence
+  Statistic,        ///< /fitness/statistic
   GravityDirection, ///< /world/gravity_direction
   WorldEvolve,      ///< /world/evolve
   Algorithm,        ///< /algorithm
@@ -139,6 +140,10 @@ const std::vector<Field>& fields() {
       special("/fitness/divergence", Kind::Divergence),
       number("/fitness/honesty/max_change", SODAEVO_FIELD(fitness.honesty_max_change), 0, 1e6),
       integer("/fitness/honesty/substeps_factor", SODAEVO_FIELD(fitness.honesty_substeps_factor), 2, 64),
+      integer("/fitness/replicas", SODAEVO_FIELD(fitness.replicas), 1, 256),
+      integer("/fitness/replicas_max", SODAEVO_FIELD(fitness.replicas_max), 1, 1024),
+      special("/fitness/statistic", Kind::Statistic),
+      number("/fitness/jitter", SODAEVO_FIELD(fitness.jitter), 0, 1),
 
       number("/world/gravity", SODAEVO_FIELD(world.gravity), soda::kGravityRange),
       number("/world/friction", SODAEVO_FIELD(world.friction), soda::kFrictionRange),
@@ -239,6 +244,8 @@ constexpr EnumName<soda::Integrator> kIntegrators[] = {
     {soda::Integrator::Euler, "euler"}, {soda::Integrator::Verlet, "verlet"}, {soda::Integrator::Rk4, "rk4"}};
 constexpr EnumName<DivergenceCheck> kDivergenceChecks[] = {
     {DivergenceCheck::Finite, "finite"}, {DivergenceCheck::Energy, "energy"}};
+constexpr EnumName<EstimateStatistic> kStatistics[] = {
+    {EstimateStatistic::Mean, "mean"}, {EstimateStatistic::Median, "median"}, {EstimateStatistic::LowerBound, "lcb"}};
 constexpr EnumName<soda::GravityDirection> kGravityDirections[] = {
     {soda::GravityDirection::Down, "down"},
     {soda::GravityDirection::Up, "up"},
@@ -426,6 +433,8 @@ class ConfigReader {
         return read_enum(p, v, kIntegrators, config_.fitness.integrator);
       case Kind::Divergence:
         return read_enum(p, v, kDivergenceChecks, config_.fitness.divergence);
+      case Kind::Statistic:
+        return read_enum(p, v, kStatistics, config_.fitness.statistic);
       case Kind::GravityDirection:
         return read_enum(p, v, kGravityDirections, config_.world.gravity_direction);
       case Kind::WorldEvolve:
@@ -592,6 +601,12 @@ class ConfigReader {
                           "/fitness/honesty (MAP-Elites measures its descriptors in the soda mode only), "
                           "got \"map-elites\"");
     }
+    if (ok("/fitness/replicas") && ok("/fitness/replicas_max")) {
+      // Unset, the cap follows a large replica count up.
+      if (!given("/fitness/replicas_max")) config_.fitness.replicas_max = std::max(32, c.fitness.replicas);
+      check_between("/fitness/replicas_max", c.fitness.replicas_max, c.fitness.replicas, 1024,
+                    "at least /fitness/replicas");
+    }
     if (ok("/population/seed_models") && ok("/population/random_fraction") &&
         c.population.seed_models.empty() && c.population.random_fraction != 1.0) {
       expected("/population/random_fraction",
@@ -621,6 +636,7 @@ const std::vector<std::string>& world_parameter_names() {
 std::string direction_name(WalkDirection d) { return enum_name(kDirections, d); }
 std::string scaling_name(FitnessScaling s) { return enum_name(kScalings, s); }
 std::string divergence_check_name(DivergenceCheck d) { return enum_name(kDivergenceChecks, d); }
+std::string statistic_name(EstimateStatistic s) { return enum_name(kStatistics, s); }
 std::string gravity_direction_name(soda::GravityDirection d) { return enum_name(kGravityDirections, d); }
 
 RunConfig parse_run_config(const std::string& json_text, const std::string& source,
@@ -679,6 +695,7 @@ nlohmann::json to_json(const RunConfig& config) {
       case Kind::Mode: j[p] = enum_name(kModes, c.fitness.mode); break;
       case Kind::Integrator: j[p] = enum_name(kIntegrators, c.fitness.integrator); break;
       case Kind::Divergence: j[p] = divergence_check_name(c.fitness.divergence); break;
+      case Kind::Statistic: j[p] = statistic_name(c.fitness.statistic); break;
       case Kind::GravityDirection: j[p] = gravity_direction_name(c.world.gravity_direction); break;
       case Kind::WorldEvolve: j[p] = c.world.evolve; break;
       // A GA run's config.json stays as it was before MAP-Elites existed.

@@ -25,6 +25,10 @@ enum class FitnessScaling { None, Sodarace };
 /// What counts as diverged (core/divergence.hpp): only non-finite numbers, or also
 /// runaway energy beyond what the muscles can supply.
 enum class DivergenceCheck { Finite, Energy };
+/// The statistic of a creature's replicas that is its fitness
+/// (evolve/replica_estimator.hpp): their mean, their median, or the lower end of
+/// the 95 % confidence interval of their mean.
+enum class EstimateStatistic { Mean, Median, LowerBound };
 
 /// How a creature is scored (the distance walked by the centroid; configs/README.md, /fitness).
 struct FitnessConfig {
@@ -48,6 +52,15 @@ struct FitnessConfig {
   /// 0 = no check. [0, 1e6]
   double honesty_max_change = 0.0;
   int honesty_substeps_factor = 4; ///< /fitness/honesty/substeps_factor [2, 64]
+  /// /fitness/replicas: rollouts per new creature, replica 0 exact and the others
+  /// with their own sine jitter (core/sine_jitter.hpp), [1, 256].
+  int replicas = 8;
+  /// /fitness/replicas_max: the creatures that survive a generation (the elites)
+  /// gather /fitness/replicas more each generation up to this many,
+  /// [replicas, 1024].
+  int replicas_max = 32;
+  EstimateStatistic statistic = EstimateStatistic::Mean; ///< /fitness/statistic: "mean" | "median" | "lcb"
+  double jitter = 0.002; ///< /fitness/jitter: share of sines a jittered replica moves by 1 ulp, [0, 1]
 
   [[nodiscard]] soda::Stepping stepping() const { return {mode, integrator, substeps}; }
 
@@ -171,6 +184,7 @@ const std::vector<std::string>& world_parameter_names();
 std::string direction_name(WalkDirection d);
 std::string scaling_name(FitnessScaling s);
 std::string divergence_check_name(DivergenceCheck d);
+std::string statistic_name(EstimateStatistic s);
 std::string gravity_direction_name(soda::GravityDirection d);
 
 /// Parses and validates a config. `source` names the file in messages; relative

@@ -1,17 +1,23 @@
 #include "run_roles.hpp"
 
 #include "evolve/genetic_algorithm.hpp"
+#include "evolve/replica_estimator.hpp"
 #include "evolve/walk_problem.hpp"
 
 namespace sodaevo {
 
 RunRoles roles_of(const RunConfig& config) {
-  return {std::make_unique<WalkProblem>(config), std::make_unique<SingleRollout>(),
+  return {std::make_unique<WalkProblem>(config), std::make_unique<ReplicaEstimator>(replica_plan(config)),
           std::make_unique<GeneticAlgorithm>(config)};
 }
 
-Evaluation evaluate_creature(const soda::ModelDef& creature, const RunConfig& config) {
+Evaluation evaluate_creature(const soda::ModelDef& creature, const RunConfig& config, int rollouts) {
   const RunRoles roles = roles_of(config);
+  if (rollouts > 0) {
+    if (const std::unique_ptr<Estimator> estimator = roles.estimator->with_rollouts(rollouts)) {
+      return estimator->estimate(*roles.problem, {&creature}).front();
+    }
+  }
   return roles.estimator->estimate(*roles.problem, {&creature}).front();
 }
 

@@ -21,11 +21,14 @@ struct RunRoles {
   std::unique_ptr<Algorithm> algorithm;
 };
 
-/// Today every config makes a WalkProblem, a SingleRollout and a GeneticAlgorithm.
+/// Today every config makes a WalkProblem, a ReplicaEstimator (/fitness/replicas...)
+/// and a GeneticAlgorithm.
 RunRoles roles_of(const RunConfig& config);
 
 /// One creature evaluated as the run `config` evaluates it (its problem and
 /// estimator, on this thread): what replay checks and the report shows.
-Evaluation evaluate_creature(const soda::ModelDef& creature, const RunConfig& config);
+/// `rollouts` > 0: on that many replicas (as a survivor that gathered them was
+/// estimated), else on the estimator's count for a new creature.
+Evaluation evaluate_creature(const soda::ModelDef& creature, const RunConfig& config, int rollouts = 0);
 
 } // namespace sodaevo

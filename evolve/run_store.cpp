@@ -14,6 +14,7 @@
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "evolve/input_limits.hpp"
+#include "evolve/sample_summary.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/generation_xml.hpp"
 #include "formats/model_file.hpp"
@@ -24,7 +25,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-constexpr const char* kGenerationsHeader = "generation,evaluations,best,mean,median,worst,invalid,diverged,best_id\n";
+constexpr const char* kGenerationsHeader =
+    "generation,evaluations,best,mean,median,worst,invalid,diverged,best_id,best_replicas,best_sd,best_interval95_lo,"
+    "best_interval95_hi\n";
 constexpr const char* kTimingHeader = "generation,evaluations,wall_seconds,evaluations_per_second\n";
 
 const char* status_name(EvaluationStatus s) {
@@ -53,6 +56,32 @@ double parse_number(const std::string& s, const std::string& where) {
 // (kWorstFitness stays in memory).
 std::string fitness_attribute(const Evaluation& e) {
   return e.ok() ? " fitness=\"" + soda::format_double_plain(e.fitness) + "\"" : std::string();
+}
+
+/// The estimate behind a scored creature's fitness (replicas, their mean, sd and
+/// median), so that a resumed run resamples and a replay re-estimates it on the
+/// same replicas.
+std::string estimate_attributes(const Evaluation& e) {
+  if (!e.ok() || e.estimate.rollouts <= 0) return {};
+  return " replicas=\"" + std::to_string(e.estimate.rollouts) + "\" mean=\"" +
+         soda::format_double_plain(e.estimate.mean) + "\" sd=\"" + soda::format_double_plain(e.estimate.sd) +
+         "\" median=\"" + soda::format_double_plain(e.estimate.median) + "\"";
+}
+
+/// The estimate attributes of a saved creature; none (older files): rollouts 0.
+Estimate parse_estimate(const soda::SavedModelElement& m, const std::string& where) {
+  Estimate est;
+  const std::string* replicas = m.find("replicas");
+  if (!replicas) return est;
+  const std::optional<long long> n = soda::parse_integer(*replicas);
+  if (!n || *n < 1 || *n > 1024) {
+    throw soda::InputError(where + ": attribute 'replicas': expected an integer in [1, 1024], got '" + *replicas + "'");
+  }
+  est.rollouts = static_cast<int>(*n);
+  est.mean = parse_number(m.value("mean"), where + ": mean");
+  est.sd = parse_number(m.value("sd"), where + ": sd");
+  est.median = parse_number(m.value("median"), where + ": median");
+  return est;
 }
 
 /// `written`: the fitness attribute's value, nullptr if the element has none.
@@ -144,7 +173,8 @@ std::string generation_to_xml(const Generation& g) {
   for (const Individual& ind : g.individuals) {
     const Evaluation& e = ind.evaluation;
     std::string attrs = "id=\"" + xml_escape(ind.id) + "\" parents=\"" + xml_escape(join(ind.parents, ' ')) +
-                        "\" status=\"" + status_name(e.status) + "\"" + fitness_attribute(e) + " distance=\"" +
+                        "\" status=\"" + status_name(e.status) + "\"" + fitness_attribute(e) + estimate_attributes(e) +
+                        " distance=\"" +
                         soda::format_double_plain(e.distance) + "\" reason=\"" + xml_escape(e.reason) + "\"";
     out += model_element(ind.creature, attrs);
   }
@@ -180,6 +210,7 @@ Generation generation_from_xml(const std::string& text, const std::string& sourc
     ind.evaluation.fitness = parse_fitness(m.find("fitness"), ind.evaluation, where);
     ind.evaluation.distance = parse_number(m.value("distance"), where + ": distance");
     ind.evaluation.reason = m.value("reason");
+    if (ind.evaluation.ok()) ind.evaluation.estimate = parse_estimate(m, where);
     ind.evaluated = true;
     // Positions in messages from here on are within the model element.
     ind.creature = soda::read_model_text(m.xml, where).def;
@@ -290,6 +321,23 @@ void RunStore::truncate_logs_after(int generation) {
   write_logs();
 }
 
+namespace {
+
+/// The best creature's replicas, their sd and the 95 % prediction interval of one
+/// more run (mean +- t * sd * sqrt(1 + 1/n)); empty cells without a best.
+std::string best_estimate_cells(const Generation& g, const GenerationStats& s) {
+  if (s.best_index < 0) return ",,,";
+  const Estimate& e = g.individuals[static_cast<std::size_t>(s.best_index)].evaluation.estimate;
+  if (e.rollouts <= 0) return ",,,";
+  const double half =
+      e.rollouts > 1 ? student_t_975(e.rollouts - 1) * e.sd * std::sqrt(1.0 + 1.0 / e.rollouts) : 0.0;
+  using soda::format_double_plain;
+  return std::to_string(e.rollouts) + "," + format_double_plain(e.sd) + "," + format_double_plain(e.mean - half) +
+         "," + format_double_plain(e.mean + half);
+}
+
+} // namespace
+
 void RunStore::record_generation(const Generation& g, const GenerationStats& s, double wall_seconds,
                                  double generation_seconds, long long generation_evaluations, bool save_whole,
                                  const std::optional<soda::ModelDef>& best_file) {
@@ -300,7 +348,7 @@ void RunStore::record_generation(const Generation& g, const GenerationStats& s, 
   generation_rows_.emplace_back(
       g.index, std::to_string(g.index) + "," + std::to_string(s.evaluations) + "," + statistic_cell(s.best) + "," +
                    statistic_cell(s.mean) + "," + statistic_cell(s.median) + "," + statistic_cell(s.worst) + "," + std::to_string(s.invalid) + "," +
-                   std::to_string(s.diverged) + "," + best_id + "\n");
+                   std::to_string(s.diverged) + "," + best_id + "," + best_estimate_cells(g, s) + "\n");
   const double rate = generation_seconds > 0 ? static_cast<double>(generation_evaluations) / generation_seconds : 0.0;
   timing_rows_.emplace_back(g.index, std::to_string(g.index) + "," + std::to_string(s.evaluations) + "," +
                                          format_double_plain(wall_seconds) + "," + format_double_plain(rate) + "\n");

@@ -2,7 +2,9 @@
 //
 //   config.json        the resolved config (every default filled in)
 //   manifest.json      version, compiler, seed, start time, command line
-//   generations.csv    generation,evaluations,best,mean,median,worst,invalid,diverged,best_id
+//   generations.csv    generation,evaluations,best,mean,median,worst,invalid,diverged,best_id,
+//                      best_replicas,best_sd,best_interval95_lo,best_interval95_hi (the best
+//                      creature's replicas: their sd and the 95 % prediction interval of one more run)
 //   timing.csv         generation,evaluations,wall_seconds,evaluations_per_second
 //                      (apart, so everything else is byte-identical between runs)
 //   best/gen_NNNNN.xml the best creature of each generation, prepared as evaluated

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <exception>
 
 #include "core/batch_step.hpp"
@@ -156,45 +157,61 @@ bool needs_watched_run(const FitnessConfig& fitness) {
 
 } // namespace
 
-std::vector<Evaluation> WalkProblem::rollouts(const std::vector<const soda::ModelDef*>& prepared) const {
-  std::vector<Evaluation> results(prepared.size());
+std::vector<Evaluation> WalkProblem::rollouts(const std::vector<Rollout>& runs) const {
+  std::vector<Evaluation> results(runs.size());
   if (needs_watched_run(fitness_)) {
-    for (std::size_t i = 0; i < prepared.size(); ++i) results[i] = watched_rollout(*prepared[i]);
+    for (std::size_t i = 0; i < runs.size(); ++i) results[i] = watched_rollout(runs[i]);
     return results;
   }
+  // One Model per distinct prepared model: the replicas of a creature share it
+  // (and so their topology: the batch stepper runs them in lockstep lanes).
   std::vector<soda::Model> models;
-  models.reserve(prepared.size());
-  std::vector<std::size_t> index; // result index of models[k]
-  for (std::size_t i = 0; i < prepared.size(); ++i) {
+  models.reserve(runs.size());
+  std::vector<const soda::ModelDef*> built_from;
+  std::vector<std::size_t> model_of(runs.size(), SIZE_MAX); // runs[i] -> models[k]
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const auto same = std::find(built_from.begin(), built_from.end(), runs[i].prepared);
+    if (same != built_from.end()) {
+      model_of[i] = static_cast<std::size_t>(same - built_from.begin());
+      continue;
+    }
     try {
-      models.push_back(soda::build_model(*prepared[i]));
-      index.push_back(i);
+      models.push_back(soda::build_model(*runs[i].prepared));
+      built_from.push_back(runs[i].prepared);
+      model_of[i] = models.size() - 1;
     } catch (const std::exception& ex) {
       results[i].reason = ex.what();
     }
   }
-  if (models.empty()) return results;
-  // The batch stepper equals the reference step bit for bit for each model
-  // (tests/test_batch_step.cpp), so fitness depends neither on which stepper runs
-  // nor on which creatures share a batch.
+  std::vector<std::size_t> index; // result index of states[k]
   std::vector<const soda::Model*> model_ptrs;
   std::vector<soda::State> states;
-  for (const soda::Model& m : models) {
-    model_ptrs.push_back(&m);
-    states.push_back(soda::make_state(m));
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    if (model_of[i] == SIZE_MAX) continue; // its model could not be built
+    index.push_back(i);
+    model_ptrs.push_back(&models[model_of[i]]);
+    states.push_back(soda::make_state(models[model_of[i]]));
+    states.back().jitter = runs[i].jitter;
   }
+  if (states.empty()) return results;
+  // The batch stepper equals the reference step bit for bit for each state, its
+  // jitter included (tests/test_batch_step.cpp), so fitness depends neither on
+  // which stepper runs nor on which rollouts share a batch.
   std::vector<soda::State*> state_ptrs;
   for (soda::State& s : states) state_ptrs.push_back(&s);
   soda::BatchStepper stepper(model_ptrs, static_cast<long long>(fitness_.settle_frames) + fitness_.frames);
   stepper.run(state_ptrs, fitness_.settle_frames);
   std::vector<soda::Point2> start;
-  for (std::size_t k = 0; k < models.size(); ++k) start.push_back(soda::mass_centroid(models[k], states[k]));
+  for (std::size_t k = 0; k < states.size(); ++k) start.push_back(soda::mass_centroid(*model_ptrs[k], states[k]));
   stepper.run(state_ptrs, fitness_.frames);
-  for (std::size_t k = 0; k < models.size(); ++k) results[index[k]] = score_run(models[k], states[k], start[k], fitness_);
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    results[index[k]] = score_run(*model_ptrs[k], states[k], start[k], fitness_);
+  }
   return results;
 }
 
-Evaluation WalkProblem::rollout_with(const soda::ModelDef& prepared, const soda::Stepping& stepping) const {
+Evaluation WalkProblem::rollout_with(const soda::ModelDef& prepared, const soda::Stepping& stepping,
+                                     const soda::SineJitter& jitter) const {
   Evaluation e;
   soda::Model model;
   try {
@@ -207,6 +224,7 @@ Evaluation WalkProblem::rollout_with(const soda::ModelDef& prepared, const soda:
   // The fast stepper equals the reference step bit for bit (tests/test_fast_step.cpp),
   // so fitness does not depend on which one runs.
   soda::State state = soda::make_state(model);
+  state.jitter = jitter;
   soda::FrameStepper stepper(model, stepping, fitness_.settle_frames + fitness_.frames);
   const bool energy = fitness_.divergence == DivergenceCheck::Energy;
   soda::DivergenceMonitor monitor(model, state, {}, energy);
@@ -228,11 +246,12 @@ Evaluation WalkProblem::rollout_with(const soda::ModelDef& prepared, const soda:
   return score_distance(start, soda::mass_centroid(model, state), fitness_);
 }
 
-Evaluation WalkProblem::watched_rollout(const soda::ModelDef& prepared) const {
-  Evaluation e = rollout_with(prepared, fitness_.stepping());
+Evaluation WalkProblem::watched_rollout(const Rollout& run) const {
+  const soda::ModelDef& prepared = *run.prepared;
+  Evaluation e = rollout_with(prepared, fitness_.stepping(), run.jitter);
   if (!e.ok() || !(fitness_.honesty_max_change > 0.0)) return e;
   const soda::Stepping refined = refined_stepping(fitness_.stepping(), fitness_.honesty_substeps_factor);
-  const Evaluation r = rollout_with(prepared, refined);
+  const Evaluation r = rollout_with(prepared, refined, run.jitter);
   if (!r.ok()) {
     Evaluation flagged;
     flagged.status = EvaluationStatus::Diverged;

@@ -42,7 +42,7 @@ class WalkProblem final : public Problem {
   /// one after the other, watched for divergence (fitness.divergence) and, with
   /// /fitness/honesty/max_change > 0, re-run with the refined step: a creature
   /// whose distance changes by more than that share is Diverged ("dishonest").
-  [[nodiscard]] std::vector<Evaluation> rollouts(const std::vector<const soda::ModelDef*>& prepared) const override;
+  [[nodiscard]] std::vector<Evaluation> rollouts(const std::vector<Rollout>& runs) const override;
   [[nodiscard]] soda::ModelDef export_form(const soda::ModelDef& creature, const std::string& id,
                                            const Evaluation& evaluation) const override;
   void write(WireWriter& out) const override;
@@ -52,10 +52,11 @@ class WalkProblem final : public Problem {
   /// One rollout stepped with `stepping` in place of the fitness's, watched for
   /// divergence, without the honesty re-run (the building block of the honesty
   /// check and of the accuracy benchmark).
-  [[nodiscard]] Evaluation rollout_with(const soda::ModelDef& prepared, const soda::Stepping& stepping) const;
+  [[nodiscard]] Evaluation rollout_with(const soda::ModelDef& prepared, const soda::Stepping& stepping,
+                                        const soda::SineJitter& jitter = {}) const;
 
  private:
-  [[nodiscard]] Evaluation watched_rollout(const soda::ModelDef& prepared) const;
+  [[nodiscard]] Evaluation watched_rollout(const Rollout& run) const;
 
   FitnessConfig fitness_;
   WorldConfig world_;
