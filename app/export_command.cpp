@@ -9,6 +9,7 @@
 #include "app/commands.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
+#include "evolve/replica_check.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_reader.hpp"
 #include "formats/atomic_file.hpp"
@@ -24,6 +25,8 @@ struct ExportOptions {
   int best = 5;
   std::string out;
   bool archive = false;
+  int check_replicas = 16;
+  int threads = 0;
 };
 
 /// Every elite of a MAP-Elites run's archive, as the run wrote it to RUN/elites/
@@ -59,18 +62,28 @@ void run_export(const ExportOptions& opt) {
   if (ec) throw soda::InputError(opt.out + ": cannot create the folder: " + ec.message());
   if (opt.archive) return export_archive(run, opt.out);
   const std::vector<Individual> best = best_individuals(run, opt.best);
-  std::printf("rank  id            fitness (px)   px/frame   file\n");
-  int rank = 0;
-  for (const Individual& ind : best) {
-    ++rank;
-    const soda::ModelDef prepared = problem->export_form(ind.creature, ind.id, ind.evaluation);
+  // Each creature again on fresh replicas that selection never saw: what it
+  // claims against what it walks (evolve/replica_check.hpp).
+  const std::vector<ReplicaCheck> checks =
+      check_all_on_fresh_replicas(*problem, best, replica_plan(config), opt.check_replicas, opt.threads);
+  std::printf("rank  id            fitness (px)   replicas   checked median [95 %% interval] (px)   file\n");
+  nlohmann::json champions = nlohmann::json::array();
+  for (std::size_t i = 0; i < best.size(); ++i) {
+    const Individual& ind = best[i];
+    soda::ModelDef prepared = problem->export_form(ind.creature, ind.id, ind.evaluation);
+    prepared.comment += "; " + check_comment(checks[i]);
     char name[64];
-    std::snprintf(name, sizeof name, "rank%02d_%s.xml", rank, ind.id.c_str());
+    std::snprintf(name, sizeof name, "rank%02d_%s.xml", static_cast<int>(i + 1), ind.id.c_str());
     const std::filesystem::path file = std::filesystem::path(opt.out) / name;
     soda::write_model_file(file, prepared);
-    std::printf("%4d  %-12s  %12.3f   %8.4f   %s\n", rank, ind.id.c_str(), ind.evaluation.fitness,
-                ind.evaluation.distance / static_cast<double>(config.fitness.frames), file.string().c_str());
+    champions.push_back(champion_json(checks[i], name, config.fitness.settle_frames, config.fitness.frames));
+    const ReplicaCheck& c = checks[i];
+    std::printf("%4zu  %-12s  %12.3f   %8d   %10.3f [%.3f, %.3f]%s   %s\n", i + 1, ind.id.c_str(), ind.evaluation.fitness,
+                ind.evaluation.estimate.rollouts, c.check.median, c.check.interval95_low, c.check.interval95_high,
+                c.ok ? "" : " (check failed)", file.string().c_str());
   }
+  soda::write_file_atomically(std::filesystem::path(opt.out) / "champions.json", champions.dump(2) + "\n");
+  std::printf("champions.json: selection against the check on %d fresh replicas each\n", opt.check_replicas);
 }
 
 } // namespace
@@ -81,12 +94,20 @@ void add_export_command(CLI::App& app) {
       "export",
       "Write the best creatures of a run as SodaConstructor v1 XML, prepared exactly as they\n"
       "were evaluated (world, Sodarace scaling, wide container, wave forward, autoreverse off),\n"
-      "so SodaConstructor and `sodaevo simulate` run them the same way.");
+      "so SodaConstructor and `sodaevo simulate` run them the same way, and DIR/champions.json:\n"
+      "each creature's claim (its estimate in the run) against a check on fresh replicas\n"
+      "(n, mean, median, sd, min, max, 95 % prediction interval) and the winner's curse.");
   cmd->add_option("run", opt->run, "Run folder")->required()->check(non_empty_path())->check(CLI::ExistingDirectory);
   cmd->add_option("--best", opt->best, "How many distinct creatures")->default_val(5)->check(CLI::Range(1, 100000));
   cmd->add_option("--out", opt->out, "Output folder")->required();
   cmd->add_flag("--archive", opt->archive,
                 "A MAP-Elites run: every elite of its archive (DIR/cell<N>_<id>.xml) and DIR/archive.json");
+  cmd->add_option("--check-replicas", opt->check_replicas,
+                  "Fresh replicas (sine-jitter seeds never used in selection) each exported creature is\n"
+                  "re-run on for champions.json and the XML comment: claimed against checked")
+      ->default_val(16)
+      ->check(CLI::Range(2, 4096));
+  cmd->add_option("--threads", opt->threads, "Threads for the check (0 = all cores)")->default_val(0)->check(CLI::Range(0, 1024));
   cmd->callback([opt] { run_export(*opt); });
 }
 

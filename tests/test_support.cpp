@@ -162,6 +162,10 @@ RunConfig walker_run_config(const std::string& name, std::uint64_t seed, int pop
   c.budget.generations = generations;
   c.fitness.frames = frames;
   c.fitness.settle_frames = settle_frames;
+  // Two replicas for new creatures, survivors up to four: the tests exercise the
+  // replica estimate and its resampling at a quarter of the default's cost.
+  c.fitness.replicas = 2;
+  c.fitness.replicas_max = 4;
   return c;
 }
 

@@ -1,0 +1,69 @@
+#include "evolve/replica_check.hpp"
+
+#include <exception>
+#include <vector>
+
+#include "core/number_text.hpp"
+
+namespace sodaevo {
+
+ReplicaCheck check_on_fresh_replicas(const Problem& problem, const Individual& individual, const ReplicaPlan& plan,
+                                     int replicas) {
+  ReplicaCheck c;
+  c.id = individual.id;
+  c.selection = individual.evaluation.estimate;
+  soda::ModelDef prepared;
+  try {
+    prepared = problem.prepare(individual.creature);
+  } catch (const std::exception& ex) {
+    c.reason = ex.what();
+    return c;
+  }
+  const std::uint64_t key = creature_key(individual.creature);
+  std::vector<Rollout> runs{Rollout(&prepared)}; // exact
+  for (int r = 0; r < replicas; ++r) {
+    runs.emplace_back(&prepared, soda::SineJitter{replica_seed(plan.run_seed, ReplicaPurpose::Check, key, r), plan.jitter});
+  }
+  const std::vector<Evaluation> done = problem.rollouts(runs);
+  std::vector<double> distances, fitness;
+  for (std::size_t i = 0; i < done.size(); ++i) {
+    if (!done[i].ok()) {
+      c.reason = (i == 0 ? std::string("exact run: ") : "check replica " + std::to_string(i - 1) + ": ") + done[i].reason;
+      return c;
+    }
+    if (i == 0) continue;
+    distances.push_back(done[i].distance);
+    fitness.push_back(done[i].fitness);
+  }
+  c.exact_distance = done[0].distance;
+  c.check = summarize_sample(distances);
+  c.winners_curse = c.selection.mean - summarize_sample(fitness).mean;
+  c.ok = true;
+  return c;
+}
+
+nlohmann::json champion_json(const ReplicaCheck& c, const std::string& file, long long settle_frames, long long frames) {
+  nlohmann::json j = {{"file", file}, {"id", c.id}, {"settle_frames", settle_frames}, {"frames", frames}};
+  if (!c.ok) {
+    j["error"] = c.reason;
+    return j;
+  }
+  j["exact_distance"] = c.exact_distance;
+  j["selection"] = {{"n", c.selection.rollouts}, {"mean", c.selection.mean}, {"sd", c.selection.sd}};
+  j["check"] = {{"n", c.check.n},       {"mean", c.check.mean}, {"median", c.check.median},
+                {"sd", c.check.sd},     {"min", c.check.min},   {"max", c.check.max},
+                {"interval95", {c.check.interval95_low, c.check.interval95_high}}};
+  j["winners_curse"] = c.winners_curse;
+  return j;
+}
+
+std::string check_comment(const ReplicaCheck& c) {
+  using soda::format_double_plain;
+  if (!c.ok) return "check on fresh replicas failed: " + c.reason;
+  return "checked on " + std::to_string(c.check.n) + " fresh replicas: median " + format_double_plain(c.check.median) +
+         " px, 95 % interval [" + format_double_plain(c.check.interval95_low) + ", " +
+         format_double_plain(c.check.interval95_high) + "] px (exact engine " + format_double_plain(c.exact_distance) +
+         " px)";
+}
+
+} // namespace sodaevo

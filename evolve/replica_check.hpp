@@ -1,0 +1,50 @@
+// The check on fresh replicas: what an exported creature walks on replicas that
+// were never used to select it.
+//
+// Why: the estimate a run selects on is the best of many noisy estimates, so it
+// is biased up (the winner's curse). Re-running the creature on M replicas whose
+// seeds selection never saw (ReplicaPurpose::Check) gives an unbiased picture of
+// what it will do in the original program, which is one more draw: the check's
+// 95 % prediction interval should contain that run 95 % of the time.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "evolve/population.hpp"
+#include "evolve/problem.hpp"
+#include "evolve/replica_estimator.hpp"
+#include "evolve/sample_summary.hpp"
+
+namespace sodaevo {
+
+struct ReplicaCheck {
+  std::string id;
+  bool ok = false;          ///< false: a run failed (reason says which and why)
+  std::string reason;
+  double exact_distance = 0.0; ///< replica 0, the exact engine: what `simulate` of the export gives
+  Estimate selection;          ///< as the run logged it (fitness units)
+  SampleSummary check;         ///< distances of the M fresh replicas
+  /// selection mean minus the mean fitness of the fresh replicas (fitness units:
+  /// the distance for runs scored to the right).
+  double winners_curse = 0.0;
+};
+
+/// Runs `individual` (its prepared model under `problem`) exactly and on
+/// `replicas` fresh replicas (seeds of ReplicaPurpose::Check, jitter probability
+/// from `plan`).
+ReplicaCheck check_on_fresh_replicas(const Problem& problem, const Individual& individual, const ReplicaPlan& plan,
+                                     int replicas);
+
+/// The champions.json entry of a check: file, id, settle_frames, frames,
+/// exact_distance, selection {n, mean, sd}, check {n, mean, median, sd, min, max,
+/// interval95: [lo, hi]}, winners_curse.
+nlohmann::json champion_json(const ReplicaCheck& c, const std::string& file, long long settle_frames,
+                             long long frames);
+
+/// One line for the exported XML's comment: the checked median and interval.
+std::string check_comment(const ReplicaCheck& c);
+
+} // namespace sodaevo
