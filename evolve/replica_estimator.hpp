@@ -31,9 +31,10 @@
 
 namespace sodaevo {
 
-/// What a replica's seed is for: the estimate the GA selects on, or a check on
-/// replicas never used in selection.
-enum class ReplicaPurpose : std::uint64_t { Selection = 1, Check = 2 };
+/// What a replica's seed is for: the estimate the GA selects on, a check on
+/// replicas never used in selection, or a held-out ensemble that judges the check
+/// (bench transfer).
+enum class ReplicaPurpose : std::uint64_t { Selection = 1, Check = 2, HeldOut = 3 };
 
 /// The genome's identity for seeds: a hash of its bits, name and comment left out.
 std::uint64_t creature_key(const soda::ModelDef& creature);
