@@ -29,7 +29,7 @@ RunConfig transfer_run_config(const RunConfig& base, std::uint64_t seed, int rep
   c.fitness.replicas = replicas;
   c.fitness.replicas_max = replicas == 1 ? 1 : std::max(32, replicas);
   c.budget.generations = base.budget.generations * std::max(1, largest / replicas);
-  c.save.generation_every = c.budget.generations; // the last only: the top creatures
+  c.save.generation_every = 0; // the last only: the top creatures
   c.save.checkpoint_every = c.budget.generations;
   return c;
 }
