@@ -20,6 +20,7 @@
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
 #include "evolve/mpi_launch.hpp"
+#include "evolve/replica_check.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_store.hpp"
 #if SODAEVO_HAS_MPI
@@ -51,6 +52,11 @@ struct EvolveOptions {
 };
 
 std::atomic<bool> g_stop_requested{false};
+
+/// At the end of a run its best creatures are checked on fresh replicas (as
+/// `export --check-replicas` does) for the report: this many, on this many each.
+constexpr int kCheckedChampions = 10;
+constexpr int kCheckReplicas = 16;
 
 /// report.html in the run folder is refreshed after every this many generations
 /// (a few trials each time: cheap next to a generation) and at the end.
@@ -204,6 +210,15 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
   std::signal(SIGTERM, SIG_DFL);
   std::signal(SIGUSR1, SIG_DFL);
   std::signal(SIGINT, SIG_DFL);
+  // The best creatures again on fresh replicas: claimed against checked, for the
+  // report (RUN/champions.json).
+  if (std::isfinite(outcome.best_fitness)) {
+    try {
+      write_run_champions(store->dir(), kCheckedChampions, kCheckReplicas, opt.threads);
+    } catch (const std::exception& e) {
+      std::cerr << "\nsodaevo: warning: champions not checked: " << e.what() << '\n';
+    }
+  }
   refresh_report();
   if (!opt.quiet) {
     if (tty) std::cerr << '\n';

@@ -1,4 +1,5 @@
 #include "app/run_report.hpp"
+#include "app/claims_chart.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -352,6 +353,8 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     }
     o << "</table>\n";
   }
+
+  o << claims_section_html(run_dir);
 
   // Animations: the champion, the best of a few generations along the run (each
   // creature once), the classic.

@@ -4,6 +4,10 @@
 #include <vector>
 
 #include "core/number_text.hpp"
+#include "evolve/parallel_for.hpp"
+#include "evolve/run_reader.hpp"
+#include "evolve/run_roles.hpp"
+#include "formats/atomic_file.hpp"
 
 namespace sodaevo {
 
@@ -42,6 +46,15 @@ ReplicaCheck check_on_fresh_replicas(const Problem& problem, const Individual& i
   return c;
 }
 
+std::vector<ReplicaCheck> check_all_on_fresh_replicas(const Problem& problem, const std::vector<Individual>& individuals,
+                                                      const ReplicaPlan& plan, int replicas, int threads) {
+  std::vector<ReplicaCheck> checks(individuals.size());
+  parallel_for_index(individuals.size(), threads, [&](std::size_t i) {
+    checks[i] = check_on_fresh_replicas(problem, individuals[i], plan, replicas);
+  });
+  return checks;
+}
+
 nlohmann::json champion_json(const ReplicaCheck& c, const std::string& file, long long settle_frames, long long frames) {
   nlohmann::json j = {{"file", file}, {"id", c.id}, {"settle_frames", settle_frames}, {"frames", frames}};
   if (!c.ok) {
@@ -55,6 +68,20 @@ nlohmann::json champion_json(const ReplicaCheck& c, const std::string& file, lon
                 {"interval95", {c.check.interval95_low, c.check.interval95_high}}};
   j["winners_curse"] = c.winners_curse;
   return j;
+}
+
+std::vector<ReplicaCheck> write_run_champions(const std::filesystem::path& run_dir, int count, int replicas,
+                                              int threads) {
+  const RunConfig config = read_run_config(run_dir / "config.json");
+  const std::vector<Individual> best = best_individuals(run_dir, count);
+  const std::vector<ReplicaCheck> checks =
+      check_all_on_fresh_replicas(*roles_of(config).problem, best, replica_plan(config), replicas, threads);
+  nlohmann::json all = nlohmann::json::array();
+  for (const ReplicaCheck& c : checks) {
+    all.push_back(champion_json(c, "", config.fitness.settle_frames, config.fitness.frames));
+  }
+  soda::write_file_atomically(run_dir / "champions.json", all.dump(2) + "\n");
+  return checks;
 }
 
 std::string check_comment(const ReplicaCheck& c) {

@@ -9,7 +9,9 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -38,11 +40,22 @@ struct ReplicaCheck {
 ReplicaCheck check_on_fresh_replicas(const Problem& problem, const Individual& individual, const ReplicaPlan& plan,
                                      int replicas);
 
+/// check_on_fresh_replicas for each of `individuals`, on `threads` threads
+/// (0 = all cores); result i belongs to individuals[i].
+std::vector<ReplicaCheck> check_all_on_fresh_replicas(const Problem& problem, const std::vector<Individual>& individuals,
+                                                      const ReplicaPlan& plan, int replicas, int threads);
+
 /// The champions.json entry of a check: file, id, settle_frames, frames,
 /// exact_distance, selection {n, mean, sd}, check {n, mean, median, sd, min, max,
 /// interval95: [lo, hi]}, winners_curse.
 nlohmann::json champion_json(const ReplicaCheck& c, const std::string& file, long long settle_frames,
                              long long frames);
+
+/// The check of a run's `count` best creatures on `replicas` fresh replicas each,
+/// written to RUN/champions.json (file "" for each: nothing exported); what the run
+/// report's "Claimed against checked" shows. Returns the checks.
+std::vector<ReplicaCheck> write_run_champions(const std::filesystem::path& run_dir, int count, int replicas,
+                                              int threads);
 
 /// One line for the exported XML's comment: the checked median and interval.
 std::string check_comment(const ReplicaCheck& c);
