@@ -9,6 +9,7 @@
 #include "core/divergence.hpp"
 #include "core/input_error.hpp"
 #include "core/model.hpp"
+#include "core/step.hpp"
 #include "core/number_text.hpp"
 #include "evolve/creature_limits.hpp"
 #include "evolve/honesty.hpp"
@@ -194,16 +195,31 @@ std::vector<Evaluation> WalkProblem::rollouts(const std::vector<Rollout>& runs) 
     states.back().jitter = runs[i].jitter;
   }
   if (states.empty()) return results;
-  // The batch stepper equals the reference step bit for bit for each state, its
-  // jitter included (tests/test_batch_step.cpp), so fitness depends neither on
-  // which stepper runs nor on which rollouts share a batch.
-  std::vector<soda::State*> state_ptrs;
-  for (soda::State& s : states) state_ptrs.push_back(&s);
-  soda::BatchStepper stepper(model_ptrs, static_cast<long long>(fitness_.settle_frames) + fitness_.frames);
-  stepper.run(state_ptrs, fitness_.settle_frames);
+  // Exact states step together in the batch stepper, which equals the reference
+  // step bit for bit for each (tests/test_batch_step.cpp), so fitness depends
+  // neither on which stepper runs nor on which rollouts share a batch. The fast
+  // steppers do not apply sine jitter yet: jittered replicas take the reference
+  // step, which does.
+  std::vector<soda::State*> batched;
+  std::vector<const soda::Model*> batched_models;
+  for (std::size_t k = 0; k < states.size(); ++k) {
+    if (states[k].jitter.seed != 0) continue;
+    batched.push_back(&states[k]);
+    batched_models.push_back(model_ptrs[k]);
+  }
+  const long long total = static_cast<long long>(fitness_.settle_frames) + fitness_.frames;
+  std::optional<soda::BatchStepper> stepper;
+  if (!batched.empty()) stepper.emplace(batched_models, total);
+  auto run_all = [&](long long frames) {
+    if (stepper) stepper->run(batched, frames);
+    for (std::size_t k = 0; k < states.size(); ++k) {
+      if (states[k].jitter.seed != 0) soda::run(*model_ptrs[k], states[k], frames);
+    }
+  };
+  run_all(fitness_.settle_frames);
   std::vector<soda::Point2> start;
   for (std::size_t k = 0; k < states.size(); ++k) start.push_back(soda::mass_centroid(*model_ptrs[k], states[k]));
-  stepper.run(state_ptrs, fitness_.frames);
+  run_all(fitness_.frames);
   for (std::size_t k = 0; k < states.size(); ++k) {
     results[index[k]] = score_run(*model_ptrs[k], states[k], start[k], fitness_);
   }
