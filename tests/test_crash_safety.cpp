@@ -120,12 +120,12 @@ void require_complete_files(const fs::path& run) {
     const fs::path path = run / name;
     if (name == "config.json") {
       CHECK_NOTHROW(read_run_config(path));
-    } else if (name == "manifest.json") {
+    } else if (name == "manifest.json" || name == "champions.json") {
       CHECK_NOTHROW(nlohmann::json::parse(text));
     } else if (name == "checkpoint.json") {
       CHECK_NOTHROW(parse_checkpoint(text, path.string()));
     } else if (name == "generations.csv" || name == "timing.csv") {
-      const long columns = name == "generations.csv" ? 9 : 4;
+      const long columns = name == "generations.csv" ? 13 : 4;
       REQUIRE(!text.empty());
       CHECK(text.back() == '\n');
       std::istringstream in(text);
