@@ -123,6 +123,7 @@ void add_bench_command(CLI::App& app) {
     run_bench_speed(*opt, command);
   });
   add_bench_evolve_command(*bench);
+  add_bench_transfer_command(*bench);
   add_bench_qd_command(*bench);
   add_bench_races_command(*bench);
 }

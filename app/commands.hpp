@@ -21,6 +21,8 @@ void add_replay_command(CLI::App& app);
 void add_bench_command(CLI::App& app);
 /// `bench evolve`, registered by add_bench_command on its `bench` subcommand.
 void add_bench_evolve_command(CLI::App& bench);
+/// `bench transfer` (app/bench_transfer_command.cpp), registered the same way.
+void add_bench_transfer_command(CLI::App& bench);
 /// `bench qd` (MAP-Elites against the GA), registered on the `bench` subcommand.
 void add_bench_qd_command(CLI::App& bench);
 void add_render_command(CLI::App& app);
