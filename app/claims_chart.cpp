@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "charts/svg_chart.hpp"
 #include "core/input_error.hpp"
 #include "formats/atomic_file.hpp"
 
@@ -17,20 +18,6 @@ bool claim_flagged(const ClaimRow& row) {
 }
 
 namespace {
-
-std::string escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 std::string number(double v) {
   char buf[32];
@@ -82,7 +69,7 @@ std::string render_claims_chart(const std::vector<ClaimRow>& rows) {
     const double y = top + row_height * (static_cast<double>(i) + 0.5);
     const bool flag = claim_flagged(r);
     o << "<text x=\"" << left - 8 << "\" y=\"" << number(y + 4) << "\" text-anchor=\"end\""
-      << (flag ? " fill=\"#b00\"" : "") << ">" << escape(r.id) << (flag ? " (claim > check + 5 %)" : "")
+      << (flag ? " fill=\"#b00\"" : "") << ">" << charts::svg_escape(r.id) << (flag ? " (claim > check + 5 %)" : "")
       << "</text>\n";
     o << "<line x1=\"" << number(x_of(r.check_lo)) << "\" y1=\"" << number(y) << "\" x2=\"" << number(x_of(r.check_hi))
       << "\" y2=\"" << number(y) << "\" stroke=\"#1f77b4\" stroke-width=\"2\"/>\n";
