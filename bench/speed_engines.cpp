@@ -201,6 +201,31 @@ std::vector<Engine> make_ga_engines(std::shared_ptr<const std::vector<soda::Mode
                        g_sink = g_sink + states.back().x[0];
                      },
                      count});
+  // "fast-replicas": each creature as the GA's estimator sees it, kReplicas
+  // states of its one Model (replica 0 exact, r jittered with seed r), one
+  // BatchStepper per creature (in lockstep where the CPU has AVX-512); counted in
+  // replica-frames (issue 26 item 4: against fast-batch's creature-frames).
+  constexpr int kReplicas = 8;
+  auto replicas = std::make_shared<std::vector<std::unique_ptr<soda::BatchStepper>>>();
+  for (const soda::Model& m : *models) {
+    replicas->push_back(std::make_unique<soda::BatchStepper>(
+        std::vector<const soda::Model*>(kReplicas, &m), 1'000'000));
+  }
+  engines.push_back({"fast-replicas",
+                     [replicas, models](long long frames) {
+                       std::vector<soda::State> states;
+                       std::vector<soda::State*> sp(kReplicas);
+                       for (std::size_t c = 0; c < models->size(); ++c) {
+                         states.assign(kReplicas, soda::make_state((*models)[c]));
+                         for (int r = 0; r < kReplicas; ++r) {
+                           states[r].jitter = {static_cast<std::uint64_t>(r), 0.002};
+                           sp[r] = &states[r];
+                         }
+                         (*replicas)[c]->run(sp, frames);
+                         g_sink = g_sink + states.back().x[0];
+                       }
+                     },
+                     count * kReplicas});
   return engines;
 }
 

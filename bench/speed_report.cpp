@@ -152,7 +152,9 @@ void ga_part(std::ostringstream& o, const SpeedReport& r) {
   if (r.ga_refused > 0) o << " (" << r.ga_refused << " the GA refuses are left out)";
   o << ". seed and plain step them one after the other, fast with a FastStepper each, fast-batch in the batches "
        "the GA's evaluation cuts on one thread (soda::BatchStepper, fused scenes and lockstep as the shapes "
-       "allow); frames/s count creature-frames:\n\n";
+       "allow), fast-replicas each creature as 8 replicas of one Model (replica 0 exact, the others with sine "
+       "jitter p = 0.002; one BatchStepper per creature: lockstep lanes where the CPU has AVX-512); frames/s count "
+       "creature-frames, replica-frames for fast-replicas:\n\n";
   o << "| engine | creature-frames/s | link updates/s | vs seed | vs plain |\n|---|---:|---:|---:|---:|\n";
   for (const SpeedRow& row : r.rows) {
     if (row.section != "ga") continue;

@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <map>
 #include <set>
 #include <stdexcept>
 
 #include "detail/bits.hpp"
 #include "fused/fused_scene.hpp"
+#include "step.hpp"
 
 namespace soda {
 
@@ -34,24 +36,48 @@ double shared_sine_fraction(const std::vector<const Model*>& models, const std::
 }
 
 BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options)
-    : count_(static_cast<int>(models.size())) {
+    : count_(static_cast<int>(models.size())), models_(models), frame_budget_(frame_budget), options_(options) {
   for (const Model* m : models) point_count_.push_back(m->point_count);
+  plan(std::vector<bool>(static_cast<std::size_t>(count_), false));
+}
+
+void BatchStepper::plan(const std::vector<bool>& jittered) {
+  const std::vector<const Model*>& models = models_;
+  const FastStepOptions& options = options_;
+  planned_jitter_ = jittered;
+  locksteps_.clear();
+  scenes_.clear();
+  alone_.clear();
+  alone_index_.clear();
+  reference_index_.clear();
   std::vector<const Model*> pack;
   std::vector<int> pack_index;
   int pack_links = 0;
   auto close_pack = [&] {
     if (pack.empty()) return;
-    scenes_.push_back({std::make_unique<FusedScene>(pack, frame_budget, options), pack_index});
+    scenes_.push_back({std::make_unique<FusedScene>(pack, frame_budget_, options), pack_index});
     pack.clear();
     pack_index.clear();
     pack_links = 0;
   };
   // Models of one shape, enough of them, in lockstep; which ones is decided here,
-  // once, from the models alone.
+  // from the models alone and which states carry jitter.
   std::vector<bool> in_lockstep(static_cast<std::size_t>(count_), false);
   const bool lockstep = options.lockstep && LockstepBatch::usable() && !options.force_ordered && options.vector_sines &&
                         (options.simd == SimdLevel::Auto || options.simd == SimdLevel::Avx512);
+  auto take_lockstep = [&](std::vector<int> members, bool any_sines) {
+    members.resize(static_cast<std::size_t>(lockstep_share(static_cast<int>(members.size()))));
+    if (members.empty() || (!any_sines && shared_sine_fraction(models, members) > kMaxSharedSines)) return;
+    std::vector<const Model*> lanes;
+    for (int i : members) {
+      lanes.push_back(models[i]);
+      in_lockstep[static_cast<std::size_t>(i)] = true;
+    }
+    locksteps_.push_back({LockstepBatch(lanes), members});
+  };
   if (lockstep) {
+    std::map<const Model*, int> uses; // how many states each Model has
+    for (const Model* m : models) ++uses[m];
     std::vector<std::vector<int>> shapes; // model indices by shape, in order of first appearance
     for (int i = 0; i < count_; ++i) {
       if (!LockstepBatch::can_take(*models[i])) continue;
@@ -64,21 +90,34 @@ BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long fr
         same->push_back(i);
       }
     }
-    for (std::vector<int>& members : shapes) {
-      members.resize(static_cast<std::size_t>(lockstep_share(static_cast<int>(members.size()))));
-      if (members.empty() || shared_sine_fraction(models, members) > kMaxSharedSines) continue;
-      std::vector<const Model*> lanes;
+    for (const std::vector<int>& members : shapes) {
+      // Replicas: the states of a Model given more than once, some with jitter.
+      // Their sines differ lane by lane anyway, so the shared-sine rule does not
+      // apply: they go in lockstep first, whatever their sines.
+      std::set<const Model*> replicated;
       for (int i : members) {
-        lanes.push_back(models[i]);
-        in_lockstep[static_cast<std::size_t>(i)] = true;
+        if (jittered[static_cast<std::size_t>(i)] && uses[models[i]] > 1) {
+          replicated.insert(models[i]);
+        }
       }
-      locksteps_.push_back({LockstepBatch(lanes), members});
+      std::vector<int> replicas, others;
+      for (int i : members) (replicated.count(models[i]) != 0 ? replicas : others).push_back(i);
+      take_lockstep(replicas, true);
+      for (int i : replicas) {
+        if (!in_lockstep[static_cast<std::size_t>(i)]) others.push_back(i);
+      }
+      std::sort(others.begin(), others.end());
+      take_lockstep(others, false);
     }
   }
   for (int i = 0; i < count_; ++i) {
     if (in_lockstep[static_cast<std::size_t>(i)]) continue;
+    if (jittered[static_cast<std::size_t>(i)]) { // the fused and fast steppers take exact sines only
+      reference_index_.push_back(i);
+      continue;
+    }
     if (options.force_ordered || !FusedScene::can_fuse(*models[i])) {
-      alone_.emplace_back(*models[i], frame_budget, options);
+      alone_.emplace_back(*models[i], frame_budget_, options);
       alone_index_.push_back(i);
       continue;
     }
@@ -111,7 +150,9 @@ BatchStepper::~BatchStepper() = default;
 BatchStepper::BatchStepper(BatchStepper&&) noexcept = default;
 BatchStepper& BatchStepper::operator=(BatchStepper&&) noexcept = default;
 
-int BatchStepper::fused_count() const { return count_ - static_cast<int>(alone_index_.size()); }
+int BatchStepper::fused_count() const {
+  return count_ - static_cast<int>(alone_index_.size() + reference_index_.size());
+}
 
 int BatchStepper::lockstep_count() const {
   int n = 0;
@@ -124,7 +165,12 @@ void BatchStepper::run(const std::vector<State*>& states, long long frames) {
   // A State given twice is found here even where its two uses run in different
   // parts (a lockstep batch, a fused scene, alone); the parts check the sizes.
   require_batch_states(states.data(), count_, [&](int c) { return point_count_[c]; }, "BatchStepper::run");
-  for (int c = 0; c < count_; ++c) require_no_jitter(states[c]->jitter, "BatchStepper::run", c); // exact sines only
+  std::vector<bool> jittered(static_cast<std::size_t>(count_));
+  for (int c = 0; c < count_; ++c) {
+    require_valid_jitter_of(states[c]->jitter, "BatchStepper::run", c);
+    jittered[static_cast<std::size_t>(c)] = states[c]->jitter.seed != 0;
+  }
+  if (jittered != planned_jitter_) plan(jittered);
   for (Lockstep& l : locksteps_) {
     scratch_.clear();
     for (int i : l.index) scratch_.push_back(states[i]);
@@ -136,6 +182,7 @@ void BatchStepper::run(const std::vector<State*>& states, long long frames) {
     s.scene->run(scratch_.data(), frames);
   }
   for (std::size_t k = 0; k < alone_.size(); ++k) alone_[k].run(*states[alone_index_[k]], frames);
+  for (int i : reference_index_) soda::run(*models_[i], *states[i], frames);
 }
 
 } // namespace soda

@@ -29,6 +29,13 @@
 // (lockstep_batch.hpp), one creature per SIMD lane, where the CPU has AVX-512:
 // measured faster than fusing them (bench speed, fast-batch). Exact either way.
 //
+// Sine jitter (sine_jitter.hpp): replicas of one creature are the same Model given
+// several times, each state with its own jitter seed. Such replicas (kMinLockstep
+// or more of a shape) go in lockstep whatever their sines, each lane jittered on
+// its own; a jittered state left over steps with the reference step (soda::run),
+// since the fused scenes and FastStepper take exact sines only. Which states
+// carry jitter is seen in run(): the plan is made again when that changes.
+//
 // The Models must outlive the stepper; one stepper is used by one thread at a time.
 #pragma once
 
@@ -96,11 +103,13 @@ class BatchStepper {
   BatchStepper& operator=(const BatchStepper&) = delete;
 
   /// Steps states[i] (a state of models[i]) by `frames` frames, for every i;
-  /// afterwards each equals, bit for bit, soda::run(*models[i], *states[i], frames).
+  /// afterwards each equals, bit for bit, soda::run(*models[i], *states[i], frames),
+  /// with each state's sine jitter (throws std::invalid_argument for an invalid one).
   void run(const std::vector<State*>& states, long long frames);
 
   [[nodiscard]] int size() const { return count_; }
-  /// Models fused or in lockstep (not alone).
+  /// Models fused or in lockstep (not alone, nor jittered on the reference step),
+  /// as planned for the last run (before any run: for exact states).
   [[nodiscard]] int fused_count() const;
   /// Models in lockstep batches.
   [[nodiscard]] int lockstep_count() const;
@@ -123,6 +132,15 @@ class BatchStepper {
   std::vector<int> alone_index_;
   std::vector<State*> scratch_;
   std::vector<int> point_count_; ///< [count_] points of models[i] (run checks the states)
+  std::vector<const Model*> models_;
+  long long frame_budget_ = 0;
+  FastStepOptions options_;
+  std::vector<bool> planned_jitter_; ///< [count_] which states carried jitter when planned
+  std::vector<int> reference_index_; ///< jittered states outside lockstep: soda::run
+
+  /// Splits the models into lockstep batches, fused scenes and the rest, given
+  /// which states carry jitter.
+  void plan(const std::vector<bool>& jittered);
 };
 
 } // namespace soda

@@ -60,6 +60,8 @@ struct LockstepBatch::Data {
   bool inline_sines = false;     ///< the CPU has the vector sine (exact_sines.hpp)
   std::vector<std::uint8_t> autoreverse; ///< [groups * 8]
   std::vector<State*> lane_state;        ///< [groups * 8] the state each lane loads from
+  std::vector<SineJitter> lane_jitter;   ///< [groups * 8] each lane's sine jitter (seed 0: exact)
+  std::vector<std::uint8_t> group_jittered; ///< [groups] some lane of the group has jitter
 
   double* point_row(int g, int k, int p) { return point_rows + ((static_cast<std::size_t>(g) * 4 + k) * points + p) * kW; }
   double* link_row(int g, int k, int j) { return link_rows + ((static_cast<std::size_t>(g) * 3 + k) * links + j) * kW; }
@@ -73,6 +75,7 @@ struct LockstepBatch::Data {
   void arguments_for(int g, O::V phase);
   void sines_now(int g);
   void targets_from_sines(int g);
+  void jitter_sines(int g);
   template <int N>
   void step_groups(int g0);
 };
@@ -220,6 +223,20 @@ void LockstepBatch::Data::sines_now(int g) {
   sine_fn(arguments_row(g, 0), sines_row(g, 0), columns * kW);
 }
 
+// Group g's sines moved by each lane's jitter, as rules::muscle_sine moves them:
+// the arguments row still holds the arguments these sines were computed from
+// (inline for the predicted phase, or again by sines_now).
+void LockstepBatch::Data::jitter_sines(int g) {
+  const SineJitter* jitter = lane_jitter.data() + static_cast<std::size_t>(g) * kW;
+  for (int q = 0; q < columns; ++q) {
+    double* sine = sines_row(g, q);
+    const double* argument = arguments_row(g, q);
+    for (int l = 0; l < kW; ++l) {
+      if (jitter[l].seed != 0) sine[l] = jittered(sine[l], argument[l], jitter[l]);
+    }
+  }
+}
+
 // Group g's wave links' targets from its sines: rest * (1 + power * sine).
 [[gnu::always_inline]] inline void LockstepBatch::Data::targets_from_sines(int g) {
   for (std::size_t w = 0; w < wave_links.size(); ++w) {
@@ -253,6 +270,7 @@ template <int N>
   if (columns > 0) {
     for (int n = 0; n < N; ++n) {
       const int g = g0 + n;
+      if (group_jittered[g] != 0) [[unlikely]] jitter_sines(g);
       targets_from_sines(g);
       arguments_for(g, simd_rules::advance_wave_phase<O>(O::load(world_row(g, kPhase)), O::load(world_row(g, kSpeed)),
                                                          O::load(world_row(g, kMode))));
@@ -338,16 +356,20 @@ template <int N>
 void LockstepBatch::run(State* const* states, long long frames) {
   Data& d = *d_;
   require_batch_states(states, d.count, [&](int) { return d.points; }, "LockstepBatch::run");
-  for (int c = 0; c < d.count; ++c) require_no_jitter(states[c]->jitter, "LockstepBatch::run", c); // exact sines only
+  for (int c = 0; c < d.count; ++c) require_valid_jitter_of(states[c]->jitter, "LockstepBatch::run", c);
   if (frames <= 0) return;
   d.load(states);
   // Padding lanes autoreverse into a scratch copy of the last state, not into it.
   std::vector<State> padding;
   padding.reserve(static_cast<std::size_t>(d.groups) * kW - d.count);
   d.lane_state.resize(static_cast<std::size_t>(d.groups) * kW);
+  d.lane_jitter.assign(static_cast<std::size_t>(d.groups) * kW, SineJitter{0, 0.0}); // padding lanes: exact, unread
+  d.group_jittered.assign(static_cast<std::size_t>(d.groups), 0);
   for (int lane = 0; lane < d.groups * kW; ++lane) {
     if (lane < d.count) {
       d.lane_state[lane] = states[lane];
+      d.lane_jitter[lane] = states[lane]->jitter;
+      if (states[lane]->jitter.seed != 0) d.group_jittered[lane / kW] = 1;
     } else {
       padding.push_back(*states[d.count - 1]);
       d.lane_state[lane] = &padding.back();

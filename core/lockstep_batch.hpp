@@ -21,6 +21,10 @@
 // links whose phases agree in every lane shares it), glibc's sin in SIMD
 // (exact_sines.hpp), for all lanes at once. Walls are tested every frame (a max
 // and a min per coordinate: cheaper than knowing which are out of reach).
+// A lane whose state carries sine jitter (sine_jitter.hpp: replicas of one
+// creature, each its own seed) gets its sines moved before they are used, lane
+// by lane from the same arguments as the reference's; groups with no jittered
+// lane skip that work.
 //
 // AVX-512 only (usable()); models with fixed bars are not taken (a bar test needs
 // each mass against the others' new positions, fast_step's ordered kernel).
@@ -59,7 +63,8 @@ class LockstepBatch {
   LockstepBatch& operator=(const LockstepBatch&) = delete;
 
   /// Steps states[c] (a state of model c) by `frames` frames, for every c;
-  /// afterwards each equals, bit for bit, soda::run(*models[c], *states[c], frames).
+  /// afterwards each equals, bit for bit, soda::run(*models[c], *states[c], frames),
+  /// with the state's sine jitter (throws std::invalid_argument for an invalid one).
   void run(State* const* states, long long frames);
 
   [[nodiscard]] int size() const;

@@ -44,6 +44,11 @@ void require_valid_jitter(const SineJitter& jitter, const char* what) {
   }
 }
 
+void require_valid_jitter_of(const SineJitter& jitter, const char* who, int index) {
+  if (jitter.probability >= 0.0 && jitter.probability <= 1.0) return; // no message built on the hot path
+  require_valid_jitter(jitter, (std::string(who) + ": state " + std::to_string(index)).c_str());
+}
+
 void require_no_jitter(const SineJitter& jitter, const char* who, int index) {
   if (jitter.seed == 0) return;
   const std::string state = index >= 0 ? "state " + std::to_string(index) : std::string("the state");

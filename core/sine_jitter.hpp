@@ -35,6 +35,9 @@ double jittered(double sine_value, double argument, const SineJitter& jitter);
 /// Throws std::invalid_argument naming `what` unless probability is in [0, 1].
 void require_valid_jitter(const SineJitter& jitter, const char* what);
 
+/// require_valid_jitter for state `index` of a batch stepped by `who` (names both).
+void require_valid_jitter_of(const SineJitter& jitter, const char* who, int index);
+
 /// For the steppers that step exact sines only (for now the fast ones): throws
 /// std::invalid_argument naming `who` and the state (its index in a batch, when
 /// index >= 0) unless jitter.seed == 0, so that a jittered replica is never

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -257,4 +259,73 @@ TEST_CASE("BatchStepper: six or more models of one shape go in lockstep, the res
     INFO("entry " << k);
     CHECK(compare_states(*models[k], ref[k], fast[k]).empty());
   }
+}
+
+namespace {
+
+/// K replicas of `model` (one Model, K states) with distinct jitter seeds
+/// 1..K-1 and replica 0 exact, stepped by `step` against soda::run with the same
+/// jitter; the first mismatch, or an empty string. `moved` is set when some
+/// jittered replica ends away from the exact one (the jitter took effect).
+std::string replicas_against_reference(const soda::Model& model, int replicas, double probability, long long frames,
+                                       const std::function<void(const std::vector<const soda::Model*>&,
+                                                                std::vector<soda::State*>&, long long)>& step,
+                                       bool& moved) {
+  const std::vector<const soda::Model*> models(static_cast<std::size_t>(replicas), &model);
+  std::vector<soda::State> states;
+  for (int r = 0; r < replicas; ++r) {
+    states.push_back(soda::make_state(model));
+    states.back().jitter = {static_cast<std::uint64_t>(r), probability};
+  }
+  std::vector<soda::State*> pointers;
+  for (soda::State& s : states) pointers.push_back(&s);
+  const std::string diff = compare_in_pieces(models, states, frames, [&](long long n) { step(models, pointers, n); });
+  for (int r = 1; r < replicas; ++r) moved = moved || !compare_states(model, states[0], states[r]).empty();
+  return diff;
+}
+
+} // namespace
+
+TEST_CASE("jittered replicas of each bundled model: lockstep lanes and BatchStepper equal the reference step",
+          "[lockstep][sine_jitter]") {
+  bool moved = false;
+  const Scene walker = load_scene(models_dir() / "dainty_walker.xml");
+  const soda::Model& other = walker.model;
+  for (const fs::path& file : xml_files_under(models_dir())) {
+    const soda::Model model = load_scene(file).model;
+    for (int replicas : {8, 6, 3}) {
+      for (double probability : {0.002, 0.05}) {
+        INFO(file.filename().string() << ", " << replicas << " replicas, p = " << probability);
+        const long long frames = 2000;
+        if (soda::LockstepBatch::can_take(model) && soda::LockstepBatch::usable()) {
+          soda::LockstepBatch batch(std::vector<const soda::Model*>(static_cast<std::size_t>(replicas), &model));
+          CHECK(replicas_against_reference(
+                    model, replicas, probability, frames,
+                    [&](const auto&, std::vector<soda::State*>& s, long long n) { batch.run(s.data(), n); }, moved)
+                    .empty());
+        }
+        // BatchStepper with another creature's exact state among the replicas.
+        std::unique_ptr<soda::BatchStepper> batch;
+        soda::State other_state = soda::make_state(other), other_ref = other_state;
+        CHECK(replicas_against_reference(
+                  model, replicas, probability, frames,
+                  [&](const std::vector<const soda::Model*>& m, std::vector<soda::State*>& s, long long n) {
+                    std::vector<const soda::Model*> all = m;
+                    all.push_back(&other);
+                    std::vector<soda::State*> all_states = s;
+                    all_states.push_back(&other_state);
+                    if (!batch) batch = std::make_unique<soda::BatchStepper>(all, frames);
+                    batch->run(all_states, n);
+                  },
+                  moved)
+                  .empty());
+        soda::run(other, other_ref, frames);
+        CHECK(compare_states(other, other_ref, other_state).empty());
+        if (soda::LockstepBatch::usable() && soda::LockstepBatch::can_take(model) && replicas >= soda::kMinLockstep) {
+          CHECK(batch->lockstep_count() == replicas); // the replicas went in lockstep
+        }
+      }
+    }
+  }
+  CHECK(moved); // the jitter changed some trajectory: the comparisons above could fail
 }

@@ -141,7 +141,7 @@ TEST_CASE("a jittered walker is deterministic and leaves the exact run", "[sine_
   CHECK_FALSE(compare_states(m, rk4_exact, rk4_jittered).empty());
 }
 
-TEST_CASE("the fast steppers refuse a jittered state rather than drop its jitter", "[sine_jitter]") {
+TEST_CASE("FastStepper refuses a jittered state rather than drop its jitter; the batches name an invalid one", "[sine_jitter]") {
   const auto scene = load_scene(models_dir() / "dainty_walker.xml");
   const soda::Model& m = scene.model;
   soda::State exact = soda::make_state(m), jittered = soda::make_state(m);
@@ -157,15 +157,19 @@ TEST_CASE("the fast steppers refuse a jittered state rather than drop its jitter
   soda::FastStepper fast(m, 10);
   CHECK(message([&] { fast.run(jittered, 10); }).find("FastStepper::run: the state has sine jitter (seed 9)") == 0);
   CHECK(jittered.frame == 0);
+  // The batch steppers apply the jitter (test_lockstep_batch.cpp); an invalid one is named.
+  soda::State invalid = jittered;
+  invalid.jitter.probability = 1.5;
   soda::BatchStepper batch({&m, &m}, 10);
-  CHECK(message([&] { batch.run({&exact, &jittered}, 10); }).find("BatchStepper::run: state 1 has sine jitter") == 0);
+  CHECK(message([&] { batch.run({&exact, &invalid}, 10); })
+            .find("BatchStepper::run: state 1: sine jitter probability must be in [0, 1], got 1.5") == 0);
   if (soda::LockstepBatch::usable()) {
     std::vector<const soda::Model*> models(8, &m);
     std::vector<soda::State> states(8, soda::make_state(m));
-    states[5].jitter = {2, 0.5};
+    states[5].jitter = {2, -0.5};
     std::vector<soda::State*> pointers;
     for (soda::State& s : states) pointers.push_back(&s);
     soda::LockstepBatch lockstep(models);
-    CHECK(message([&] { lockstep.run(pointers.data(), 10); }).find("LockstepBatch::run: state 5 has sine jitter") == 0);
+    CHECK(message([&] { lockstep.run(pointers.data(), 10); }).find("LockstepBatch::run: state 5: sine jitter probability") == 0);
   }
 }
