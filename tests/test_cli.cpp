@@ -279,7 +279,7 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
   }
   // The GA section: the first and the last saved generation of the run (--quick),
   // 24 creatures each, every engine on all of them.
-  const std::map<std::string, int> ga_expected{{"fast", 48}, {"fast-batch", 48}, {"plain", 48}, {"seed", 48}};
+  const std::map<std::string, int> ga_expected{{"fast", 48}, {"fast-batch", 48}, {"fast-replicas", 384}, {"plain", 48}, {"seed", 48}};
   CHECK(ga_engines == ga_expected);
   CHECK(md_text.find("The GA's own creatures, one core: the 48 creatures of 2 saved generations") != std::string::npos);
   CHECK(rows_per_section["size"] > 0);
