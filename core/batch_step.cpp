@@ -9,7 +9,6 @@
 
 #include "detail/bits.hpp"
 #include "fused/fused_scene.hpp"
-#include "step.hpp"
 
 namespace soda {
 
@@ -49,7 +48,6 @@ void BatchStepper::plan(const std::vector<bool>& jittered) {
   scenes_.clear();
   alone_.clear();
   alone_index_.clear();
-  reference_index_.clear();
   std::vector<const Model*> pack;
   std::vector<int> pack_index;
   int pack_links = 0;
@@ -112,10 +110,6 @@ void BatchStepper::plan(const std::vector<bool>& jittered) {
   }
   for (int i = 0; i < count_; ++i) {
     if (in_lockstep[static_cast<std::size_t>(i)]) continue;
-    if (jittered[static_cast<std::size_t>(i)]) { // the fused and fast steppers take exact sines only
-      reference_index_.push_back(i);
-      continue;
-    }
     if (options.force_ordered || !FusedScene::can_fuse(*models[i])) {
       alone_.emplace_back(*models[i], frame_budget_, options);
       alone_index_.push_back(i);
@@ -151,7 +145,7 @@ BatchStepper::BatchStepper(BatchStepper&&) noexcept = default;
 BatchStepper& BatchStepper::operator=(BatchStepper&&) noexcept = default;
 
 int BatchStepper::fused_count() const {
-  return count_ - static_cast<int>(alone_index_.size() + reference_index_.size());
+  return count_ - static_cast<int>(alone_index_.size());
 }
 
 int BatchStepper::lockstep_count() const {
@@ -182,7 +176,6 @@ void BatchStepper::run(const std::vector<State*>& states, long long frames) {
     s.scene->run(scratch_.data(), frames);
   }
   for (std::size_t k = 0; k < alone_.size(); ++k) alone_[k].run(*states[alone_index_[k]], frames);
-  for (int i : reference_index_) soda::run(*models_[i], *states[i], frames);
 }
 
 } // namespace soda

@@ -32,9 +32,9 @@
 // Sine jitter (sine_jitter.hpp): replicas of one creature are the same Model given
 // several times, each state with its own jitter seed. Such replicas (kMinLockstep
 // or more of a shape) go in lockstep whatever their sines, each lane jittered on
-// its own; a jittered state left over steps with the reference step (soda::run),
-// since the fused scenes and FastStepper take exact sines only. Which states
-// carry jitter is seen in run(): the plan is made again when that changes.
+// its own; a jittered state left over goes in a fused scene (its own wave state
+// there: its sines are not shared). Which states carry jitter is seen in run():
+// the plan is made again when that changes.
 //
 // The Models must outlive the stepper; one stepper is used by one thread at a time.
 #pragma once
@@ -108,7 +108,7 @@ class BatchStepper {
   void run(const std::vector<State*>& states, long long frames);
 
   [[nodiscard]] int size() const { return count_; }
-  /// Models fused or in lockstep (not alone, nor jittered on the reference step),
+  /// Models fused or in lockstep (not alone),
   /// as planned for the last run (before any run: for exact states).
   [[nodiscard]] int fused_count() const;
   /// Models in lockstep batches.
@@ -136,7 +136,6 @@ class BatchStepper {
   long long frame_budget_ = 0;
   FastStepOptions options_;
   std::vector<bool> planned_jitter_; ///< [count_] which states carried jitter when planned
-  std::vector<int> reference_index_; ///< jittered states outside lockstep: soda::run
 
   /// Splits the models into lockstep batches, fused scenes and the rest, given
   /// which states carry jitter.

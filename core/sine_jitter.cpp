@@ -49,12 +49,5 @@ void require_valid_jitter_of(const SineJitter& jitter, const char* who, int inde
   require_valid_jitter(jitter, (std::string(who) + ": state " + std::to_string(index)).c_str());
 }
 
-void require_no_jitter(const SineJitter& jitter, const char* who, int index) {
-  if (jitter.seed == 0) return;
-  const std::string state = index >= 0 ? "state " + std::to_string(index) : std::string("the state");
-  throw std::invalid_argument(std::string(who) + ": " + state + " has sine jitter (seed " +
-                              std::to_string(jitter.seed) +
-                              "); this stepper steps exact sines only (seed 0): step it with soda::step");
-}
 
 } // namespace soda

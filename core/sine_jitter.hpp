@@ -38,10 +38,4 @@ void require_valid_jitter(const SineJitter& jitter, const char* what);
 /// require_valid_jitter for state `index` of a batch stepped by `who` (names both).
 void require_valid_jitter_of(const SineJitter& jitter, const char* who, int index);
 
-/// For the steppers that step exact sines only (for now the fast ones): throws
-/// std::invalid_argument naming `who` and the state (its index in a batch, when
-/// index >= 0) unless jitter.seed == 0, so that a jittered replica is never
-/// stepped silently without its jitter.
-void require_no_jitter(const SineJitter& jitter, const char* who, int index = -1);
-
 } // namespace soda

@@ -195,27 +195,16 @@ std::vector<Evaluation> WalkProblem::rollouts(const std::vector<Rollout>& runs) 
     states.back().jitter = runs[i].jitter;
   }
   if (states.empty()) return results;
-  // Exact states step together in the batch stepper, which equals the reference
-  // step bit for bit for each (tests/test_batch_step.cpp), so fitness depends
-  // neither on which stepper runs nor on which rollouts share a batch. The fast
-  // steppers do not apply sine jitter yet: jittered replicas take the reference
-  // step, which does.
-  std::vector<soda::State*> batched;
-  std::vector<const soda::Model*> batched_models;
-  for (std::size_t k = 0; k < states.size(); ++k) {
-    if (states[k].jitter.seed != 0) continue;
-    batched.push_back(&states[k]);
-    batched_models.push_back(model_ptrs[k]);
-  }
+  // The states step together in the batch stepper, which equals the reference
+  // step bit for bit for each, sine jitter included (tests/test_batch_step.cpp,
+  // tests/test_sine_jitter.cpp), so fitness depends neither on which stepper runs
+  // nor on which rollouts share a batch. Replicas of a creature are one Model
+  // given several times: the batch stepper puts them in lockstep lanes.
+  std::vector<soda::State*> pointers;
+  for (soda::State& s : states) pointers.push_back(&s);
   const long long total = static_cast<long long>(fitness_.settle_frames) + fitness_.frames;
-  std::optional<soda::BatchStepper> stepper;
-  if (!batched.empty()) stepper.emplace(batched_models, total);
-  auto run_all = [&](long long frames) {
-    if (stepper) stepper->run(batched, frames);
-    for (std::size_t k = 0; k < states.size(); ++k) {
-      if (states[k].jitter.seed != 0) soda::run(*model_ptrs[k], states[k], frames);
-    }
-  };
+  soda::BatchStepper stepper(model_ptrs, total);
+  auto run_all = [&](long long frames) { stepper.run(pointers, frames); };
   run_all(fitness_.settle_frames);
   std::vector<soda::Point2> start;
   for (std::size_t k = 0; k < states.size(); ++k) start.push_back(soda::mass_centroid(*model_ptrs[k], states[k]));

@@ -84,11 +84,25 @@ void FusedScene::run(State* const* states, long long frames) {
   const char* who = alone ? "FastStepper::run" : "FusedScene::run";
   require_batch_states(
       states, static_cast<int>(s.creatures.size()), [&](int c) { return s.creatures[c].model->point_count; }, who);
-  // Exact sines only, until the jitter is part of the rows of sines.
+  // Sine jitter is part of the rows of sines (fill_rows): a state whose jitter
+  // is not the one its creature's rows and targets were made with makes them again.
+  bool jitter_changed = false;
   for (std::size_t c = 0; c < s.creatures.size(); ++c) {
-    require_no_jitter(states[c]->jitter, who, alone ? -1 : static_cast<int>(c));
+    const SineJitter& jitter = states[c]->jitter;
+    require_valid_jitter_of(jitter, who, alone ? -1 : static_cast<int>(c));
+    if (!(jitter == s.creatures[c].jitter)) {
+      s.creatures[c].jitter = jitter;
+      jitter_changed = true;
+    }
   }
   if (frames <= 0) return;
+  if (jitter_changed) {
+    s.numbering_valid = false;
+    s.targets_valid = false;
+    s.row_count = 0;
+    s.row_next = 0;
+    s.rows_synced = false;
+  }
   s.load_state(states);
   s.leave_rows(); // the states may be others, or changed since
   KernelChoice k;

@@ -75,6 +75,7 @@ struct SceneData {
     int group_base = 0, groups = 0; ///< its distinct muscle phases in group_phase
     WaveDirection rows_mode = WaveDirection::Forward; ///< the direction its rows assume
     std::uint64_t targets_phase_bits = 0;             ///< the phase its targets are for
+    SineJitter jitter; ///< the sine jitter its rows and targets were made with (run sets it)
   };
   std::vector<Creature> creatures;
   bool any_wave = false, any_gravity = false;
@@ -260,6 +261,7 @@ struct SceneData {
   void leave_rows();
   void update_targets(State* const* st);
   void fill_rows(State* const* st);
+  void jitter_sines(State* const* st, int filled); ///< after the sines of a fill (sine_rows.cpp)
   void number_arguments(State* const* st);
   [[nodiscard]] [[gnu::always_inline]] double advance_phase(int c, const State& st) const;
   [[gnu::always_inline]] void advance_waves(State* const* st);

@@ -97,6 +97,7 @@ void SceneData::fill_rows(State* const* st) {
   const int n = filled * distinct_arguments;
   sine_fn(arguments.data(), argument_sines.data(), n);
   sines_evaluated += n;
+  jitter_sines(st, filled);
   if (sine_rows == group_sines.data()) { // remapped, by group
     for (int r = 0; r < filled; ++r) {
       const double* from = argument_sines.data() + static_cast<std::size_t>(r) * distinct_arguments;
@@ -109,6 +110,23 @@ void SceneData::fill_rows(State* const* st) {
   }
   row_count = rows_per_fill;
   row_next = 0;
+}
+
+// The sines of each wave state whose creatures carry sine jitter, moved as
+// rules::muscle_sine moves them, from the same arguments. Creatures with
+// different jitter never share a wave state (same_wave), so a state's one
+// jitter is its leader's.
+void SceneData::jitter_sines(State* const* st, int filled) {
+  for (int k = 0; k < wave_states; ++k) {
+    const SineJitter& jitter = st[wave_state_leader[k]]->jitter;
+    if (jitter.seed == 0) continue;
+    for (int r = 0; r < filled; ++r) {
+      const std::size_t row = static_cast<std::size_t>(r) * distinct_arguments;
+      for (int d = first_argument_of_state[k]; d < first_argument_of_state[k + 1]; ++d) {
+        argument_sines[row + d] = jittered(argument_sines[row + d], arguments[row + d], jitter);
+      }
+    }
+  }
 }
 
 } // namespace soda::fused

@@ -52,10 +52,12 @@ inline std::size_t SceneData::row_at(int c, int r) const {
   return static_cast<std::size_t>(r) * creatures.size() + static_cast<std::size_t>(wave_state_of[c]);
 }
 /// Whether creatures a and b have their waves in the same state (phase and speed
-/// bit for bit, same direction): the same rows of phases.
+/// bit for bit, same direction) and the same sine jitter: the same rows of phases
+/// and of sines.
 inline bool SceneData::same_wave(State* const* st, int a, int b) const {
   return bits_of(st[a]->wave_phase) == bits_of(st[b]->wave_phase) && st[a]->wave_mode == st[b]->wave_mode &&
-         bits_of(creatures[a].model->wave_speed) == bits_of(creatures[b].model->wave_speed);
+         bits_of(creatures[a].model->wave_speed) == bits_of(creatures[b].model->wave_speed) &&
+         st[a]->jitter == st[b]->jitter;
 }
 /// Ends rows_synced (see there), noting the phases the targets are for.
 inline void SceneData::leave_rows() {
