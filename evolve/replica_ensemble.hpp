@@ -4,8 +4,9 @@
 //
 // Distances are centroid x displacements from frame `settle` to `settle +
 // frames`, frames counted from the state as loaded, as the fitness and `simulate`
-// measure them. The replicas step with the reference step (or the continuous
-// mode), the steppers that apply the jitter.
+// measure them. The replicas step frame by frame with the reference step (or
+// the continuous mode): the horizon compares them after every frame, where the
+// fast steppers' cost of switching states would dominate.
 #pragma once
 
 #include <cstdint>
