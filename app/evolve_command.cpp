@@ -132,20 +132,6 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     const std::string dir = opt.out.empty() ? "results/" + config.name + "-" + timestamp() : opt.out;
     store.emplace(RunStore::create(dir, config, opt.force, command_line));
   }
-  if (store->config().algorithm == AlgorithmKind::MapElites) {
-    if (launcher_rank_count() > 1) {
-      throw soda::InputError("MAP-Elites runs in one process for now (its evaluations are not yet shared over MPI "
-                             "ranks); run it without mpirun");
-    }
-    if (!opt.quiet) {
-      std::cerr << (opt.resume.empty() ? "evolving" : "resuming") << " '" << store->config().name
-                << "' (MAP-Elites) into " << store->dir().string() << "; Ctrl-C stops after the current iteration\n";
-    }
-    std::signal(SIGINT, on_interrupt);
-    evolve_map_elites(*store, opt.threads, opt.quiet, &g_stop_requested);
-    std::signal(SIGINT, SIG_DFL);
-    return;
-  }
   std::unique_ptr<Evaluator> evaluator;
   std::string where;
 #if SODAEVO_HAS_MPI
@@ -162,6 +148,27 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     auto e = std::make_unique<ThreadEvaluator>(opt.threads);
     where = std::to_string(e->threads()) + " thread(s); Ctrl-C";
     evaluator = std::move(e);
+  }
+  if (store->config().algorithm == AlgorithmKind::MapElites) {
+    if (!opt.quiet) {
+      std::cerr << (opt.resume.empty() ? "evolving" : "resuming") << " '" << store->config().name
+                << "' (MAP-Elites) into " << store->dir().string() << " on " << where
+                << " stops after the current iteration\n";
+    }
+    prepare_terminated_message(store->dir().string());
+    std::signal(SIGINT, on_interrupt);
+    std::signal(SIGUSR1, on_polite_stop);
+    std::signal(SIGTERM, on_terminate);
+    try {
+      evolve_map_elites(*store, *evaluator, opt.threads, opt.quiet, &g_stop_requested);
+    } catch (const std::exception& e) {
+      throw std::runtime_error(std::string(e.what()) + "\nThe run stopped; the run folder is intact at its last "
+                               "checkpoint. Continue with:\n  sodaevo evolve --resume " + store->dir().string());
+    }
+    std::signal(SIGTERM, SIG_DFL);
+    std::signal(SIGUSR1, SIG_DFL);
+    std::signal(SIGINT, SIG_DFL);
+    return;
   }
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   if (!opt.quiet) {

@@ -5,9 +5,11 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <optional>
 
 #include "app/archive_report.hpp"
 #include "charts/fixed_text.hpp"
+#include "evolve/archive_check.hpp"
 #include "evolve/map_elites_run.hpp"
 
 namespace sodaevo::app {
@@ -20,7 +22,8 @@ constexpr int kReportEveryIterations = 20;
 
 } // namespace
 
-void evolve_map_elites(const RunStore& store, int threads, bool quiet, const std::atomic<bool>* stop) {
+void evolve_map_elites(const RunStore& store, Evaluator& evaluator, int threads, bool quiet,
+                       const std::atomic<bool>* stop) {
   const RunConfig& config = store.config();
   const MapElitesConfig& me = config.map_elites;
   const bool tty = ::isatty(STDERR_FILENO) != 0;
@@ -36,14 +39,27 @@ void evolve_map_elites(const RunStore& store, int threads, bool quiet, const std
   options.on_iteration = [&](const MapElitesProgress& p) {
     if (quiet) return;
     char line[256];
-    std::snprintf(line, sizeof line, "iteration %d/%d  %lld evaluations  filled %zu of %zu (%.1f %%)  QD-score %s  best %s",
-                  p.iteration, p.iterations, p.evaluations, p.metrics.filled, p.metrics.cells,
+    std::snprintf(line, sizeof line,
+                  "iteration %d/%d  %lld evaluations (%lld replicas)  filled %zu of %zu (%.1f %%)  QD-score %s  best %s",
+                  p.iteration, p.iterations, p.evaluations, p.rollouts, p.metrics.filled, p.metrics.cells,
                   100.0 * p.metrics.coverage, fixed(p.metrics.qd_score, 0).c_str(), fixed(p.metrics.best, 2).c_str());
     if (tty) std::cerr << "\r\033[K" << line << std::flush;
     else if (p.iteration % kReportEveryIterations == 0 || p.iteration == p.iterations) std::cerr << line << '\n';
   };
-  const MapElitesOutcome outcome =
-      run_map_elites(store.dir(), config, me, described_evaluator_on_threads(config, me, threads), options);
+  const MapElitesOutcome outcome = run_map_elites(store.dir(), config, me, evaluator, options);
+  // The corrected archive: every elite again on fresh replicas (RUN/archive_checked.json).
+  std::optional<CheckedArchive> checked;
+  if (me.check_replicas > 0 && outcome.metrics.filled > 0) {
+    if (!quiet) {
+      std::cerr << (tty ? "\n" : "") << "checking " << outcome.metrics.filled << " elites on " << me.check_replicas
+                << " fresh replicas each\n";
+    }
+    try {
+      checked = write_checked_archive(store.dir(), threads);
+    } catch (const std::exception& e) {
+      std::cerr << "\nsodaevo: warning: archive not checked: " << e.what() << '\n';
+    }
+  }
   refresh_report();
   if (!quiet) {
     if (tty) std::cerr << '\n';
@@ -54,8 +70,14 @@ void evolve_map_elites(const RunStore& store, int threads, bool quiet, const std
   std::cout << "run folder   " << store.dir().string() << "\n"
             << "archive      " << m.filled << " of " << m.cells << " cells (" << fixed(100.0 * m.coverage, 1)
             << " %), QD-score " << fixed(m.qd_score, 1) << ", best " << fixed(m.best, 2) << " px, mean elite "
-            << fixed(m.mean, 2) << " px\n"
-            << "report       " << default_archive_report_path(store.dir()).string() << "\n"
+            << fixed(m.mean, 2) << " px\n";
+  if (checked) {
+    const QdMetrics& c = checked->checked;
+    std::cout << "checked      on " << me.check_replicas << " fresh replicas: QD-score " << fixed(c.qd_score, 1)
+              << ", best " << fixed(c.best, 2) << " px, mean elite " << fixed(c.mean, 2)
+              << " px; winner's curse " << fixed(checked->mean_winners_curse, 2) << " px per elite\n";
+  }
+  std::cout << "report       " << default_archive_report_path(store.dir()).string() << "\n"
             << "export with  sodaevo export " << store.dir().string() << " --archive --out DIR\n";
 }
 

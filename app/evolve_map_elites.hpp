@@ -4,12 +4,15 @@
 
 #include <atomic>
 
+#include "evolve/evaluator.hpp"
 #include "evolve/run_store.hpp"
 
 namespace sodaevo::app {
 
-/// Runs (or resumes) the MAP-Elites run of `store` on `threads` threads (0 = all
-/// cores); stops politely when `stop` becomes true. Writes RUN/archive.html.
-void evolve_map_elites(const RunStore& store, int threads, bool quiet, const std::atomic<bool>* stop);
+/// Runs (or resumes) the MAP-Elites run of `store`, evaluating on `evaluator`
+/// (threads or MPI ranks; `threads` as given to --threads, for the checks at the
+/// end); stops politely when `stop` becomes true. Writes RUN/archive.html.
+void evolve_map_elites(const RunStore& store, Evaluator& evaluator, int threads, bool quiet,
+                       const std::atomic<bool>* stop);
 
 } // namespace sodaevo::app

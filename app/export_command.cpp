@@ -9,7 +9,10 @@
 #include "app/commands.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
+#include "evolve/archive_check.hpp"
+#include "evolve/archive_store.hpp"
 #include "evolve/replica_check.hpp"
+#include "evolve/walk_problem.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_reader.hpp"
 #include "formats/atomic_file.hpp"
@@ -30,27 +33,43 @@ struct ExportOptions {
 };
 
 /// Every elite of a MAP-Elites run's archive, as the run wrote it to RUN/elites/
-/// (prepared as evaluated), named by cell, with the archive's index beside them.
-void export_archive(const std::filesystem::path& run, const std::filesystem::path& out) {
+/// (prepared as evaluated), named by cell, with the archive's index beside them,
+/// and champions.json: each elite's estimate against a check on fresh replicas, as
+/// for the GA's champions.
+void export_archive(const std::filesystem::path& run, const ExportOptions& opt) {
   const std::filesystem::path index = run / "archive.json";
   if (!std::filesystem::exists(index)) {
     throw soda::InputError(index.string() + ": missing: --archive needs a MAP-Elites run folder");
   }
-  nlohmann::json archive;
-  try {
-    archive = nlohmann::json::parse(soda::read_whole_file(index));
-    std::printf("cell    id            fitness (px)   file\n");
-    for (const nlohmann::json& cell : archive.at("cells")) {
-      const std::string id = cell.at("id").get<std::string>();
-      const std::filesystem::path file = out / ("cell" + std::to_string(cell.at("cell").get<long long>()) + "_" + id + ".xml");
-      soda::write_model_file(file, soda::read_model_file(run / cell.at("file").get<std::string>()).def);
-      std::printf("%6lld  %-12s  %12.3f   %s\n", cell.at("cell").get<long long>(), id.c_str(),
-                  cell.at("fitness").at("mean").get<double>(), file.string().c_str());
-    }
-  } catch (const nlohmann::json::exception& e) {
-    throw soda::InputError(index.string() + ": not a readable archive: " + e.what());
+  const RunConfig config = read_run_config(run / "config.json");
+  const GridArchive archive = read_run_archive(run, config);
+  const WalkProblem problem(config.fitness, config.world, config.limits);
+  const CheckedArchive checked = check_archive(archive, problem, replica_plan(config), opt.check_replicas,
+                                               opt.threads, config.map_elites.qd_offset);
+  const std::filesystem::path out(opt.out);
+  nlohmann::json champions = nlohmann::json::array();
+  std::printf("cell    id            fitness (px)   replicas   checked median [95 %% interval] (px)   file\n");
+  for (std::size_t i = 0; i < checked.cells.size(); ++i) {
+    const std::size_t cell = checked.cells[i];
+    const ArchiveEntry& e = *archive.elite(cell);
+    const ReplicaCheck& c = checked.checks[i];
+    const std::string name = "cell" + std::to_string(cell) + "_" + e.id + ".xml";
+    soda::ModelDef prepared = soda::read_model_file(run / elite_file(e.id)).def;
+    prepared.comment += "; " + check_comment(c);
+    soda::write_model_file(out / name, prepared);
+    nlohmann::json j = champion_json(c, name, config.fitness.settle_frames, config.fitness.frames);
+    j["cell"] = cell;
+    champions.push_back(std::move(j));
+    std::printf("%6zu  %-12s  %12.3f   %8lld   %10.3f [%.3f, %.3f]%s   %s\n", cell, e.id.c_str(), e.fitness.mean,
+                e.fitness.n, c.check.median, c.check.interval95_low, c.check.interval95_high,
+                c.ok ? "" : " (check failed)", (out / name).string().c_str());
   }
-  soda::write_file_atomically(out / "archive.json", archive.dump(1) + "\n");
+  soda::write_file_atomically(out / "archive.json", soda::read_whole_file(index));
+  soda::write_file_atomically(out / "champions.json", champions.dump(2) + "\n");
+  std::printf("champions.json: each elite's estimate against a check on %d fresh replicas; checked archive: "
+              "QD-score %.1f (run's %.1f), best %.2f px (run's %.2f)\n",
+              opt.check_replicas, checked.checked.qd_score, checked.selection.qd_score, checked.checked.best,
+              checked.selection.best);
 }
 
 void run_export(const ExportOptions& opt) {
@@ -60,7 +79,7 @@ void run_export(const ExportOptions& opt) {
   std::error_code ec;
   std::filesystem::create_directories(opt.out, ec);
   if (ec) throw soda::InputError(opt.out + ": cannot create the folder: " + ec.message());
-  if (opt.archive) return export_archive(run, opt.out);
+  if (opt.archive) return export_archive(run, opt);
   const std::vector<Individual> best = best_individuals(run, opt.best);
   // Each creature again on fresh replicas that selection never saw: what it
   // claims against what it walks (evolve/replica_check.hpp).
@@ -101,7 +120,8 @@ void add_export_command(CLI::App& app) {
   cmd->add_option("--best", opt->best, "How many distinct creatures")->default_val(5)->check(CLI::Range(1, 100000));
   cmd->add_option("--out", opt->out, "Output folder")->required();
   cmd->add_flag("--archive", opt->archive,
-                "A MAP-Elites run: every elite of its archive (DIR/cell<N>_<id>.xml) and DIR/archive.json");
+                "A MAP-Elites run: every elite of its archive (DIR/cell<N>_<id>.xml), DIR/archive.json\n"
+                "and DIR/champions.json (each elite checked on fresh replicas)");
   cmd->add_option("--check-replicas", opt->check_replicas,
                   "Fresh replicas (sine-jitter seeds never used in selection) each exported creature is\n"
                   "re-run on for champions.json and the XML comment: claimed against checked")

@@ -18,8 +18,9 @@ using nlohmann::json;
 namespace {
 
 constexpr const char* kQdHeader =
-    "iteration,evaluations,filled,coverage_percent,qd_score,normalized_qd_score,best,mean_fitness,entered,replaced\n";
-constexpr const char* kCheckpointFormat = "sodaevo-map-elites-checkpoint-1";
+    "iteration,evaluations,filled,coverage_percent,qd_score,normalized_qd_score,best,mean_fitness,entered,replaced,"
+    "rollouts,resampled,evicted\n";
+constexpr const char* kCheckpointFormat = "sodaevo-map-elites-checkpoint-2";
 
 json estimate_to_json(const RunningEstimate& e) { return {{"n", e.n}, {"mean", e.mean}, {"m2", e.m2}}; }
 
@@ -44,6 +45,16 @@ Evaluation elite_evaluation(const ArchiveEntry& e, const RunConfig& config) {
 
 } // namespace
 
+json metrics_to_json(const QdMetrics& m) {
+  return {{"cells", m.cells},
+          {"filled", m.filled},
+          {"coverage", m.coverage},
+          {"qd_score", m.qd_score},
+          {"normalized_qd_score", m.normalized_qd_score},
+          {"best", m.best},
+          {"mean_fitness", m.mean}};
+}
+
 std::string elite_file(const std::string& id) { return "elites/" + id + ".xml"; }
 
 json archive_to_json(const GridArchive& archive, const MapElitesConfig& me, int iteration) {
@@ -55,7 +66,7 @@ json archive_to_json(const GridArchive& archive, const MapElitesConfig& me, int 
   json cells = json::array();
   for (const auto& [cell, e] : archive.elites()) {
     json descriptors = json::array();
-    for (const RunningEstimate& d : e.descriptors) descriptors.push_back(d.mean);
+    for (double d : e.descriptors) descriptors.push_back(d);
     cells.push_back({{"cell", cell},
                      {"bins", archive.coordinates(cell)},
                      {"id", e.id},
@@ -69,25 +80,20 @@ json archive_to_json(const GridArchive& archive, const MapElitesConfig& me, int 
           {"iteration", iteration},
           {"axes", axes},
           {"qd_offset", me.qd_offset},
-          {"metrics",
-           {{"cells", m.cells},
-            {"filled", m.filled},
-            {"coverage", m.coverage},
-            {"qd_score", m.qd_score},
-            {"normalized_qd_score", m.normalized_qd_score},
-            {"best", m.best},
-            {"mean_fitness", m.mean}}},
+          {"metrics", metrics_to_json(m)},
           {"cells", cells}};
 }
 
-void ArchiveStore::record_iteration(int iteration, long long evaluations, const QdMetrics& m,
+void ArchiveStore::record_iteration(int iteration, const ArchiveCheckpoint& totals, const QdMetrics& m,
                                     const InsertionCounts& counts) {
-  const std::string row = std::to_string(iteration) + "," + std::to_string(evaluations) + "," +
+  const std::string row = std::to_string(iteration) + "," + std::to_string(totals.evaluations) + "," +
                           std::to_string(m.filled) + "," + soda::format_double_plain(100.0 * m.coverage) + "," +
                           soda::format_double_plain(m.qd_score) + "," +
                           soda::format_double_plain(m.normalized_qd_score) + "," +
                           soda::format_double_plain(m.best) + "," + soda::format_double_plain(m.mean) + "," +
-                          std::to_string(counts.entered) + "," + std::to_string(counts.replaced) + "\n";
+                          std::to_string(counts.entered) + "," + std::to_string(counts.replaced) + "," +
+                          std::to_string(totals.rollouts) + "," + std::to_string(counts.resampled) + "," +
+                          std::to_string(counts.evicted) + "\n";
   rows_.emplace_back(iteration, row);
   std::string text = kQdHeader;
   for (const auto& [i, r] : rows_) text += r;
@@ -143,16 +149,15 @@ void ArchiveStore::write_checkpoint(const GridArchive& archive, const ArchiveChe
     ind.parents = e.parents;
     ind.creature = e.creature;
     elites.individuals.push_back(std::move(ind));
-    json descriptors = json::array();
-    for (const RunningEstimate& d : e.descriptors) descriptors.push_back(estimate_to_json(d));
     cells.push_back({{"cell", cell},
                      {"iteration", e.iteration},
                      {"distance", e.distance},
                      {"fitness", estimate_to_json(e.fitness)},
-                     {"descriptors", descriptors}});
+                     {"descriptors", e.descriptors}});
   }
   const json j = {{"format", kCheckpointFormat},     {"iteration", c.iteration},
-                  {"evaluations", c.evaluations},    {"wall_seconds", c.wall_seconds},
+                  {"evaluations", c.evaluations},    {"rollouts", c.rollouts},
+                  {"wall_seconds", c.wall_seconds},
                   {"cells", cells},                  {"elites_xml", generation_to_xml(elites)}};
   soda::write_file_atomically(dir_ / "archive_checkpoint.json", j.dump() + "\n");
 }
@@ -169,6 +174,7 @@ std::optional<ArchiveCheckpoint> ArchiveStore::read_checkpoint(GridArchive& arch
     ArchiveCheckpoint c;
     c.iteration = j.at("iteration").get<int>();
     c.evaluations = j.at("evaluations").get<long long>();
+    c.rollouts = j.at("rollouts").get<long long>();
     c.wall_seconds = j.at("wall_seconds").get<double>();
     const Generation elites = generation_from_xml(j.at("elites_xml").get<std::string>(), path.string());
     const json& cells = j.at("cells");
@@ -184,7 +190,7 @@ std::optional<ArchiveCheckpoint> ArchiveStore::read_checkpoint(GridArchive& arch
       e.iteration = cj.at("iteration").get<long long>();
       e.distance = cj.at("distance").get<double>();
       e.fitness = estimate_from_json(cj.at("fitness"));
-      for (const json& d : cj.at("descriptors")) e.descriptors.push_back(estimate_from_json(d));
+      for (const json& d : cj.at("descriptors")) e.descriptors.push_back(d.get<double>());
       const auto cell = cj.at("cell").get<std::size_t>();
       if (cell >= archive.cell_count() || e.descriptors.size() != archive.axes().size()) {
         throw soda::InputError(where + "/cells/" + std::to_string(k) + ": expected a cell of the run's grid");

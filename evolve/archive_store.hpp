@@ -10,7 +10,9 @@
 //                           /map_elites/snapshot_every iterations
 //   qd.csv                  one row per iteration: iteration, evaluations, filled,
 //                           coverage_percent, qd_score, normalized_qd_score, best,
-//                           mean_fitness, entered, replaced
+//                           mean_fitness, entered, replaced, rollouts (cumulative
+//                           replicas simulated), resampled (further estimates this
+//                           iteration), evicted
 //   archive_checkpoint.json everything --resume needs: the iteration, evaluations,
 //                           wall time and every elite with its estimates (doubles
 //                           written to round-trip exactly) and genome
@@ -34,8 +36,12 @@ namespace sodaevo {
 struct ArchiveCheckpoint {
   int iteration = 0;           ///< the last finished iteration (0 = initial population)
   long long evaluations = 0;   ///< cumulative
+  long long rollouts = 0;      ///< cumulative
   double wall_seconds = 0.0;   ///< cumulative
 };
+
+/// QD metrics as archive.json's /metrics holds them.
+nlohmann::json metrics_to_json(const QdMetrics& m);
 
 /// The archive as archive.json holds it (cells in order).
 nlohmann::json archive_to_json(const GridArchive& archive, const MapElitesConfig& me, int iteration);
@@ -48,7 +54,8 @@ class ArchiveStore {
   explicit ArchiveStore(std::filesystem::path dir) : dir_(std::move(dir)) {}
 
   /// Appends the row of an iteration to qd.csv (rewritten whole, atomically).
-  void record_iteration(int iteration, long long evaluations, const QdMetrics& m, const InsertionCounts& counts);
+  void record_iteration(int iteration, const ArchiveCheckpoint& totals, const QdMetrics& m,
+                        const InsertionCounts& counts);
   /// Drops qd.csv rows after `iteration` (resume), keeping the others in memory.
   void truncate_after(int iteration);
   void write_snapshot(const GridArchive& archive, const MapElitesConfig& me, int iteration) const;

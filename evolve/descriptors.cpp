@@ -19,6 +19,8 @@ std::optional<Descriptor> descriptor_from_name(const std::string& name) {
   return static_cast<Descriptor>(it - names.begin());
 }
 
+std::vector<double> behaviour_values(const Behaviour& behaviour) { return {behaviour.begin(), behaviour.end()}; }
+
 DescriptorMeter::DescriptorMeter(const soda::Model& model) : masses_(model.mass_count) {
   int muscles = 0;
   for (std::uint8_t m : model.link_muscle) muscles += m;

@@ -43,6 +43,9 @@ const std::vector<std::string>& descriptor_names();
 std::string descriptor_name(Descriptor d);
 std::optional<Descriptor> descriptor_from_name(const std::string& name);
 
+/// A behaviour as the list Evaluation::descriptors holds (enum order).
+std::vector<double> behaviour_values(const Behaviour& behaviour);
+
 /// Running sums of the descriptors over the samples of one rollout.
 class DescriptorMeter {
  public:

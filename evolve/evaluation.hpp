@@ -9,6 +9,7 @@
 
 #include <limits>
 #include <string>
+#include <vector>
 
 namespace sodaevo {
 
@@ -38,6 +39,11 @@ struct Evaluation {
   /// refined step (evolve/honesty.hpp); 0 when the check is off.
   double honesty_change = 0.0;
   Estimate estimate;
+  /// Behaviour descriptors of the same rollouts, the mean over the estimate's
+  /// rollouts, when the Problem measures them (WalkProblem with a descriptor
+  /// sample interval: every descriptor of evolve/descriptors.hpp, in its order);
+  /// empty otherwise. What MAP-Elites places a creature by.
+  std::vector<double> descriptors;
 
   [[nodiscard]] bool ok() const { return status == EvaluationStatus::Ok; }
 };

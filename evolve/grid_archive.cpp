@@ -6,7 +6,9 @@
 
 namespace sodaevo {
 
-Judgement judge(const RunningEstimate* elite, const RunningEstimate& challenger, long long cap) {
+Judgement judge(const RunningEstimate* elite, const RunningEstimate& challenger, const ResamplePlan& plan,
+                bool confirmed) {
+  const long long cap = plan.cap;
   if (elite == nullptr) return {Verdict::Enter, 0};
   if (challenger.n < elite->n && challenger.n < cap) {
     if (!(challenger.mean > elite->mean)) return {Verdict::Reject, 0};
@@ -15,7 +17,11 @@ Judgement judge(const RunningEstimate* elite, const RunningEstimate& challenger,
   if (elite->n < challenger.n && elite->n < cap) {
     return {Verdict::SampleElite, std::min(challenger.n, cap) - elite->n};
   }
-  return {challenger.mean > elite->mean ? Verdict::Replace : Verdict::Reject, 0};
+  if (!(challenger.mean > elite->mean)) return {Verdict::Reject, 0};
+  if (!confirmed && challenger.n < cap && elite->n < cap) {
+    return {Verdict::SampleBoth, std::min(plan.step, cap - std::max(challenger.n, elite->n))};
+  }
+  return {Verdict::Replace, 0};
 }
 
 GridArchive::GridArchive(std::vector<GridAxis> axes) : axes_(std::move(axes)) {
@@ -46,6 +52,16 @@ std::size_t GridArchive::cell_of(const Behaviour& behaviour) const {
   std::vector<double> values;
   for (const GridAxis& a : axes_) values.push_back(behaviour[static_cast<std::size_t>(a.descriptor)]);
   return cell_of(values);
+}
+
+std::vector<double> GridArchive::axis_values(const std::vector<double>& descriptors) const {
+  std::vector<double> values;
+  for (const GridAxis& a : axes_) {
+    const auto d = static_cast<std::size_t>(a.descriptor);
+    if (d >= descriptors.size()) throw std::invalid_argument("GridArchive::axis_values: descriptor missing");
+    values.push_back(descriptors[d]);
+  }
+  return values;
 }
 
 std::vector<int> GridArchive::coordinates(std::size_t cell) const {

@@ -11,16 +11,19 @@
 // keeps the luckiest draw of each cell is mostly luck (issue 26: the GA's
 // champions claim 9 % more than they walk). So a challenger replaces an elite
 // only when its mean is higher over a comparable number of replicas, and judge()
-// asks for more replicas of one side until the counts are comparable:
+// asks for more replicas until the counts are comparable:
 //   - empty cell: the challenger enters;
 //   - challenger has fewer replicas (and is below the cap): rejected if its mean
 //     is not above the elite's (the elite has had at least as many tries), else
 //     sample the challenger up to the elite's count (capped);
 //   - elite has fewer replicas (and is below the cap): sample the elite up to the
-//     challenger's count (capped); elites gather replicas, so their estimates
-//     sharpen over the run instead of keeping a lucky draw;
-//   - counts equal, or both at the cap: the challenger replaces the elite iff its
-//     mean is strictly higher.
+//     challenger's count (capped);
+//   - counts comparable (equal, or both at the cap): rejected if the challenger's
+//     mean is not strictly higher; else, the first time and below the cap, both
+//     are sampled `step` more replicas (a confirmation: a lead on few replicas is
+//     often luck), and after that the higher mean wins.
+// So elites gather replicas as they are challenged and their estimates sharpen
+// over the run, while a challenger that looks worse costs nothing more.
 // With one replica and cap 1 this is plain MAP-Elites (higher fitness wins).
 // A challenger keeps the cell of its first estimate while it is resampled.
 #pragma once
@@ -52,20 +55,28 @@ struct ArchiveEntry {
   soda::ModelDef creature;          ///< the genome, canonical form
   RunningEstimate fitness;          ///< over its replicas
   double distance = 0.0;            ///< replica 0's (the exact run's) centroid displacement, px
-  std::vector<RunningEstimate> descriptors; ///< one per axis, over the same replicas
+  std::vector<double> descriptors;  ///< one per axis: the mean over the same replicas
   long long iteration = 0;          ///< when it entered the archive
 };
 
-enum class Verdict { Enter, Replace, Reject, SampleChallenger, SampleElite };
+enum class Verdict { Enter, Replace, Reject, SampleChallenger, SampleElite, SampleBoth };
 
 struct Judgement {
   Verdict verdict = Verdict::Reject;
-  long long replicas = 0; ///< replicas to add to one side (the Sample* verdicts only)
+  long long replicas = 0; ///< replicas to add to each side sampled (the Sample* verdicts only)
 };
 
-/// The insertion rule above. `elite` null = empty cell. `cap` >= 1: most replicas
-/// either side is sampled to.
-Judgement judge(const RunningEstimate* elite, const RunningEstimate& challenger, long long cap);
+/// How far the insertion rule samples: at most `cap` >= 1 replicas a side, `step`
+/// >= 1 more each for a confirmation.
+struct ResamplePlan {
+  long long cap = 1;
+  long long step = 1;
+};
+
+/// The insertion rule above. `elite` null = empty cell. `confirmed`: this
+/// challenger and this elite were already sampled once more together.
+Judgement judge(const RunningEstimate* elite, const RunningEstimate& challenger, const ResamplePlan& plan,
+                bool confirmed);
 
 /// Quality-diversity metrics of an archive.
 ///   coverage             filled cells / cells
@@ -101,6 +112,9 @@ class GridArchive {
   [[nodiscard]] std::size_t cell_of(const std::vector<double>& values) const;
   /// The cell of a behaviour (the axes' descriptors picked from it).
   [[nodiscard]] std::size_t cell_of(const Behaviour& behaviour) const;
+  /// The axes' values picked from every descriptor in enum order (an Evaluation's
+  /// descriptors); throws std::invalid_argument if there are too few.
+  [[nodiscard]] std::vector<double> axis_values(const std::vector<double>& descriptors) const;
   /// The bin on each axis of a cell.
   [[nodiscard]] std::vector<int> coordinates(std::size_t cell) const;
 
@@ -108,6 +122,8 @@ class GridArchive {
   [[nodiscard]] ArchiveEntry* elite(std::size_t cell);
   /// Puts `entry` in `cell` (entering or replacing).
   void place(std::size_t cell, ArchiveEntry entry);
+  /// Empties `cell` (an elite that failed on a fresh replica).
+  void remove(std::size_t cell) { elites_.erase(cell); }
   /// Filled cells and their elites, in cell order.
   [[nodiscard]] const std::map<std::size_t, ArchiveEntry>& elites() const { return elites_; }
   [[nodiscard]] std::size_t filled() const { return elites_.size(); }

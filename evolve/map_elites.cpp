@@ -1,5 +1,9 @@
 #include "map_elites.hpp"
 
+#include <deque>
+#include <iterator>
+#include <map>
+#include <set>
 #include <string>
 
 #include "evolve/rng.hpp"
@@ -9,26 +13,32 @@ namespace sodaevo {
 
 namespace {
 
-/// The axes' descriptors of one rollout, added to an entry's estimates.
-void add_rollout(ArchiveEntry& entry, const GridArchive& archive, const DescribedEvaluation& d) {
-  entry.fitness.add(d.evaluation.fitness);
-  for (std::size_t a = 0; a < archive.axes().size(); ++a) {
-    entry.descriptors[a].add(d.behaviour[static_cast<std::size_t>(archive.axes()[a].descriptor)]);
+/// An estimate over `e.estimate.rollouts` replicas added to an entry (the
+/// fitness as its replicas' mean, the descriptors as means weighted by count).
+void add_estimate(ArchiveEntry& entry, const std::vector<double>& axis_values, const Evaluation& e) {
+  const long long before = entry.fitness.n, count = e.estimate.rollouts;
+  entry.fitness.merge(count, e.estimate.mean, e.estimate.sd);
+  if (before == 0) {
+    entry.descriptors = axis_values;
+    return;
+  }
+  for (std::size_t a = 0; a < axis_values.size(); ++a) {
+    entry.descriptors[a] += (axis_values[a] - entry.descriptors[a]) * static_cast<double>(count) /
+                            static_cast<double>(before + count);
   }
 }
 
-/// Adds replicas [n, n + count) to `entry`; false if one of them failed (a
-/// creature that diverges on another machine's sine is no elite).
-bool gather(ArchiveEntry& entry, const GridArchive& archive, long long count, const ReplicaSampler& sample,
-            long long& resampled) {
-  const std::vector<DescribedEvaluation> more = sample(entry.creature, entry.fitness.n, count);
-  resampled += static_cast<long long>(more.size());
-  for (const DescribedEvaluation& d : more) {
-    if (!d.evaluation.ok()) return false;
-    add_rollout(entry, archive, d);
-  }
-  return true;
-}
+/// A challenger waiting for its cell's verdict.
+struct Pending {
+  ArchiveEntry entry;
+  bool confirmed = false; ///< sampled once more together with the elite
+};
+
+/// Which side of a cell's duel a sample request is for.
+struct Asked {
+  std::size_t cell = 0;
+  bool elite = false;
+};
 
 } // namespace
 
@@ -63,46 +73,83 @@ std::vector<Individual> map_elites_children(const RunConfig& config, const MapEl
 }
 
 InsertionCounts insert_challengers(GridArchive& archive, std::vector<Challenger> challengers, int iteration,
-                                   long long cap, const ReplicaSampler& sample) {
+                                   const ResamplePlan& plan, const ReplicaSampler& sample) {
   InsertionCounts counts;
+  // Each cell's challengers in child order. Cells do not interact, so every cell
+  // waiting for replicas asks at once, and the decisions are those of inserting
+  // one challenger after the other.
+  std::map<std::size_t, std::deque<Pending>> queues;
   for (Challenger& c : challengers) {
-    if (!c.first.evaluation.ok()) {
+    if (!c.first.ok() || c.first.estimate.rollouts < 1) {
       ++counts.rejected;
       continue;
     }
-    ArchiveEntry entry;
-    entry.id = c.individual.id;
-    entry.parents = c.individual.parents;
-    entry.creature = std::move(c.individual.creature);
-    entry.iteration = iteration;
-    entry.distance = c.first.evaluation.distance;
-    entry.descriptors.resize(archive.axes().size());
-    add_rollout(entry, archive, c.first);
-    // The cell of the first estimate, kept while the challenger is resampled.
-    const std::size_t cell = archive.cell_of(c.first.behaviour);
-    for (;;) {
-      ArchiveEntry* elite = archive.elite(cell);
-      const Judgement j = judge(elite != nullptr ? &elite->fitness : nullptr, entry.fitness, cap);
-      if (j.verdict == Verdict::Enter || j.verdict == Verdict::Replace) {
-        ++(j.verdict == Verdict::Enter ? counts.entered : counts.replaced);
-        archive.place(cell, std::move(entry));
-        break;
-      }
-      if (j.verdict == Verdict::Reject) {
-        ++counts.rejected;
-        break;
-      }
-      if (j.verdict == Verdict::SampleChallenger) {
-        if (!gather(entry, archive, j.replicas, sample, counts.resampled)) {
-          ++counts.rejected;
-          break;
+    Pending p;
+    p.entry.id = c.individual.id;
+    p.entry.parents = c.individual.parents;
+    p.entry.creature = std::move(c.individual.creature);
+    p.entry.iteration = iteration;
+    p.entry.distance = c.first.distance;
+    const std::vector<double> values = archive.axis_values(c.first.descriptors);
+    add_estimate(p.entry, values, c.first);
+    queues[archive.cell_of(values)].push_back(std::move(p));
+  }
+  while (!queues.empty()) {
+    std::vector<SampleRequest> requests;
+    std::vector<Asked> asked;
+    for (auto it = queues.begin(); it != queues.end();) {
+      const std::size_t cell = it->first;
+      std::deque<Pending>& queue = it->second;
+      while (!queue.empty()) {
+        Pending& head = queue.front();
+        ArchiveEntry* elite = archive.elite(cell);
+        const Judgement j = judge(elite != nullptr ? &elite->fitness : nullptr, head.entry.fitness, plan, head.confirmed);
+        if (j.verdict == Verdict::Enter || j.verdict == Verdict::Replace) {
+          ++(j.verdict == Verdict::Enter ? counts.entered : counts.replaced);
+          archive.place(cell, std::move(head.entry));
+          queue.pop_front();
+          continue;
         }
-      } else if (!gather(*elite, archive, j.replicas, sample, counts.resampled)) {
-        // The elite failed on a fresh replica: the challenger takes the cell.
-        ++counts.replaced;
-        archive.place(cell, std::move(entry));
+        if (j.verdict == Verdict::Reject) {
+          ++counts.rejected;
+          queue.pop_front();
+          continue;
+        }
+        if (j.verdict != Verdict::SampleElite) {
+          requests.push_back({&head.entry.creature, head.entry.fitness.n, j.replicas});
+          asked.push_back({cell, false});
+        }
+        if (j.verdict != Verdict::SampleChallenger) {
+          requests.push_back({&elite->creature, elite->fitness.n, j.replicas});
+          asked.push_back({cell, true});
+        }
+        if (j.verdict == Verdict::SampleBoth) head.confirmed = true;
         break;
       }
+      it = queue.empty() ? queues.erase(it) : std::next(it);
+    }
+    if (requests.empty()) break;
+    const std::vector<Evaluation> more = sample(requests);
+    counts.resampled += static_cast<long long>(requests.size());
+    std::set<std::size_t> failed_challenger, failed_elite;
+    for (std::size_t k = 0; k < requests.size(); ++k) {
+      counts.resampled_rollouts += requests[k].count;
+      const std::size_t cell = asked[k].cell;
+      if (!more[k].ok()) {
+        (asked[k].elite ? failed_elite : failed_challenger).insert(cell);
+        continue;
+      }
+      ArchiveEntry& entry = asked[k].elite ? *archive.elite(cell) : queues.at(cell).front().entry;
+      add_estimate(entry, archive.axis_values(more[k].descriptors), more[k]);
+    }
+    for (std::size_t cell : failed_challenger) {
+      ++counts.rejected;
+      queues.at(cell).pop_front();
+      if (queues.at(cell).empty()) queues.erase(cell);
+    }
+    for (std::size_t cell : failed_elite) {
+      ++counts.evicted;
+      archive.remove(cell);
     }
   }
   return counts;

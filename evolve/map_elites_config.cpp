@@ -27,7 +27,7 @@ std::string join(const std::vector<std::string>& names, const char* separator) {
 const std::vector<std::string>& keys() {
   static const std::vector<std::string> k = {"descriptors", "bins",          "ranges",       "iterations",
                                              "batch_size",  "crossover_rate", "snapshot_every", "sample_every",
-                                             "qd_offset"};
+                                             "qd_offset",   "check_replicas"};
   return k;
 }
 
@@ -51,6 +51,7 @@ class Reader {
     integer(v, "snapshot_every", 0, 1e6, config_.snapshot_every);
     integer(v, "sample_every", 1, 1e6, config_.sample_every);
     number(v, "qd_offset", -1e9, 1e9, config_.qd_offset);
+    integer(v, "check_replicas", 0, 4096, config_.check_replicas);
     read_axes(v);
   }
 
@@ -199,7 +200,7 @@ json to_json(const MapElitesConfig& c) {
           {"ranges", ranges},               {"iterations", c.iterations},
           {"batch_size", c.batch_size},     {"crossover_rate", c.crossover_rate},
           {"snapshot_every", c.snapshot_every}, {"sample_every", c.sample_every},
-          {"qd_offset", c.qd_offset}};
+          {"qd_offset", c.qd_offset},       {"check_replicas", c.check_replicas}};
 }
 
 } // namespace sodaevo

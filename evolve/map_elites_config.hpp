@@ -37,6 +37,9 @@ struct MapElitesConfig {
   int snapshot_every = 10;     ///< /map_elites/snapshot_every [0, 1e6]: archive snapshots (0 = the last only)
   int sample_every = 8;        ///< /map_elites/sample_every [1, 1e6]: scored frames between descriptor samples
   double qd_offset = 0.0;      ///< /map_elites/qd_offset: subtracted from each elite's fitness in the QD-score
+  /// /map_elites/check_replicas [0, 4096]: fresh replicas each elite is checked on
+  /// at the end of a run (RUN/archive_checked.json, evolve/archive_check.hpp); 0 = no check.
+  int check_replicas = 8;
 
   bool operator==(const MapElitesConfig&) const = default;
 };

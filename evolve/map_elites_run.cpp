@@ -3,43 +3,47 @@
 #include <algorithm>
 #include <chrono>
 
-#include "core/batch_step.hpp"
-#include "evolve/evaluator.hpp"
+#include <map>
+#include <utility>
+
 #include "evolve/evolution_run.hpp"
 #include "evolve/genetic_algorithm.hpp"
-#include "evolve/parallel_for.hpp"
 
 namespace sodaevo {
 
-DescribedEvaluator described_evaluator_on_threads(const RunConfig& config, const MapElitesConfig& me, int threads) {
-  threads = resolve_thread_count(threads);
-  return [config, sample_every = me.sample_every, threads](const std::vector<const soda::ModelDef*>& creatures) {
-    std::vector<DescribedEvaluation> results(creatures.size());
-    std::vector<int> links;
-    for (const soda::ModelDef* c : creatures) links.push_back(static_cast<int>(c->links.size()));
-    const std::vector<std::size_t> ends =
-        soda::fused_batch_ends(links, evaluation_batch_size(creatures.size(), threads));
-    parallel_for_index(ends.size(), threads, [&](std::size_t b) {
-      const std::size_t first = b == 0 ? 0 : ends[b - 1], last = ends[b];
-      const std::vector<const soda::ModelDef*> mine(creatures.begin() + static_cast<std::ptrdiff_t>(first),
-                                                    creatures.begin() + static_cast<std::ptrdiff_t>(last));
-      std::vector<DescribedEvaluation> scored = evaluate_described_creatures(mine, config, sample_every);
-      for (std::size_t k = 0; k < scored.size(); ++k) results[first + k] = std::move(scored[k]);
-    });
+WalkProblem map_elites_problem(const RunConfig& config, const MapElitesConfig& me) {
+  return WalkProblem(config.fitness, config.world, config.limits, me.sample_every);
+}
+
+ResamplePlan map_elites_resample_plan(const RunConfig& config) {
+  return {config.fitness.replicas_max, config.fitness.replicas};
+}
+
+ReplicaSampler replica_sampler(Evaluator& evaluator, const WalkProblem& problem, const ReplicaEstimator& estimator) {
+  return [&evaluator, &problem, &estimator](const std::vector<SampleRequest>& requests) {
+    // One Estimator per replica range: its creatures are evaluated together.
+    std::map<std::pair<long long, long long>, std::vector<std::size_t>> groups;
+    for (std::size_t i = 0; i < requests.size(); ++i) groups[{requests[i].first, requests[i].count}].push_back(i);
+    std::vector<Evaluation> results(requests.size());
+    for (const auto& [range, who] : groups) {
+      std::vector<const soda::ModelDef*> creatures;
+      for (std::size_t i : who) creatures.push_back(requests[i].creature);
+      const ReplicaEstimator more =
+          estimator.on_replicas(static_cast<int>(range.first), static_cast<int>(range.second));
+      std::vector<Evaluation> r = evaluator.evaluate(creatures, problem, more);
+      for (std::size_t k = 0; k < who.size(); ++k) results[who[k]] = std::move(r[k]);
+    }
     return results;
   };
 }
 
 namespace {
 
-/// Until replicas differ (the sine jitter of issue 26), every replica is the exact
-/// run, so the archive compares one replica each.
-constexpr long long kReplicaCap = 1;
-
-std::vector<Challenger> evaluate_children(std::vector<Individual> children, const DescribedEvaluator& evaluate) {
+std::vector<Challenger> evaluate_children(std::vector<Individual> children, Evaluator& evaluator,
+                                          const WalkProblem& problem, const ReplicaEstimator& estimator) {
   std::vector<const soda::ModelDef*> creatures;
   for (const Individual& c : children) creatures.push_back(&c.creature);
-  std::vector<DescribedEvaluation> results = evaluate(creatures);
+  std::vector<Evaluation> results = evaluator.evaluate(creatures, problem, estimator);
   std::vector<Challenger> out;
   for (std::size_t i = 0; i < children.size(); ++i) out.push_back({std::move(children[i]), std::move(results[i])});
   return out;
@@ -48,13 +52,24 @@ std::vector<Challenger> evaluate_children(std::vector<Individual> children, cons
 } // namespace
 
 MapElitesOutcome run_map_elites(const std::filesystem::path& dir, const RunConfig& config, const MapElitesConfig& me,
-                                const DescribedEvaluator& evaluate, const MapElitesOptions& options) {
+                                Evaluator& evaluator, const MapElitesOptions& options) {
   using Clock = std::chrono::steady_clock;
   const auto started = Clock::now();
   ArchiveStore store(dir);
   GridArchive archive(me.axes);
-  const ReplicaSampler sample = [&](const soda::ModelDef& creature, long long, long long count) {
-    return evaluate(std::vector<const soda::ModelDef*>(static_cast<std::size_t>(count), &creature));
+  const WalkProblem problem = map_elites_problem(config, me);
+  const ReplicaEstimator estimator(replica_plan(config));
+  const ResamplePlan resample = map_elites_resample_plan(config);
+  const ReplicaSampler sample = replica_sampler(evaluator, problem, estimator);
+  // Evaluates a batch of children and inserts them, counting what it cost.
+  auto evaluate_and_insert = [&](std::vector<Individual> children, int t, ArchiveCheckpoint& s) {
+    std::vector<Challenger> challengers = evaluate_children(std::move(children), evaluator, problem, estimator);
+    s.evaluations += static_cast<long long>(challengers.size());
+    s.rollouts += static_cast<long long>(challengers.size()) * config.fitness.replicas;
+    const InsertionCounts counts = insert_challengers(archive, std::move(challengers), t, resample, sample);
+    s.evaluations += counts.resampled;
+    s.rollouts += counts.resampled_rollouts;
+    return counts;
   };
   MapElitesOutcome outcome;
   ArchiveCheckpoint state;
@@ -62,13 +77,10 @@ MapElitesOutcome run_map_elites(const std::filesystem::path& dir, const RunConfi
     state = *checkpoint;
     store.truncate_after(state.iteration);
   } else {
-    std::vector<Challenger> first = evaluate_children(initial_generation(config, load_seed_creatures(config)).individuals,
-                                                      evaluate);
-    state.evaluations = static_cast<long long>(first.size());
-    const InsertionCounts counts = insert_challengers(archive, std::move(first), 0, kReplicaCap, sample);
-    state.evaluations += counts.resampled;
+    const InsertionCounts counts =
+        evaluate_and_insert(initial_generation(config, load_seed_creatures(config)).individuals, 0, state);
     store.truncate_after(-1);
-    store.record_iteration(0, state.evaluations, archive.metrics(me.qd_offset), counts);
+    store.record_iteration(0, state, archive.metrics(me.qd_offset), counts);
     store.write_snapshot(archive, me, 0);
     store.write_checkpoint(archive, state);
   }
@@ -90,24 +102,22 @@ MapElitesOutcome run_map_elites(const std::filesystem::path& dir, const RunConfi
       outcome.stopped_because = stop;
       outcome.last_iteration = state.iteration;
       outcome.evaluations = state.evaluations;
+      outcome.rollouts = state.rollouts;
       outcome.metrics = archive.metrics(me.qd_offset);
       return outcome;
     }
     const int t = state.iteration + 1;
-    std::vector<Challenger> challengers = evaluate_children(map_elites_children(config, me, archive, t), evaluate);
-    state.evaluations += static_cast<long long>(challengers.size());
-    const InsertionCounts counts = insert_challengers(archive, std::move(challengers), t, kReplicaCap, sample);
-    state.evaluations += counts.resampled;
+    const InsertionCounts counts = evaluate_and_insert(map_elites_children(config, me, archive, t), t, state);
     state.iteration = t;
     const QdMetrics metrics = archive.metrics(me.qd_offset);
-    store.record_iteration(t, state.evaluations, metrics, counts);
+    store.record_iteration(t, state, metrics, counts);
     if (me.snapshot_every > 0 && t % me.snapshot_every == 0) store.write_snapshot(archive, me, t);
     if (t % config.save.checkpoint_every == 0) {
       state.wall_seconds = wall();
       store.write_checkpoint(archive, state);
     }
     if (options.on_iteration) {
-      options.on_iteration({t, me.iterations, state.evaluations, metrics, counts, wall()});
+      options.on_iteration({t, me.iterations, state.evaluations, state.rollouts, metrics, counts, wall()});
     }
   }
 }

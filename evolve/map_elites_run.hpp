@@ -1,6 +1,9 @@
 // run_map_elites: the MAP-Elites loop (evolve/map_elites.hpp) with its run folder
 // (evolve/archive_store.hpp), budgets, checkpoints, resume and a polite stop, as
-// run_evolution is for the GA.
+// run_evolution is for the GA. It evaluates through the roles: the run's
+// WalkProblem measuring descriptors, its ReplicaEstimator (/fitness/replicas for a
+// new creature, more as the insertion rule asks, up to /fitness/replicas_max), and
+// the Evaluator it is given (threads, or MPI ranks).
 #pragma once
 
 #include <atomic>
@@ -10,23 +13,31 @@
 #include <vector>
 
 #include "evolve/archive_store.hpp"
+#include "evolve/evaluator.hpp"
 #include "evolve/map_elites.hpp"
+#include "evolve/replica_estimator.hpp"
+#include "evolve/walk_problem.hpp"
 
 namespace sodaevo {
 
-/// Evaluates creatures with their descriptors; result i belongs to creatures[i]
-/// and does not depend on which others are in the call.
-using DescribedEvaluator =
-    std::function<std::vector<DescribedEvaluation>(const std::vector<const soda::ModelDef*>& creatures)>;
+/// The problem MAP-Elites scores: the run's, measuring descriptors every
+/// /map_elites/sample_every scored frames.
+WalkProblem map_elites_problem(const RunConfig& config, const MapElitesConfig& me);
 
-/// evaluate_described_creatures on `threads` threads (0 = all cores), in batches
-/// stepped together as the GA's evaluations are.
-DescribedEvaluator described_evaluator_on_threads(const RunConfig& config, const MapElitesConfig& me, int threads);
+/// How insertion samples under the run's /fitness: new creatures on
+/// /fitness/replicas, at most /fitness/replicas_max a side, /fitness/replicas more
+/// for a confirmation.
+ResamplePlan map_elites_resample_plan(const RunConfig& config);
+
+/// The sampler insertion asks for further replicas: requests grouped by their
+/// replica range, each group one call of `evaluator`.
+ReplicaSampler replica_sampler(Evaluator& evaluator, const WalkProblem& problem, const ReplicaEstimator& estimator);
 
 struct MapElitesProgress {
   int iteration = 0;
   int iterations = 0;        ///< planned
   long long evaluations = 0; ///< cumulative
+  long long rollouts = 0;    ///< cumulative
   QdMetrics metrics;
   InsertionCounts counts;
   double wall_seconds = 0.0;
@@ -41,6 +52,7 @@ struct MapElitesOptions {
 struct MapElitesOutcome {
   int last_iteration = -1;
   long long evaluations = 0;
+  long long rollouts = 0;
   std::string stopped_because; ///< "completed", "evaluation budget", "wall-time budget", "interrupted"
   QdMetrics metrics;
 };
@@ -48,6 +60,6 @@ struct MapElitesOutcome {
 /// Runs MAP-Elites in the run folder `dir` (made by RunStore::create), or resumes
 /// it from its archive checkpoint.
 MapElitesOutcome run_map_elites(const std::filesystem::path& dir, const RunConfig& config, const MapElitesConfig& me,
-                                const DescribedEvaluator& evaluate, const MapElitesOptions& options);
+                                Evaluator& evaluator, const MapElitesOptions& options);
 
 } // namespace sodaevo

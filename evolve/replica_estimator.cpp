@@ -19,6 +19,18 @@ std::uint64_t mix64(std::uint64_t z) {
   return z ^ (z >> 31);
 }
 
+/// The mean of each descriptor over runs[first, first + count), summed in replica
+/// order (empty unless every run has the same number of them).
+std::vector<double> mean_descriptors(const std::vector<Evaluation>& runs, std::size_t first, std::size_t count) {
+  std::vector<double> mean(runs[first].descriptors.size(), 0.0);
+  for (std::size_t r = first; r < first + count; ++r) {
+    if (runs[r].descriptors.size() != mean.size()) return {};
+    for (std::size_t d = 0; d < mean.size(); ++d) mean[d] += runs[r].descriptors[d];
+  }
+  for (double& m : mean) m /= static_cast<double>(count);
+  return mean;
+}
+
 } // namespace
 
 std::uint64_t creature_key(const soda::ModelDef& creature) {
@@ -83,7 +95,7 @@ std::vector<Evaluation> ReplicaEstimator::estimate(const Problem& problem,
   runs.reserve(prepared.size() * static_cast<std::size_t>(k));
   for (std::size_t j = 0; j < prepared.size(); ++j) {
     const std::uint64_t key = creature_key(*creatures[index[j]]);
-    for (int r = 0; r < k; ++r) {
+    for (int r = plan_.first_replica; r < plan_.first_replica + k; ++r) {
       runs.emplace_back(&prepared[j], soda::SineJitter{replica_seed(plan_.run_seed, ReplicaPurpose::Selection, key, r),
                                                        plan_.jitter});
     }
@@ -103,7 +115,10 @@ std::vector<Evaluation> ReplicaEstimator::estimate(const Problem& problem,
       const Evaluation& run = scored[first + static_cast<std::size_t>(r)];
       if (!run.ok()) {
         e = run;
-        if (k > 1) e.reason = "replica " + std::to_string(r) + " of " + std::to_string(k) + ": " + e.reason;
+        if (k > 1 || plan_.first_replica > 0) {
+          e.reason = "replica " + std::to_string(plan_.first_replica + r) + " of " +
+                     std::to_string(plan_.first_replica + k) + ": " + e.reason;
+        }
         break;
       }
       scores.push_back(run.fitness);
@@ -113,6 +128,7 @@ std::vector<Evaluation> ReplicaEstimator::estimate(const Problem& problem,
     const SampleSummary s = summarize_sample(scores);
     e.fitness = replica_statistic(scores, plan_.statistic);
     e.estimate = {s.n, s.mean, s.sd, s.median};
+    e.descriptors = mean_descriptors(scored, first, static_cast<std::size_t>(k));
   }
   return results;
 }
@@ -129,9 +145,18 @@ std::unique_ptr<Estimator> ReplicaEstimator::with_rollouts(int rollouts) const {
   return std::make_unique<ReplicaEstimator>(p);
 }
 
+ReplicaEstimator ReplicaEstimator::on_replicas(int first, int count) const {
+  ReplicaPlan p = plan_;
+  p.first_replica = first;
+  p.replicas = count;
+  p.replicas_max = std::max(p.replicas_max, count);
+  return ReplicaEstimator(p);
+}
+
 void ReplicaEstimator::write(WireWriter& out) const {
   out.text(kind());
   out.i32(plan_.replicas);
+  out.i32(plan_.first_replica);
   out.i32(plan_.replicas_max);
   out.u8(static_cast<std::uint8_t>(plan_.statistic));
   out.f64(plan_.jitter);
@@ -141,11 +166,12 @@ void ReplicaEstimator::write(WireWriter& out) const {
 ReplicaEstimator ReplicaEstimator::read_fields(WireReader& in) {
   ReplicaPlan p;
   p.replicas = in.i32();
+  p.first_replica = in.i32();
   p.replicas_max = in.i32();
   const int statistic = in.u8();
   p.jitter = in.f64();
   p.run_seed = in.u64();
-  if (p.replicas < 1 || p.replicas_max < p.replicas || statistic > 2 || !(p.jitter >= 0.0 && p.jitter <= 1.0)) {
+  if (p.replicas < 1 || p.first_replica < 0 || p.replicas_max < p.replicas || statistic > 2 || !(p.jitter >= 0.0 && p.jitter <= 1.0)) {
     throw WireError("replica estimator: bad settings");
   }
   p.statistic = static_cast<EstimateStatistic>(statistic);

@@ -46,6 +46,10 @@ std::uint64_t replica_seed(std::uint64_t run_seed, ReplicaPurpose purpose, std::
 /// The estimator's settings (keys under /fitness, see configs/README.md).
 struct ReplicaPlan {
   int replicas = 8;        ///< per new creature
+  /// The first replica's index: an estimate is on replicas [first_replica,
+  /// first_replica + replicas). MAP-Elites adds replicas to an estimate this way
+  /// (evolve/map_elites.hpp); 0 everywhere else.
+  int first_replica = 0;
   int replicas_max = 32;   ///< cap of adaptive resampling
   EstimateStatistic statistic = EstimateStatistic::Mean;
   double jitter = 0.002;   ///< probability of a +-1 ulp sine in a jittered replica
@@ -67,15 +71,18 @@ class ReplicaEstimator final : public Estimator {
 
   [[nodiscard]] const ReplicaPlan& plan() const { return plan_; }
   [[nodiscard]] std::string kind() const override { return "replicas"; }
-  /// plan.replicas rollouts of each creature. Any replica that diverges makes the
-  /// creature Diverged (the reason names the replica). Ok: fitness = the
-  /// statistic of the replicas' fitness, estimate = their count, mean, sd and
-  /// median; distance and px_per_frame are replica 0's (the exact run, which
-  /// `simulate` of the exported creature gives).
+  /// plan.replicas rollouts of each creature (from replica plan.first_replica).
+  /// Any replica that diverges makes the creature Diverged (the reason names the
+  /// replica). Ok: fitness = the statistic of the replicas' fitness, estimate =
+  /// their count, mean, sd and median, descriptors = their mean (when the Problem
+  /// measures them); distance and px_per_frame are the first replica's (replica 0:
+  /// the exact run, which `simulate` of the exported creature gives).
   [[nodiscard]] std::vector<Evaluation> estimate(const Problem& problem,
                                                  const std::vector<const soda::ModelDef*>& creatures) const override;
   [[nodiscard]] int resample_to(const Evaluation& kept) const override;
   [[nodiscard]] std::unique_ptr<Estimator> with_rollouts(int rollouts) const override;
+  /// This estimator on replicas [first, first + count) (count >= 1).
+  [[nodiscard]] ReplicaEstimator on_replicas(int first, int count) const;
   void write(WireWriter& out) const override;
   /// The fields `write` wrote after the kind tag.
   static ReplicaEstimator read_fields(WireReader& in);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <exception>
+#include <stdexcept>
 
 #include "core/batch_step.hpp"
 #include "core/divergence.hpp"
@@ -12,6 +13,7 @@
 #include "core/step.hpp"
 #include "core/number_text.hpp"
 #include "evolve/creature_limits.hpp"
+#include "evolve/descriptors.hpp"
 #include "evolve/honesty.hpp"
 #include "evolve/wire_format.hpp"
 
@@ -31,10 +33,15 @@ std::optional<double> sodarace_scale(const soda::ModelDef& c) {
   return 211.0 / std::sqrt(sum);
 }
 
-WalkProblem::WalkProblem(const FitnessConfig& fitness, const WorldConfig& world, const LimitsConfig& limits)
-    : fitness_(fitness), world_(world), limits_(limits) {}
+WalkProblem::WalkProblem(const FitnessConfig& fitness, const WorldConfig& world, const LimitsConfig& limits,
+                         long long describe_every)
+    : fitness_(fitness), world_(world), limits_(limits), describe_every_(describe_every) {
+  if (describe_every_ < 0) throw std::invalid_argument("WalkProblem: negative descriptor sample interval");
+}
 
-WalkProblem::WalkProblem(const RunConfig& config) : WalkProblem(config.fitness, config.world, config.limits) {}
+WalkProblem::WalkProblem(const RunConfig& config)
+    : WalkProblem(config.fitness, config.world, config.limits,
+                  config.algorithm == AlgorithmKind::MapElites ? config.map_elites.sample_every : 0) {}
 
 namespace {
 
@@ -208,9 +215,24 @@ std::vector<Evaluation> WalkProblem::rollouts(const std::vector<Rollout>& runs) 
   run_all(fitness_.settle_frames);
   std::vector<soda::Point2> start;
   for (std::size_t k = 0; k < states.size(); ++k) start.push_back(soda::mass_centroid(*model_ptrs[k], states[k]));
-  run_all(fitness_.frames);
+  // Descriptors sampled between chunks of frames: chunks give the bits of one long
+  // run (BatchStepper::run steps frame by frame), so the score is the same.
+  std::vector<DescriptorMeter> meters;
+  if (describe_every_ > 0) {
+    for (const soda::Model* m : model_ptrs) meters.emplace_back(*m);
+    for (long long done = 0; done < fitness_.frames;) {
+      const long long n = std::min(describe_every_, fitness_.frames - done);
+      run_all(n);
+      done += n;
+      for (std::size_t k = 0; k < states.size(); ++k) meters[k].observe(states[k]);
+    }
+  } else {
+    run_all(fitness_.frames);
+  }
   for (std::size_t k = 0; k < states.size(); ++k) {
-    results[index[k]] = score_run(*model_ptrs[k], states[k], start[k], fitness_);
+    Evaluation& e = results[index[k]];
+    e = score_run(*model_ptrs[k], states[k], start[k], fitness_);
+    if (e.ok() && !meters.empty()) e.descriptors = behaviour_values(meters[k].behaviour());
   }
   return results;
 }
@@ -235,10 +257,14 @@ Evaluation WalkProblem::rollout_with(const soda::ModelDef& prepared, const soda:
   soda::DivergenceMonitor monitor(model, state, {}, energy);
   const long long total = fitness_.settle_frames + fitness_.frames;
   soda::Point2 start = soda::mass_centroid(model, state);
+  std::optional<DescriptorMeter> meter;
+  if (describe_every_ > 0) meter.emplace(model);
+  long long next_sample = fitness_.settle_frames + describe_every_;
   for (long long done = 0; done < total;) {
     if (done == fitness_.settle_frames) start = soda::mass_centroid(model, state);
     long long n = energy ? 1 : kFiniteCheckInterval;
     if (done < fitness_.settle_frames) n = std::min(n, fitness_.settle_frames - done);
+    else if (meter) n = std::min(n, next_sample - done);
     n = std::min(n, total - done);
     stepper.run(state, n);
     done += n;
@@ -247,8 +273,14 @@ Evaluation WalkProblem::rollout_with(const soda::ModelDef& prepared, const soda:
       e.reason = monitor.result().reason + " (by frame " + std::to_string(monitor.result().frame) + ")";
       return e;
     }
+    if (meter && done > fitness_.settle_frames && (done == next_sample || done == total)) {
+      meter->observe(state);
+      next_sample += describe_every_;
+    }
   }
-  return score_distance(start, soda::mass_centroid(model, state), fitness_);
+  e = score_distance(start, soda::mass_centroid(model, state), fitness_);
+  if (meter) e.descriptors = behaviour_values(meter->behaviour());
+  return e;
 }
 
 Evaluation WalkProblem::watched_rollout(const Rollout& run) const {
@@ -300,9 +332,12 @@ void WalkProblem::write(WireWriter& out) const {
   out.i32(limits_.min_masses);
   out.i32(limits_.max_masses);
   out.i32(limits_.max_links);
+  out.u64(static_cast<std::uint64_t>(describe_every_));
 }
 
 namespace {
+
+constexpr std::uint64_t kMaxDescribeEvery = 1000000000;
 
 template <typename Enum>
 Enum enum_field(int v, int lo, int hi, const char* what) {
@@ -346,7 +381,9 @@ WalkProblem WalkProblem::read_fields(WireReader& in) {
   l.min_masses = in.i32();
   l.max_masses = in.i32();
   l.max_links = in.i32();
-  return WalkProblem(f, w, l);
+  const std::uint64_t describe_every = in.u64();
+  if (describe_every > kMaxDescribeEvery) throw WireError("walk problem: bad descriptor sample interval");
+  return WalkProblem(f, w, l, static_cast<long long>(describe_every));
 }
 
 } // namespace sodaevo

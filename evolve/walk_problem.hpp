@@ -8,7 +8,9 @@
 // mass `drop_height` above the floor, wave forward, autoreverse off. The prepared model is
 // exactly what `export` writes, so the original program runs it the same way. A rollout settles
 // it for `settle_frames` and scores the centroid's displacement over the next `frames` frames
-// in the configured direction.
+// in the configured direction. With a descriptor sample interval (MAP-Elites), the same
+// rollout also measures the behaviour descriptors of evolve/descriptors.hpp over the scored
+// frames (Evaluation::descriptors); the fitness bits do not depend on it.
 #pragma once
 
 #include <optional>
@@ -26,13 +28,18 @@ std::optional<double> sodarace_scale(const soda::ModelDef& creature);
 
 class WalkProblem final : public Problem {
  public:
-  WalkProblem(const FitnessConfig& fitness, const WorldConfig& world, const LimitsConfig& limits);
-  /// The run's problem: its /fitness, /world and /limits.
+  /// `describe_every` > 0: measure the descriptors every that many scored frames
+  /// (and after the last one); 0: no descriptors.
+  WalkProblem(const FitnessConfig& fitness, const WorldConfig& world, const LimitsConfig& limits,
+              long long describe_every = 0);
+  /// The run's problem: its /fitness, /world and /limits; with /algorithm
+  /// "map-elites" it measures descriptors every /map_elites/sample_every frames.
   explicit WalkProblem(const RunConfig& config);
 
   [[nodiscard]] const FitnessConfig& fitness() const { return fitness_; }
   [[nodiscard]] const WorldConfig& world() const { return world_; }
   [[nodiscard]] const LimitsConfig& limits() const { return limits_; }
+  [[nodiscard]] long long describe_every() const { return describe_every_; }
 
   [[nodiscard]] std::string kind() const override { return "walk"; }
   [[nodiscard]] soda::ModelDef prepare(const soda::ModelDef& creature) const override;
@@ -61,6 +68,7 @@ class WalkProblem final : public Problem {
   FitnessConfig fitness_;
   WorldConfig world_;
   LimitsConfig limits_;
+  long long describe_every_ = 0;
 };
 
 } // namespace sodaevo

@@ -67,6 +67,8 @@ void WireWriter::evaluation(const Evaluation& e) {
   f64(e.estimate.mean);
   f64(e.estimate.sd);
   f64(e.estimate.median);
+  u32(static_cast<std::uint32_t>(e.descriptors.size()));
+  for (double d : e.descriptors) f64(d);
 }
 
 const char* WireReader::need(std::size_t n) {
@@ -176,6 +178,12 @@ Evaluation WireReader::evaluation() {
   e.estimate.mean = f64();
   e.estimate.sd = f64();
   e.estimate.median = f64();
+  const std::uint32_t descriptors = u32();
+  if (descriptors > kMaxWireDescriptors) {
+    throw WireError("evaluation: " + std::to_string(descriptors) + " descriptors, expected at most " +
+                    std::to_string(kMaxWireDescriptors));
+  }
+  for (std::uint32_t k = 0; k < descriptors; ++k) e.descriptors.push_back(f64());
   return e;
 }
 

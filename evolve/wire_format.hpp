@@ -25,6 +25,10 @@ class WireError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Most descriptors an evaluation may carry (a damaged count is refused before
+/// any allocation).
+inline constexpr std::uint32_t kMaxWireDescriptors = 64;
+
 /// Appends values to a byte buffer.
 class WireWriter {
  public:

@@ -2,16 +2,22 @@
 // rules, QD metrics, and the /map_elites config.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
+#include "bench/qd_bench.hpp"
 #include "core/input_error.hpp"
 #include "core/model.hpp"
 #include "core/step.hpp"
-#include "evolve/described_evaluation.hpp"
+#include "evolve/archive_check.hpp"
+#include "evolve/replica_estimator.hpp"
+#include "evolve/run_store.hpp"
 #include "evolve/grid_archive.hpp"
 #include "evolve/map_elites_config.hpp"
 #include "evolve/map_elites_run.hpp"
@@ -60,39 +66,108 @@ TEST_CASE("descriptor meter: hand-computed extents, centroid height and floor co
   CHECK(meter.samples() == 2);
 }
 
-TEST_CASE("described evaluation: the fitness of evaluate_prepared_batch, descriptors sampled on the reference run",
+TEST_CASE("walk problem with descriptors: the fitness bits of the plain rollout, descriptors sampled on the reference run",
           "[map-elites]") {
   RunConfig config = test::walker_run_config("d", 1, 4, 1, 300, 40);
   const soda::ModelDef walker = soda::read_model_file(test::models_dir() / "dainty_walker.xml").def;
-  const WalkProblem problem(config);
-  const soda::ModelDef prepared = problem.prepare(walker);
   const long long every = 7; // 300 = 42 * 7 + 6: the last sample comes after a shorter chunk
-  const std::vector<DescribedEvaluation> described =
-      evaluate_described_batch({&prepared, &prepared}, config.fitness, every);
-  const Evaluation plain = problem.rollouts({&prepared}).front();
+  const WalkProblem plain_problem(config.fitness, config.world, config.limits);
+  const WalkProblem problem(config.fitness, config.world, config.limits, every);
+  const soda::ModelDef prepared = problem.prepare(walker);
+  const soda::SineJitter jitter{replica_seed(1, ReplicaPurpose::Selection, 99, 1), 0.05};
+  const std::vector<Evaluation> described = problem.rollouts({&prepared, Rollout(&prepared, jitter)});
+  const std::vector<Evaluation> plain = plain_problem.rollouts({&prepared, Rollout(&prepared, jitter)});
   REQUIRE(described.size() == 2);
-  REQUIRE(described[0].evaluation.ok());
-  CHECK(test::same_bits(described[0].evaluation.fitness, plain.fitness));
-  CHECK(test::same_bits(described[1].evaluation.distance, plain.distance));
+  REQUIRE(described[0].ok());
+  REQUIRE(described[1].ok());
+  CHECK(plain[0].descriptors.empty());
+  for (std::size_t k = 0; k < 2; ++k) {
+    CHECK(test::same_bits(described[k].fitness, plain[k].fitness));
+    CHECK(test::same_bits(described[k].distance, plain[k].distance));
+    REQUIRE(described[k].descriptors.size() == kDescriptorCount);
+  }
 
   // The reference stepper, one frame at a time, sampled at scored frames 7, 14, ..., 294, 300.
   const soda::Model model = soda::build_model(prepared);
-  soda::State state = soda::make_state(model);
-  soda::run(model, state, config.fitness.settle_frames);
-  DescriptorMeter meter(model);
-  for (long long f = 1; f <= config.fitness.frames; ++f) {
-    soda::step(model, state);
-    if (f % every == 0 || f == config.fitness.frames) meter.observe(state);
-  }
-  CHECK(meter.samples() == 43);
-  for (std::size_t d = 0; d < kDescriptorCount; ++d) {
-    INFO(descriptor_names()[d]);
-    CHECK(test::same_bits(described[0].behaviour[d], meter.behaviour()[d]));
+  for (std::size_t k = 0; k < 2; ++k) {
+    soda::State state = soda::make_state(model);
+    state.jitter = k == 0 ? soda::SineJitter{} : jitter;
+    soda::run(model, state, config.fitness.settle_frames);
+    DescriptorMeter meter(model);
+    for (long long f = 1; f <= config.fitness.frames; ++f) {
+      soda::step(model, state);
+      if (f % every == 0 || f == config.fitness.frames) meter.observe(state);
+    }
+    CHECK(meter.samples() == 43);
+    for (std::size_t d = 0; d < kDescriptorCount; ++d) {
+      INFO("replica " << k << " " << descriptor_names()[d]);
+      CHECK(test::same_bits(described[k].descriptors[d], meter.behaviour()[d]));
+    }
   }
   // The walker keeps its masses, stays on its feet and is wider than tall.
-  CHECK(at(described[0].behaviour, Descriptor::MassCount) == static_cast<double>(walker.nodes.size()));
-  CHECK(at(described[0].behaviour, Descriptor::FloorContact) == 1.0);
-  CHECK(at(described[0].behaviour, Descriptor::Width) > at(described[0].behaviour, Descriptor::Height));
+  const std::vector<double>& b = described[0].descriptors;
+  CHECK(b[static_cast<std::size_t>(Descriptor::MassCount)] == static_cast<double>(walker.nodes.size()));
+  CHECK(b[static_cast<std::size_t>(Descriptor::FloorContact)] == 1.0);
+  CHECK(b[static_cast<std::size_t>(Descriptor::Width)] > b[static_cast<std::size_t>(Descriptor::Height)]);
+
+  // The watched rollout (energy check: one frame at a time) samples the same frames.
+  FitnessConfig watched = config.fitness;
+  watched.divergence = DivergenceCheck::Energy;
+  const Evaluation w = WalkProblem(watched, config.world, config.limits, every).rollouts({&prepared}).front();
+  REQUIRE(w.ok());
+  CHECK(test::same_bits(w.distance, described[0].distance));
+  REQUIRE(w.descriptors.size() == kDescriptorCount);
+  for (std::size_t d = 0; d < kDescriptorCount; ++d) CHECK(test::same_bits(w.descriptors[d], b[d]));
+}
+
+TEST_CASE("replica estimator: descriptors are the replicas' means; a replica range extends the first replicas",
+          "[map-elites]") {
+  RunConfig config = test::walker_run_config("d", 3, 4, 1, 300, 40);
+  const soda::ModelDef walker = soda::read_model_file(test::models_dir() / "dainty_walker.xml").def;
+  const WalkProblem problem(config.fitness, config.world, config.limits, 10);
+  ReplicaPlan plan;
+  plan.replicas = 4;
+  plan.replicas_max = 8;
+  plan.jitter = 0.05; // replicas that part early
+  plan.run_seed = 3;
+  const ReplicaEstimator estimator(plan);
+  const Evaluation all = estimator.estimate(problem, {&walker}).front();
+  REQUIRE(all.ok());
+  REQUIRE(all.estimate.rollouts == 4);
+
+  // The same replicas one by one, as rollouts of the prepared walker with their seeds.
+  const soda::ModelDef prepared = problem.prepare(walker);
+  const std::uint64_t key = creature_key(walker);
+  std::vector<Evaluation> runs;
+  for (int r = 0; r < 4; ++r) {
+    runs.push_back(
+        problem.rollouts({Rollout(&prepared, {replica_seed(3, ReplicaPurpose::Selection, key, r), 0.05})}).front());
+    REQUIRE(runs.back().ok());
+  }
+  CHECK(test::same_bits(all.distance, runs[0].distance)); // replica 0, the exact run
+  CHECK((runs[1].fitness != runs[0].fitness || runs[2].fitness != runs[0].fitness)); // the replicas do differ
+  for (std::size_t d = 0; d < kDescriptorCount; ++d) {
+    double sum = 0.0;
+    for (const Evaluation& e : runs) sum += e.descriptors[d];
+    CHECK(test::same_bits(all.descriptors[d], sum / 4.0));
+  }
+  CHECK(all.estimate.mean == Approx((runs[0].fitness + runs[1].fitness + runs[2].fitness + runs[3].fitness) / 4));
+
+  // Replicas [2, 4) alone: replicas 2 and 3 of the estimate above.
+  const Evaluation later = estimator.on_replicas(2, 2).estimate(problem, {&walker}).front();
+  REQUIRE(later.ok());
+  CHECK(later.estimate.rollouts == 2);
+  CHECK(test::same_bits(later.distance, runs[2].distance));
+  CHECK(later.estimate.mean == Approx((runs[2].fitness + runs[3].fitness) / 2));
+  // Merged with replicas [0, 2), the archive's running estimate is the estimate of [0, 4).
+  const Evaluation earlier = estimator.on_replicas(0, 2).estimate(problem, {&walker}).front();
+  RunningEstimate merged;
+  merged.merge(earlier.estimate.rollouts, earlier.estimate.mean, earlier.estimate.sd);
+  CHECK(test::same_bits(merged.mean, earlier.estimate.mean)); // the first batch exactly
+  merged.merge(later.estimate.rollouts, later.estimate.mean, later.estimate.sd);
+  CHECK(merged.n == 4);
+  CHECK(merged.mean == Approx(all.estimate.mean).epsilon(1e-12));
+  CHECK(merged.sd() == Approx(all.estimate.sd).epsilon(1e-9));
 }
 
 TEST_CASE("grid archive: cells are row-major, values outside a range clamp to the edge bins", "[map-elites]") {
@@ -120,43 +195,158 @@ TEST_CASE("grid archive: cells are row-major, values outside a range clamp to th
   CHECK(archive.cell_of(b) == 38);
 }
 
-TEST_CASE("insertion rule: an empty cell takes the challenger; equal counts compare means", "[map-elites]") {
-  CHECK(judge(nullptr, estimate(1, -50.0), 8).verdict == Verdict::Enter);
+TEST_CASE("insertion rule: an empty cell takes the challenger; a lead at equal counts is confirmed first",
+          "[map-elites]") {
+  const ResamplePlan plan{8, 4};
+  CHECK(judge(nullptr, estimate(1, -50.0), plan, false).verdict == Verdict::Enter);
   const RunningEstimate elite = estimate(4, 100.0);
-  CHECK(judge(&elite, estimate(4, 100.5), 8).verdict == Verdict::Replace);
-  CHECK(judge(&elite, estimate(4, 100.0), 8).verdict == Verdict::Reject); // a tie keeps the elite
-  CHECK(judge(&elite, estimate(4, 99.0), 8).verdict == Verdict::Reject);
+  // Ahead on equal counts: both get `step` more replicas before the verdict...
+  const Judgement j = judge(&elite, estimate(4, 100.5), plan, false);
+  CHECK(j.verdict == Verdict::SampleBoth);
+  CHECK(j.replicas == 4);
+  // ... then the higher mean wins.
+  CHECK(judge(&elite, estimate(4, 100.5), plan, true).verdict == Verdict::Replace);
+  CHECK(judge(&elite, estimate(4, 100.0), plan, false).verdict == Verdict::Reject); // a tie keeps the elite
+  CHECK(judge(&elite, estimate(4, 99.0), plan, false).verdict == Verdict::Reject);
+  // A confirmation stops at the cap.
+  const RunningEstimate six = estimate(6, 100.0);
+  CHECK(judge(&six, estimate(6, 101.0), plan, false).replicas == 2);
   // Plain MAP-Elites: one replica each, cap 1.
   const RunningEstimate one = estimate(1, 10.0);
-  CHECK(judge(&one, estimate(1, 11.0), 1).verdict == Verdict::Replace);
-  CHECK(judge(&one, estimate(1, 9.0), 1).verdict == Verdict::Reject);
+  CHECK(judge(&one, estimate(1, 11.0), {1, 1}, false).verdict == Verdict::Replace);
+  CHECK(judge(&one, estimate(1, 9.0), {1, 1}, false).verdict == Verdict::Reject);
 }
 
 TEST_CASE("resampling rule: counts are made comparable before a challenger replaces an elite", "[map-elites]") {
   const RunningEstimate elite = estimate(16, 100.0);
   // A challenger on fewer replicas that looks better is sampled up to the elite's count...
-  Judgement j = judge(&elite, estimate(4, 120.0), 32);
+  Judgement j = judge(&elite, estimate(4, 120.0), {32, 4}, false);
   CHECK(j.verdict == Verdict::SampleChallenger);
   CHECK(j.replicas == 12);
   // ... up to the cap only.
-  j = judge(&elite, estimate(4, 120.0), 8);
+  j = judge(&elite, estimate(4, 120.0), {8, 4}, false);
   CHECK(j.verdict == Verdict::SampleChallenger);
   CHECK(j.replicas == 4);
   const RunningEstimate capped = estimate(8, 100.0);
   // A challenger that does not look better on what it has is rejected at once.
-  CHECK(judge(&elite, estimate(4, 100.0), 32).verdict == Verdict::Reject);
-  CHECK(judge(&elite, estimate(4, 80.0), 32).verdict == Verdict::Reject);
+  CHECK(judge(&elite, estimate(4, 100.0), {32, 4}, false).verdict == Verdict::Reject);
+  CHECK(judge(&elite, estimate(4, 80.0), {32, 4}, false).verdict == Verdict::Reject);
   // An elite on fewer replicas than the challenger gathers more first, whatever the means.
   const RunningEstimate young = estimate(2, 100.0);
-  j = judge(&young, estimate(8, 50.0), 32);
+  j = judge(&young, estimate(8, 50.0), {32, 4}, false);
   CHECK(j.verdict == Verdict::SampleElite);
   CHECK(j.replicas == 6);
-  j = judge(&young, estimate(8, 150.0), 4);
+  j = judge(&young, estimate(8, 150.0), {4, 4}, false);
   CHECK(j.verdict == Verdict::SampleElite);
   CHECK(j.replicas == 2);
-  // Both at the cap: comparable.
-  CHECK(judge(&capped, estimate(8, 101.0), 8).verdict == Verdict::Replace);
-  CHECK(judge(&capped, estimate(12, 101.0), 8).verdict == Verdict::Replace);
+  // Both at the cap: comparable, no confirmation left to ask for.
+  CHECK(judge(&capped, estimate(8, 101.0), {8, 4}, false).verdict == Verdict::Replace);
+  CHECK(judge(&capped, estimate(12, 101.0), {8, 4}, false).verdict == Verdict::Replace);
+}
+
+namespace {
+
+/// An Ok estimate over `n` replicas with mean `mean` (sd 0) at descriptors
+/// placing it by width and mass count.
+Evaluation estimate_of(int n, double mean, double width = 50.0, double masses = 4.0) {
+  Evaluation e;
+  e.status = EvaluationStatus::Ok;
+  e.fitness = mean;
+  e.estimate = {n, mean, 0.0, mean};
+  e.descriptors.assign(kDescriptorCount, 0.0);
+  e.descriptors[static_cast<std::size_t>(Descriptor::Width)] = width;
+  e.descriptors[static_cast<std::size_t>(Descriptor::MassCount)] = masses;
+  return e;
+}
+
+Challenger challenger(const std::string& id, const Evaluation& first) {
+  Challenger c;
+  c.individual.id = id;
+  c.individual.creature.name = id;
+  c.first = first;
+  return c;
+}
+
+/// A sampler that answers from a script: the next estimate for each creature by
+/// name, and logs every request as "name first+count".
+struct ScriptedSampler {
+  std::map<std::string, std::vector<Evaluation>> answers;
+  std::vector<std::vector<std::string>> calls;
+  ReplicaSampler sampler() {
+    return [this](const std::vector<SampleRequest>& requests) {
+      std::vector<Evaluation> out;
+      calls.emplace_back();
+      for (const SampleRequest& r : requests) {
+        std::vector<Evaluation>& next = answers.at(r.creature->name);
+        REQUIRE(!next.empty());
+        Evaluation e = next.front();
+        next.erase(next.begin());
+        if (e.ok()) REQUIRE(e.estimate.rollouts == r.count);
+        calls.back().push_back(r.creature->name + " " + std::to_string(r.first) + "+" + std::to_string(r.count));
+        out.push_back(e);
+      }
+      return out;
+    };
+  }
+};
+
+} // namespace
+
+TEST_CASE("insertion: a lucky lead is confirmed on more replicas, elites gather them, failures leave",
+          "[map-elites]") {
+  GridArchive archive({{Descriptor::Width, 4, 0.0, 200.0}, {Descriptor::MassCount, 4, 2.5, 6.5}});
+  const ResamplePlan plan{6, 2};
+  ScriptedSampler script;
+  // E enters an empty cell without further replicas.
+  InsertionCounts c = insert_challengers(archive, {challenger("E", estimate_of(2, 100.0))}, 0, plan, script.sampler());
+  CHECK(c.entered == 1);
+  CHECK(script.calls.empty());
+  const std::size_t cell = archive.cell_of(std::vector<double>{50.0, 4.0});
+  REQUIRE(archive.elite(cell) != nullptr);
+
+  // L leads 110 to 100 on 2 replicas; confirmed on 2 more each, it is 100 to 100: rejected.
+  script.answers["L"] = {estimate_of(2, 90.0)};
+  script.answers["E"] = {estimate_of(2, 100.0, 70.0)};
+  c = insert_challengers(archive, {challenger("L", estimate_of(2, 110.0))}, 1, plan, script.sampler());
+  CHECK(c.rejected == 1);
+  CHECK(c.resampled == 2);
+  CHECK(c.resampled_rollouts == 4);
+  REQUIRE(script.calls.size() == 1);
+  CHECK(script.calls[0] == std::vector<std::string>{"L 2+2", "E 2+2"});
+  const ArchiveEntry& e = *archive.elite(cell);
+  CHECK(e.id == "E");
+  CHECK(e.fitness.n == 4); // the elite gathered replicas
+  CHECK(e.fitness.mean == 100.0);
+  CHECK(e.descriptors[0] == 60.0); // width: the mean of 50 over 2 and 70 over 2 replicas
+
+  // B leads on fewer replicas: sampled up to the elite's 4, still ahead, confirmed
+  // with the elite on 2 more (the cap, 6): B takes the cell. O, in another cell,
+  // enters at once; W, behind B in the same cell, is judged against B once B has won.
+  script.calls.clear();
+  script.answers["B"] = {estimate_of(2, 120.0), estimate_of(2, 110.0)};
+  script.answers["E"] = {estimate_of(2, 100.0)};
+  c = insert_challengers(archive,
+                         {challenger("B", estimate_of(2, 130.0)), challenger("O", estimate_of(2, 5.0, 150.0, 6.0)),
+                          challenger("W", estimate_of(2, 101.0))},
+                         2, plan, script.sampler());
+  CHECK(c.entered == 1);
+  CHECK(c.replaced == 1);
+  CHECK(c.rejected == 1); // W: fewer replicas than B and not ahead of it
+  CHECK(script.calls == std::vector<std::vector<std::string>>{{"B 2+2"}, {"B 4+2", "E 4+2"}});
+  CHECK(archive.elite(cell)->id == "B");
+  CHECK(archive.elite(cell)->fitness.n == 6);
+  CHECK(archive.elite(cell)->fitness.mean == Approx((130.0 * 2 + 120.0 * 2 + 110.0 * 2) / 6));
+
+  // An elite that fails on a further replica leaves; its challenger enters.
+  script.calls.clear();
+  Evaluation diverged;
+  diverged.status = EvaluationStatus::Diverged;
+  script.answers["B"] = {diverged};
+  c = insert_challengers(archive, {challenger("N", estimate_of(8, 1.0))}, 3, {8, 2}, script.sampler());
+  CHECK(script.calls == std::vector<std::vector<std::string>>{{"B 6+2"}});
+  CHECK(c.evicted == 1);
+  CHECK(c.entered == 1);
+  CHECK(archive.elite(cell)->id == "N");
 }
 
 TEST_CASE("running estimate: mean and sample sd of replicas", "[map-elites]") {
@@ -293,17 +483,19 @@ std::string text_of(const std::filesystem::path& p) { return soda::read_whole_fi
 
 } // namespace
 
-TEST_CASE("MAP-Elites run: the same archive on 1 and 2 threads, and resumed after a stop", "[map-elites]") {
-  const SmallRun run;
-  const auto one = run_dir("one"), two = run_dir("two"), stopped = run_dir("stopped");
-  const MapElitesOutcome a =
-      run_map_elites(one, run.config, run.me, described_evaluator_on_threads(run.config, run.me, 1), {});
-  const MapElitesOutcome b =
-      run_map_elites(two, run.config, run.me, described_evaluator_on_threads(run.config, run.me, 2), {});
+TEST_CASE("MAP-Elites run: the same archive on 1 and 2 threads, and resumed after a stop or a crash",
+          "[map-elites]") {
+  const SmallRun run; // 2 replicas per new creature, up to 4
+  const auto one = run_dir("one"), two = run_dir("two"), stopped = run_dir("stopped"), crashed = run_dir("crashed");
+  ThreadEvaluator threads1(1), threads2(2);
+  const MapElitesOutcome a = run_map_elites(one, run.config, run.me, threads1, {});
+  const MapElitesOutcome b = run_map_elites(two, run.config, run.me, threads2, {});
   CHECK(a.stopped_because == "completed");
   CHECK(a.last_iteration == 4);
-  CHECK(a.evaluations == 12 + 4 * 10);
+  CHECK(a.evaluations > 12 + 4 * 10); // the children, and the further replicas insertion asked for
+  CHECK(a.rollouts >= 2 * a.evaluations); // 2 replicas a creature, 2 more at a time
   CHECK(a.metrics.filled > 3);
+  CHECK(b.evaluations == a.evaluations);
   CHECK(text_of(one / "qd.csv") == text_of(two / "qd.csv"));
   CHECK(text_of(one / "archive.json") == text_of(two / "archive.json"));
 
@@ -314,20 +506,40 @@ TEST_CASE("MAP-Elites run: the same archive on 1 and 2 threads, and resumed afte
   options.on_iteration = [&](const MapElitesProgress& p) {
     if (p.iteration == 2) stop = true;
   };
-  const auto evaluator = described_evaluator_on_threads(run.config, run.me, 2);
-  const MapElitesOutcome first = run_map_elites(stopped, run.config, run.me, evaluator, options);
+  const MapElitesOutcome first = run_map_elites(stopped, run.config, run.me, threads2, options);
   CHECK(first.stopped_because == "interrupted");
   CHECK(first.last_iteration == 2);
-  const MapElitesOutcome rest = run_map_elites(stopped, run.config, run.me, evaluator, {});
+  const MapElitesOutcome rest = run_map_elites(stopped, run.config, run.me, threads2, {});
   CHECK(rest.last_iteration == 4);
   CHECK(text_of(one / "qd.csv") == text_of(stopped / "qd.csv"));
   CHECK(text_of(one / "archive.json") == text_of(stopped / "archive.json"));
-  CHECK(text_of(one / "archive_checkpoint.json").substr(0, 200) ==
-        text_of(stopped / "archive_checkpoint.json").substr(0, 200));
 
-  // Every elite is written, and each reads back as a model that evaluates to its logged distance.
+  // Killed in iteration 3, its qd.csv row written but checkpointed only at 2:
+  // resumed from the checkpoint, the run ends as the uninterrupted one.
+  SmallRun every2;
+  every2.config.save.checkpoint_every = 2;
+  MapElitesOptions crash;
+  crash.on_iteration = [](const MapElitesProgress& p) {
+    if (p.iteration == 3) throw std::runtime_error("killed");
+  };
+  CHECK_THROWS_WITH(run_map_elites(crashed, every2.config, every2.me, threads1, crash), "killed");
+  CHECK(text_of(crashed / "qd.csv").find("\n3,") != std::string::npos);
+  run_map_elites(crashed, every2.config, every2.me, threads2, {});
+  CHECK(text_of(one / "qd.csv") == text_of(crashed / "qd.csv"));
+  CHECK(text_of(one / "archive.json") == text_of(crashed / "archive.json"));
+
+  // Elites carry their replica estimates; insertion resampled some of them.
   const nlohmann::json archive = nlohmann::json::parse(text_of(one / "archive.json"));
   REQUIRE(archive["cells"].size() == a.metrics.filled);
+  long long gathered = 0;
+  for (const auto& cell : archive["cells"]) {
+    const long long n = cell["fitness"]["n"].get<long long>();
+    CHECK(n >= 2);
+    CHECK(n <= 4);
+    if (n > 2) ++gathered;
+  }
+  CHECK(gathered > 0);
+  // Every elite is written, and each reads back as a model whose exact run walks its logged distance.
   for (const auto& cell : archive["cells"]) {
     const soda::ModelDef prepared = soda::read_model_file(one / cell["file"].get<std::string>()).def;
     const Evaluation e = WalkProblem(run.config).rollouts({&prepared}).front();
@@ -340,7 +552,7 @@ TEST_CASE("MAP-Elites run: the same archive on 1 and 2 threads, and resumed afte
 
 TEST_CASE("run config: /algorithm and /map_elites read, resolve and round-trip; misuse names the pointer",
           "[map-elites][config]") {
-  const RunConfig c = parse_run_config(R"({"algorithm": "map-elites", "map_elites": {"batch_size": 7,
+  const RunConfig c = parse_run_config(R"({"population": {"random_fraction": 1}, "algorithm": "map-elites", "map_elites": {"batch_size": 7,
       "descriptors": ["floor_contact", "centroid_height"], "bins": [3, 9], "ranges": [[0, 1], [0, 90]]}})",
                                        "me.json", "/nowhere");
   CHECK(c.algorithm == AlgorithmKind::MapElites);
@@ -349,12 +561,12 @@ TEST_CASE("run config: /algorithm and /map_elites read, resolve and round-trip; 
   CHECK(c.map_elites.axes[1] == GridAxis{Descriptor::CentroidHeight, 9, 0.0, 90.0});
   CHECK(parse_run_config(to_json(c).dump(), "resolved", "/nowhere") == c);
   // A GA run's resolved config names neither key (its run folder is as before).
-  const nlohmann::json ga = to_json(parse_run_config("{}", "ga.json", "/nowhere"));
+  const nlohmann::json ga = to_json(parse_run_config(R"({"population": {"random_fraction": 1}})", "ga.json", "/nowhere"));
   CHECK(!ga.contains("algorithm"));
   CHECK(!ga.contains("map_elites"));
   const auto error_of = [](const std::string& text) {
     try {
-      parse_run_config(text, "x.json", "/nowhere");
+      parse_run_config(R"({"population": {"random_fraction": 1}, )" + text.substr(1), "x.json", "/nowhere");
     } catch (const soda::InputError& e) {
       return std::string(e.what());
     }
@@ -367,4 +579,105 @@ TEST_CASE("run config: /algorithm and /map_elites read, resolve and round-trip; 
         "x.json: /map_elites/batch_size: expected an integer in [1, 100000], got 0");
   CHECK_THAT(error_of(R"({"algorithm": "map-elites", "fitness": {"mode": "continuous"}})"),
              Catch::StartsWith("x.json: /algorithm: expected \"ga\" with /fitness/mode \"continuous\""));
+}
+
+TEST_CASE("corrected archive: every elite checked on fresh replicas; export --archive writes champions.json",
+          "[map-elites]") {
+  const SmallRun run;
+  RunConfig config = run.config;
+  config.algorithm = AlgorithmKind::MapElites;
+  config.map_elites = run.me;
+  config.map_elites.iterations = 2;
+  config.map_elites.check_replicas = 3;
+  const auto dir = run_dir("checked");
+  RunStore::create(dir, config, true, "test");
+  ThreadEvaluator threads(2);
+  run_map_elites(dir, config, config.map_elites, threads, {});
+  const CheckedArchive checked = write_checked_archive(dir, 2);
+
+  const nlohmann::json archive = nlohmann::json::parse(text_of(dir / "archive.json"));
+  const nlohmann::json j = nlohmann::json::parse(text_of(dir / "archive_checked.json"));
+  REQUIRE(j["cells"].size() == archive["cells"].size());
+  CHECK(j["check_replicas"] == 3);
+  std::size_t ok = 0;
+  for (std::size_t i = 0; i < archive["cells"].size(); ++i) {
+    const nlohmann::json& a = archive["cells"][i];
+    const nlohmann::json& c = j["cells"][i];
+    CHECK(c["cell"] == a["cell"]);
+    CHECK(c["id"] == a["id"]);
+    CHECK(c["file"] == a["file"]);
+    if (!c.contains("check")) continue;
+    ++ok;
+    CHECK(c["selection"]["n"] == a["fitness"]["n"]);
+    CHECK(c["selection"]["mean"] == a["fitness"]["mean"]);
+    CHECK(c["check"]["n"] == 3);
+    CHECK(c["exact_distance"] == a["distance"]);
+  }
+  CHECK(ok == checked.checked.filled);
+  CHECK(checked.selection.filled == archive["cells"].size());
+  CHECK(std::isfinite(checked.mean_winners_curse));
+
+  // The first elite by hand: its genome prepared, 3 runs with the check's seeds.
+  const GridArchive elites = read_run_archive(dir, config);
+  const ArchiveEntry& first = elites.elites().begin()->second;
+  const WalkProblem problem(config);
+  const soda::ModelDef prepared = problem.prepare(first.creature);
+  double sum = 0.0;
+  for (int r = 0; r < 3; ++r) {
+    const soda::SineJitter jitter{replica_seed(config.seed, ReplicaPurpose::Check, creature_key(first.creature), r),
+                                  config.fitness.jitter};
+    sum += problem.rollouts({Rollout(&prepared, jitter)}).front().distance;
+  }
+  REQUIRE(j["cells"][0].contains("check"));
+  CHECK(j["cells"][0]["check"]["mean"].get<double>() == Approx(sum / 3));
+  CHECK(j["cells"][0]["checked_fitness"].get<double>() == Approx(sum / 3)); // walking right: fitness = distance
+
+  // export --archive: every elite, and the same checks in champions.json.
+  const auto out = run_dir("checked_export");
+  const test::ShellResult r = test::run_sodaevo("export " + dir.string() + " --archive --check-replicas 3 --threads 1 --out " +
+                                                out.string());
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const nlohmann::json champions = nlohmann::json::parse(text_of(out / "champions.json"));
+  REQUIRE(champions.size() == j["cells"].size());
+  for (std::size_t i = 0; i < champions.size(); ++i) {
+    nlohmann::json expected = j["cells"][i];
+    expected.erase("checked_fitness");
+    expected["file"] = champions[i]["file"];
+    CHECK(champions[i] == expected);
+    CHECK(std::filesystem::exists(out / champions[i]["file"].get<std::string>()));
+  }
+  CHECK(std::filesystem::exists(out / "archive.json"));
+}
+
+TEST_CASE("bench qd: MAP-Elites and the GA at equal evaluations, both as archives of the same grid", "[map-elites]") {
+  SmallRun run;
+  bench::QdOptions qo;
+  qo.config = run.config;
+  qo.config.algorithm = AlgorithmKind::MapElites;
+  qo.config.map_elites = run.me;
+  qo.config_name = "small";
+  qo.seeds = {3};
+  qo.iterations = 2;
+  qo.check_replicas = 2;
+  qo.threads = 2;
+  qo.work_dir = run_dir("bench_qd");
+  const std::vector<bench::QdRow> rows = bench::run_qd_bench(qo);
+  REQUIRE(rows.size() == 2);
+  CHECK(rows[0].algorithm == "map-elites");
+  CHECK(rows[1].algorithm == "ga");
+  // The GA stops before a generation that would pass MAP-Elites' evaluations.
+  CHECK(rows[1].evaluations <= rows[0].evaluations);
+  CHECK(rows[1].evaluations > rows[0].evaluations / 2);
+  CHECK(rows[0].metrics.cells == 36);
+  CHECK(rows[1].metrics.cells == 36);
+  CHECK(rows[0].metrics.filled >= rows[1].metrics.filled);
+  CHECK(rows[0].best_checked != 0.0);
+  CHECK(rows[1].best_checked != 0.0);
+  const std::string csv = bench::qd_csv(rows);
+  CHECK(std::count(csv.begin(), csv.end(), '\n') == 3);
+  CHECK_THAT(bench::qd_markdown(rows, qo, "test"), Catch::Contains("| map-elites (mean) |"));
+  // A GA config is refused with the pointer.
+  qo.config.algorithm = AlgorithmKind::Genetic;
+  CHECK_THROWS_WITH(bench::run_qd_bench(qo), Catch::StartsWith("small: /algorithm: expected \"map-elites\""));
 }

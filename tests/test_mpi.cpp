@@ -159,6 +159,39 @@ TEST_CASE("a failed evaluation on a worker stops the run with a message; it resu
   fs::remove_all(dir);
 }
 
+TEST_CASE("MAP-Elites over mpirun -np 3 writes the archive of one process", "[mpi][map-elites]") {
+  if (const std::string why = why_skip(); !why.empty()) {
+    WARN("skipped: " << why);
+    return;
+  }
+  const fs::path dir = work_dir("map_elites");
+  const fs::path config = dir / "me.json";
+  std::ofstream(config) << R"({ "name": "mpime", "seed": 5, "algorithm": "map-elites",
+  "population": { "size": 12, "seed_models": [")"
+                        << fs::absolute(sodaevo::test::models_dir() / "dainty_walker.xml").string() << R"("],
+                  "random_fraction": 0.5 },
+  "fitness": { "frames": 300, "settle_frames": 40, "replicas": 2, "replicas_max": 4 },
+  "map_elites": { "descriptors": ["width", "mass_count"], "bins": [6, 6], "ranges": [[0, 240], [2.5, 14.5]],
+                  "iterations": 3, "batch_size": 10, "snapshot_every": 0 },
+  "save": { "checkpoint_every": 1 } })";
+  const Ran one = run_sodaevo("evolve " + config.string() + " --out " + (dir / "one").string() + " --threads 2 --quiet");
+  INFO(one.output);
+  REQUIRE(one.exit_code == 0);
+  const Ran three = run_shell(mpirun(3, "evolve " + config.string() + " --out " + (dir / "three").string() + " --threads 1 --quiet"));
+  INFO(three.output);
+  REQUIRE(three.exit_code == 0);
+  CHECK(file(dir / "one" / "qd.csv") == file(dir / "three" / "qd.csv"));
+  CHECK(file(dir / "one" / "archive.json") == file(dir / "three" / "archive.json"));
+  int elites = 0;
+  for (const auto& entry : fs::directory_iterator(dir / "one" / "elites")) {
+    INFO(entry.path().filename());
+    CHECK(file(entry.path()) == file(dir / "three" / "elites" / entry.path().filename()));
+    ++elites;
+  }
+  CHECK(elites > 0);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("the CLI says whether MPI is built in", "[mpi]") {
   const Ran version = run_sodaevo("--version");
   REQUIRE(version.exit_code == 0);

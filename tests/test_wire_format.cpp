@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "evolve/estimator.hpp"
+#include "evolve/replica_estimator.hpp"
 #include "evolve/variation.hpp"
 #include "evolve/walk_problem.hpp"
 #include "evolve/wire_format.hpp"
@@ -74,10 +75,18 @@ TEST_CASE("an evaluation's honesty change and estimate cross the wire", "[wire]"
   e.fitness = 12.5;
   e.honesty_change = -0.25;
   e.estimate = {7, 12.0, std::nextafter(0.5, 1.0), -0.0};
+  e.descriptors = {5.0, 1.0 / 3.0, -0.0};
   const Evaluation back = decode_evaluation(encode_evaluation(e));
   CHECK(back.honesty_change == -0.25);
   CHECK(back.estimate == e.estimate);
   CHECK(std::signbit(back.estimate.median));
+  CHECK(back.descriptors == e.descriptors);
+  CHECK(std::signbit(back.descriptors[2]));
+  // A damaged descriptor count is refused before any allocation.
+  std::vector<char> bytes = encode_evaluation(e);
+  const std::size_t count_at = bytes.size() - 3 * 8 - 4;
+  bytes[count_at + 3] = static_cast<char>(0x7f);
+  CHECK_THROWS_WITH(decode_evaluation(bytes), Catch::Contains("descriptors, expected at most 64"));
 }
 
 namespace {
@@ -108,7 +117,7 @@ WalkProblem unusual_problem() {
   l.min_masses = 4;
   l.max_masses = 9;
   l.max_links = 33;
-  return WalkProblem(f, w, l);
+  return WalkProblem(f, w, l, 9);
 }
 
 } // namespace
@@ -127,7 +136,22 @@ TEST_CASE("a problem and an estimator cross the wire as they are", "[wire]") {
   CHECK(walk.fitness() == problem.fitness());
   CHECK(walk.world() == problem.world());
   CHECK(walk.limits() == problem.limits());
+  CHECK(walk.describe_every() == 9);
   CHECK(estimator_back->kind() == "single");
+  // A replica estimator on a range of replicas (MAP-Elites' further replicas).
+  ReplicaPlan plan;
+  plan.replicas = 3;
+  plan.first_replica = 5;
+  plan.replicas_max = 12;
+  plan.statistic = EstimateStatistic::Median;
+  plan.jitter = 0.125;
+  plan.run_seed = 77;
+  WireWriter e;
+  ReplicaEstimator(plan).write(e);
+  WireReader er(e.bytes());
+  const std::unique_ptr<Estimator> replicas_back = read_estimator(er);
+  er.expect_end();
+  CHECK(dynamic_cast<const ReplicaEstimator&>(*replicas_back).plan() == plan);
 }
 
 TEST_CASE("a damaged problem or estimator is refused with what was wrong", "[wire]") {
