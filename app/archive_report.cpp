@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <utility>
 #include <sstream>
 #include <vector>
 
@@ -149,6 +151,20 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   } catch (const std::exception& e) {
     throw soda::InputError(archive_path.string() + ": not a readable archive: " + e.what());
   }
+  // The corrected archive, when the run wrote it (evolve/archive_check.hpp).
+  json checked;
+  std::map<long long, double> checked_fitness; // by cell
+  const fs::path checked_path = run_dir / "archive_checked.json";
+  if (fs::exists(checked_path)) {
+    try {
+      checked = json::parse(soda::read_whole_file(checked_path));
+      for (const json& c : checked.at("cells")) {
+        if (c.contains("checked_fitness")) checked_fitness[c.at("cell").get<long long>()] = c.at("checked_fitness").get<double>();
+      }
+    } catch (const std::exception& e) {
+      throw soda::InputError(checked_path.string() + ": not a readable checked archive: " + e.what());
+    }
+  }
   const json& metrics = archive.at("metrics");
   const json& cells = archive.at("cells");
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
@@ -171,9 +187,18 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
     << number(metrics.at("normalized_qd_score").get<double>()) << " (QD-score / cells)</td></tr><tr><td>best</td><td>"
     << number(metrics.at("best").get<double>()) << " px</td></tr><tr><td>mean elite fitness</td><td>"
     << number(metrics.at("mean_fitness").get<double>()) << " px</td></tr></table>\n";
+  if (!checked.is_null()) {
+    const json& m = checked.at("metrics").at("checked");
+    o << "<p>Checked on " << checked.at("check_replicas").get<int>() << " fresh replicas (seeds never used in "
+      << "selection; archive_checked.json): QD-score " << number(m.at("qd_score").get<double>()) << ", best "
+      << number(m.at("best").get<double>()) << " px, mean elite " << number(m.at("mean_fitness").get<double>())
+      << " px; the elites' estimates exceed their checks by " << number(checked.at("mean_winners_curse").get<double>())
+      << " px on average (the winner's curse).</p>\n";
+  }
   if (fs::exists(run_dir / "qd.csv")) charts(o, read_qd_csv(run_dir / "qd.csv"));
 
-  // The heat maps: axis 0 across, axis 1 up, one map per bin of axis 2.
+  // The heat maps: axis 0 across, axis 1 up, one map per bin of axis 2 and one of
+  // the best over axis 2; a selector shows them all or one.
   const Axis& ax = axes[0];
   const Axis& ay = axes[1];
   const int panels = axes.size() == 3 ? axes[2].bins : 1;
@@ -181,8 +206,16 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   o << "<h2>The archive</h2>\n<p class=\"note\">" << esc(ax.name) << " across, " << esc(ay.name) << " up"
     << (panels > 1 ? ", one map per bin of " + esc(axes[2].name) : std::string()) << "; colour: fitness "
     << number(lo) << " <span class=\"legend\"></span> " << number(hi)
-    << " px. Click a cell to play its elite below.</p>\n<div class=\"maps\">\n";
+    << " px. Click a cell to play its elite below.</p>\n";
+  if (panels > 1) {
+    o << "<p><label>" << esc(axes[2].name) << ": <select id=\"third\"><option value=\"all\">every bin (small "
+      << "multiples)</option><option value=\"best\">the best over every " << esc(axes[2].name) << "</option>";
+    for (int p = 0; p < panels; ++p) o << "<option value=\"" << p << "\">" << esc(bin_text(axes[2], p)) << "</option>";
+    o << "</select></label></p>\n";
+  }
+  o << "<div class=\"maps\">\n";
   std::vector<std::ostringstream> maps(static_cast<std::size_t>(panels));
+  std::map<std::pair<int, int>, std::pair<double, std::string>> best; // (x, y) -> the best over axis 2
   for (const json& c : cells) {
     const std::vector<int> bins = c.at("bins").get<std::vector<int>>();
     const double f = c.at("fitness").at("mean").get<double>();
@@ -191,18 +224,34 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
     caption << "cell " << c.at("cell").get<long long>() << ": " << id << ", fitness " << number(f) << " px (n "
             << c.at("fitness").at("n").get<long long>() << ", sd " << number(c.at("fitness").at("sd").get<double>())
             << ")";
+    if (const auto k = checked_fitness.find(c.at("cell").get<long long>()); k != checked_fitness.end()) {
+      caption << ", checked " << number(k->second) << " px";
+    }
     const std::vector<double> d = c.at("descriptors").get<std::vector<double>>();
     for (std::size_t a = 0; a < axes.size() && a < d.size(); ++a) caption << ", " << axes[a].name << " " << number(d[a]);
-    maps[static_cast<std::size_t>(panels > 1 ? bins.at(2) : 0)]
-        << "<rect class=\"cell\" x=\"" << bins.at(0) * kSide << "\" y=\"" << (ay.bins - 1 - bins.at(1)) * kSide
-        << "\" width=\"" << kSide << "\" height=\"" << kSide << "\" fill=\"" << colour(hi > lo ? (f - lo) / (hi - lo) : 1.0)
-        << "\" data-cell=\"" << c.at("cell").get<long long>() << "\" data-id=\"" << esc(id) << "\" data-caption=\""
-        << esc(caption.str()) << "\"><title>" << esc(caption.str()) << "</title></rect>\n";
+    std::ostringstream rect;
+    rect << "\" width=\"" << kSide << "\" height=\"" << kSide << "\" fill=\""
+         << colour(hi > lo ? (f - lo) / (hi - lo) : 1.0) << "\" data-cell=\"" << c.at("cell").get<long long>()
+         << "\" data-id=\"" << esc(id) << "\" data-caption=\"" << esc(caption.str()) << "\"><title>"
+         << esc(caption.str()) << "</title></rect>\n";
+    const std::string at = "<rect class=\"cell\" x=\"" + std::to_string(bins.at(0) * kSide) + "\" y=\"" +
+                           std::to_string((ay.bins - 1 - bins.at(1)) * kSide);
+    maps[static_cast<std::size_t>(panels > 1 ? bins.at(2) : 0)] << at << rect.str();
+    auto& b = best[{bins.at(0), bins.at(1)}];
+    if (b.second.empty() || f > b.first) b = {f, at + rect.str()};
   }
+  auto panel = [&](const std::string& key, const std::string& title, const std::string& body) {
+    o << "<div class=\"map\" data-panel=\"" << key << "\"" << (key == "best" ? " hidden" : "") << "><div>"
+      << esc(title) << "</div><svg width=\"" << ax.bins * kSide << "\" height=\"" << ay.bins * kSide
+      << "\" style=\"background:#eee\">" << body << "</svg></div>\n";
+  };
   for (int p = 0; p < panels; ++p) {
-    o << "<div class=\"map\"><div>" << (panels > 1 ? esc(bin_text(axes[2], p)) : std::string()) << "</div>"
-      << "<svg width=\"" << ax.bins * kSide << "\" height=\"" << ay.bins * kSide << "\" style=\"background:#eee\">"
-      << maps[static_cast<std::size_t>(p)].str() << "</svg></div>\n";
+    panel(std::to_string(p), panels > 1 ? bin_text(axes[2], p) : std::string(), maps[static_cast<std::size_t>(p)].str());
+  }
+  if (panels > 1) {
+    std::string body;
+    for (const auto& [xy, b] : best) body += b.second;
+    panel("best", "the best over every " + axes[2].name, body);
   }
   o << "</div>\n<h2>Elite</h2>\n<div id=\"player-slot\"><p class=\"note\">Click a cell.</p></div>\n";
 
@@ -244,8 +293,27 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   }
   var rects = document.querySelectorAll('rect.cell');
   for (var i = 0; i < rects.length; ++i) rects[i].addEventListener('click', function (e) { play(e.currentTarget); });
-  var cell = new URLSearchParams(location.hash.slice(1)).get('cell');
-  var target = cell === null ? null : document.querySelector('rect.cell[data-cell="' + cell + '"]');
+  var third = document.getElementById('third');
+  function show(which) {
+    var panels = document.querySelectorAll('.map[data-panel]');
+    for (var i = 0; i < panels.length; ++i) {
+      var key = panels[i].getAttribute('data-panel');
+      panels[i].hidden = which === 'all' ? key === 'best' : key !== which;
+    }
+  }
+  var params = new URLSearchParams(location.hash.slice(1));
+  if (third) {
+    third.addEventListener('change', function () { show(third.value); });
+    var wanted = params.get('third');
+    if (wanted !== null && third.querySelector('option[value="' + wanted + '"]')) third.value = wanted;
+    show(third.value);
+  }
+  var cell = params.get('cell');
+  var target = null;
+  if (cell !== null) {
+    var same = document.querySelectorAll('rect.cell[data-cell="' + cell + '"]');
+    for (var k = 0; k < same.length && !target; ++k) if (!same[k].closest('.map').hidden) target = same[k];
+  }
   if (target) target.dispatchEvent(new MouseEvent('click', {bubbles: true}));
 })();
 </script>

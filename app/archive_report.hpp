@@ -2,16 +2,20 @@
 // page with the archive as heat maps and a player for any elite.
 //
 // It reads the run folder (config.json, archive.json, qd.csv, elites/) and shows
-// the QD metrics, the QD-score and coverage over the iterations (svg_chart.hpp),
-// and the archive: the first two descriptors on the axes, one small heat map per
-// bin of the third (small multiples), each filled cell coloured by its elite's
-// fitness. Clicking a cell plays its elite in the player below (player_html.hpp);
+// the QD metrics (and those of the corrected archive, archive_checked.json, when
+// the run checked its elites), the QD-score and coverage over the iterations
+// (svg_chart.hpp), and the archive: the first two descriptors on the axes, one
+// small heat map per bin of the third (small multiples), each filled cell
+// coloured by its elite's fitness; a selector shows one bin, or one map of the
+// best elite over every bin of the third. Clicking a cell plays its elite in the
+// player below (player_html.hpp);
 // the motions are recorded from elites/ with few samples each, so a page of a
 // thousand elites stays a few MB.
 //
 // For tests and screenshots: the fragment "#cell=N" clicks cell N after loading
-// (a real click event on its square), and "#frame=F" stops the player as in every
-// player page.
+// (a real click event on its visible square), "#third=K" selects K ("all",
+// "best" or a bin) in the selector first, and "#frame=F" stops the player as in
+// every player page.
 #pragma once
 
 #include <filesystem>

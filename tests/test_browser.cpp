@@ -242,5 +242,14 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
     require_clean(idle);
     CHECK(idle.players.empty());
     screenshot(chromium, "file://" + page.string() + "#frame=300" + click, shots / "archive.png", "1400,1400", work);
+    // The selector for the third descriptor: one map of the best over it, the bins hidden.
+    const LoadedPage best = started(load(chromium, page, 60, work, "", "&third=best"));
+    require_clean(best);
+    CHECK_THAT(best.dom, Catch::Contains("<select id=\"third\">"));
+    CHECK_THAT(best.dom, Catch::Contains("<div class=\"map\" data-panel=\"best\"><div>"));
+    CHECK_THAT(best.dom, Catch::Contains("<div class=\"map\" data-panel=\"0\" hidden=\"\">"));
+    // By default every bin is shown and the best map is not.
+    CHECK_THAT(idle.dom, Catch::Contains("<div class=\"map\" data-panel=\"0\"><div>"));
+    CHECK_THAT(idle.dom, Catch::Contains("<div class=\"map\" data-panel=\"best\" hidden=\"\">"));
   }
 }
