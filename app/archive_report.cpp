@@ -40,6 +40,7 @@ body { font-family: sans-serif; margin: 1.5em; color: #222; }
 .map { font-size: 12px; }
 .map rect.cell { cursor: pointer; stroke: #fff; stroke-width: 0.5; }
 .map rect.cell.chosen { stroke: #000; stroke-width: 2; }
+.maps.single svg { width: 30em; height: auto; } /* one map shown: larger */
 .legend { display: inline-block; width: 200px; height: 10px; vertical-align: middle;
           background: linear-gradient(to right, #440154, #3b528b, #21918c, #5ec962, #fde725); }
 table.metrics td { padding: 2px 10px 2px 0; }
@@ -243,7 +244,8 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   auto panel = [&](const std::string& key, const std::string& title, const std::string& body) {
     o << "<div class=\"map\" data-panel=\"" << key << "\"" << (key == "best" ? " hidden" : "") << "><div>"
       << esc(title) << "</div><svg width=\"" << ax.bins * kSide << "\" height=\"" << ay.bins * kSide
-      << "\" style=\"background:#eee\">" << body << "</svg></div>\n";
+      << "\" viewBox=\"0 0 " << ax.bins * kSide << " " << ay.bins * kSide << "\" style=\"background:#eee\">" << body
+      << "</svg></div>\n";
   };
   for (int p = 0; p < panels; ++p) {
     panel(std::to_string(p), panels > 1 ? bin_text(axes[2], p) : std::string(), maps[static_cast<std::size_t>(p)].str());
@@ -296,6 +298,7 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   var third = document.getElementById('third');
   function show(which) {
     var panels = document.querySelectorAll('.map[data-panel]');
+    document.querySelector('.maps').classList.toggle('single', which !== 'all');
     for (var i = 0; i < panels.length; ++i) {
       var key = panels[i].getAttribute('data-panel');
       panels[i].hidden = which === 'all' ? key === 'best' : key !== which;
