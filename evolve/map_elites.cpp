@@ -28,6 +28,17 @@ void add_estimate(ArchiveEntry& entry, const std::vector<double>& axis_values, c
   }
 }
 
+/// A parent: uniform over the elites, or the fittest (highest mean; the first
+/// drawn on a tie) of `tournament` uniform draws.
+const ArchiveEntry& pick_parent(const std::vector<const ArchiveEntry*>& elites, int tournament, Rng& rng) {
+  const ArchiveEntry* best = elites[rng.below(elites.size())];
+  for (int k = 1; k < tournament; ++k) {
+    const ArchiveEntry* other = elites[rng.below(elites.size())];
+    if (other->fitness.mean > best->fitness.mean) best = other;
+  }
+  return *best;
+}
+
 /// A challenger waiting for its cell's verdict.
 struct Pending {
   ArchiveEntry entry;
@@ -51,7 +62,7 @@ std::vector<Individual> map_elites_children(const RunConfig& config, const MapEl
   for (int k = 0; k < me.batch_size; ++k) {
     Rng rng = Rng::stream(config.seed, static_cast<std::uint64_t>(iteration), static_cast<std::uint64_t>(k),
                           kMapElitesPurpose);
-    const ArchiveEntry& a = *elites[rng.below(elites.size())];
+    const ArchiveEntry& a = pick_parent(elites, me.parent_tournament, rng);
     Individual child;
     // Appended piece by piece: "i" + std::string trips GCC 12's -Wrestrict (a false positive).
     child.id = std::to_string(iteration);
@@ -60,7 +71,7 @@ std::vector<Individual> map_elites_children(const RunConfig& config, const MapEl
     child.id += std::to_string(k);
     child.parents = {a.id};
     if (me.crossover_rate > 0.0 && rng.chance(me.crossover_rate)) {
-      const ArchiveEntry& b = *elites[rng.below(elites.size())];
+      const ArchiveEntry& b = pick_parent(elites, me.parent_tournament, rng);
       child.creature = crossover(a.creature, b.creature, config, rng);
       child.parents.push_back(b.id);
     } else {

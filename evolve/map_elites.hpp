@@ -3,7 +3,8 @@
 // kind of body and gait, and new creatures are made from random elites.
 //
 // One iteration: batch_size children, each a random elite (uniform over the filled
-// cells) changed by the GA's mutation operators (evolve/variation.hpp), or, with
+// cells, or with /map_elites/parent_tournament k > 1 the fittest of k uniform
+// draws, which spends more children on good cells) changed by the GA's mutation operators (evolve/variation.hpp), or, with
 // probability crossover_rate, the crossover of two random elites, mutated; the
 // children are estimated through the roles (the Evaluator runs the Estimator's
 // replicas of the Problem's rollouts, on threads or MPI ranks: fitness and

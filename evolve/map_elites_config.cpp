@@ -27,7 +27,7 @@ std::string join(const std::vector<std::string>& names, const char* separator) {
 const std::vector<std::string>& keys() {
   static const std::vector<std::string> k = {"descriptors", "bins",          "ranges",       "iterations",
                                              "batch_size",  "crossover_rate", "snapshot_every", "sample_every",
-                                             "qd_offset",   "check_replicas"};
+                                             "qd_offset",   "check_replicas", "parent_tournament"};
   return k;
 }
 
@@ -52,6 +52,7 @@ class Reader {
     integer(v, "sample_every", 1, 1e6, config_.sample_every);
     number(v, "qd_offset", -1e9, 1e9, config_.qd_offset);
     integer(v, "check_replicas", 0, 4096, config_.check_replicas);
+    integer(v, "parent_tournament", 1, 64, config_.parent_tournament);
     read_axes(v);
   }
 
@@ -200,7 +201,8 @@ json to_json(const MapElitesConfig& c) {
           {"ranges", ranges},               {"iterations", c.iterations},
           {"batch_size", c.batch_size},     {"crossover_rate", c.crossover_rate},
           {"snapshot_every", c.snapshot_every}, {"sample_every", c.sample_every},
-          {"qd_offset", c.qd_offset},       {"check_replicas", c.check_replicas}};
+          {"qd_offset", c.qd_offset},       {"check_replicas", c.check_replicas},
+          {"parent_tournament", c.parent_tournament}};
 }
 
 } // namespace sodaevo

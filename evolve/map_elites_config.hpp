@@ -34,6 +34,9 @@ struct MapElitesConfig {
   int iterations = 100;        ///< /map_elites/iterations [1, 1e6]: batches after the initial population
   int batch_size = 64;         ///< /map_elites/batch_size [1, 100000]: children per iteration
   double crossover_rate = 0.0; ///< /map_elites/crossover_rate [0, 1]: a child of two random elites
+  /// /map_elites/parent_tournament [1, 64]: a parent is the fittest of this many
+  /// elites drawn uniformly (1: uniform over the filled cells, plain MAP-Elites).
+  int parent_tournament = 1;
   int snapshot_every = 10;     ///< /map_elites/snapshot_every [0, 1e6]: archive snapshots (0 = the last only)
   int sample_every = 8;        ///< /map_elites/sample_every [1, 1e6]: scored frames between descriptor samples
   double qd_offset = 0.0;      ///< /map_elites/qd_offset: subtracted from each elite's fitness in the QD-score

@@ -404,7 +404,7 @@ TEST_CASE("/map_elites config: a full grid reads and writes back", "[map-elites]
   std::vector<ConfigProblem> problems;
   read_map_elites(nlohmann::json::parse(R"({"descriptors": ["muscle_share", "floor_contact"], "bins": [5, 4],
       "ranges": [[0, 1], [0, 1]], "batch_size": 10, "iterations": 3, "crossover_rate": 0.25,
-      "snapshot_every": 0, "sample_every": 3, "qd_offset": -50})"),
+      "snapshot_every": 0, "sample_every": 3, "qd_offset": -50, "parent_tournament": 4, "check_replicas": 0})"),
                   config, problems);
   INFO(first(problems));
   REQUIRE(problems.empty());
@@ -413,6 +413,8 @@ TEST_CASE("/map_elites config: a full grid reads and writes back", "[map-elites]
   CHECK(config.axes[1] == GridAxis{Descriptor::FloorContact, 4, 0.0, 1.0});
   CHECK(config.batch_size == 10);
   CHECK(config.qd_offset == -50.0);
+  CHECK(config.parent_tournament == 4);
+  CHECK(config.check_replicas == 0);
   MapElitesConfig back;
   read_map_elites(to_json(config), back, problems);
   CHECK(problems.empty());
@@ -680,4 +682,28 @@ TEST_CASE("bench qd: MAP-Elites and the GA at equal evaluations, both as archive
   // A GA config is refused with the pointer.
   qo.config.algorithm = AlgorithmKind::Genetic;
   CHECK_THROWS_WITH(bench::run_qd_bench(qo), Catch::StartsWith("small: /algorithm: expected \"map-elites\""));
+}
+
+TEST_CASE("parent tournament: parents drawn from fitter elites, plain MAP-Elites draws uniformly", "[map-elites]") {
+  const RunConfig config = test::walker_run_config("t", 4, 8, 1, 300, 40);
+  const soda::ModelDef walker = soda::read_model_file(test::models_dir() / "dainty_walker.xml").def;
+  GridArchive archive({{Descriptor::Width, 10, 0.0, 100.0}, {Descriptor::Height, 1, 0.0, 1.0}});
+  for (int i = 0; i < 10; ++i) {
+    ArchiveEntry e;
+    e.id = "e" + std::to_string(i);
+    e.creature = walker;
+    e.fitness = estimate(1, static_cast<double>(i));
+    archive.place(static_cast<std::size_t>(i), e);
+  }
+  const auto mean_parent = [&](int tournament) {
+    MapElitesConfig me;
+    me.batch_size = 400;
+    me.parent_tournament = tournament;
+    double sum = 0.0;
+    for (const Individual& child : map_elites_children(config, me, archive, 1)) sum += std::stoi(child.parents[0].substr(1));
+    return sum / me.batch_size;
+  };
+  // Uniform: about 4.5. The fittest of 3 draws of 0..9: E = sum_i i * ((i+1)^3 - i^3) / 1000 = 6.975.
+  CHECK(mean_parent(1) == Approx(4.5).margin(0.5));
+  CHECK(mean_parent(3) == Approx(6.975).margin(0.4));
 }
