@@ -246,7 +246,10 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
 #endif
   }
   std::cout << "run folder   " << store->dir().string() << "\n";
-  if (std::isfinite(outcome.best_fitness)) {
+  if (std::isfinite(outcome.best_fitness) && store->config().fitness.kind == FitnessKind::Race) {
+    std::cout << "best         " << outcome.best_id << "  fitness " << soda::format_double_plain(outcome.best_fitness)
+              << " (races in " << soda::format_double_plain(-outcome.best_fitness) << " frames)\n";
+  } else if (std::isfinite(outcome.best_fitness)) {
     std::cout << "best         " << outcome.best_id << "  fitness " << soda::format_double_plain(outcome.best_fitness)
               << " px in " << store->config().fitness.frames << " frames ("
               << soda::format_double_plain(outcome.best_fitness / static_cast<double>(store->config().fitness.frames))

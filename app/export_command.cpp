@@ -85,17 +85,21 @@ void run_export(const ExportOptions& opt) {
   // claims against what it walks (evolve/replica_check.hpp).
   const std::vector<ReplicaCheck> checks =
       check_all_on_fresh_replicas(*problem, best, replica_plan(config), opt.check_replicas, opt.threads);
-  std::printf("rank  id            fitness (px)   replicas   checked median [95 %% interval] (px)   file\n");
+  // A race's score is its result in frames (fitness = -frames), a walk's a distance.
+  const bool race = config.fitness.kind == FitnessKind::Race;
+  const std::string unit = race ? "frames" : "px";
+  std::printf("rank  id            fitness (%s)   replicas   checked median [95 %% interval] (%s)   file\n", unit.c_str(),
+              unit.c_str());
   nlohmann::json champions = nlohmann::json::array();
   for (std::size_t i = 0; i < best.size(); ++i) {
     const Individual& ind = best[i];
     soda::ModelDef prepared = problem->export_form(ind.creature, ind.id, ind.evaluation);
-    prepared.comment += "; " + check_comment(checks[i]);
+    prepared.comment += "; " + check_comment(checks[i], unit);
     char name[64];
     std::snprintf(name, sizeof name, "rank%02d_%s.xml", static_cast<int>(i + 1), ind.id.c_str());
     const std::filesystem::path file = std::filesystem::path(opt.out) / name;
     soda::write_model_file(file, prepared);
-    champions.push_back(champion_json(checks[i], name, config.fitness.settle_frames, config.fitness.frames));
+    champions.push_back(champion_json(checks[i], name, config));
     const ReplicaCheck& c = checks[i];
     std::printf("%4zu  %-12s  %12.3f   %8d   %10.3f [%.3f, %.3f]%s   %s\n", i + 1, ind.id.c_str(), ind.evaluation.fitness,
                 ind.evaluation.estimate.rollouts, c.check.median, c.check.interval95_low, c.check.interval95_high,

@@ -1,6 +1,10 @@
 // `sodaevo race RACE.xml [CONTENDER.xml ...]`: Sodarace races as the original racer
 // runs them (core/race_lane.hpp): each contender in its own lane on the race's
 // terrain, its result in frames (a timeout as timeout + fraction) and its place.
+// A contender argument may be another race file: its contenders race this terrain.
+// With --replicas K each contender also races K replicas with sine jitter
+// (core/sine_jitter.hpp: another machine's sine), which gives the distribution of
+// its result: the original racer's run is one more draw from it.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -22,6 +26,9 @@
 #include "formats/race_file.hpp"
 #include "core/race_lane.hpp"
 #include "formats/trace_csv.hpp"
+#include "evolve/parallel_for.hpp"
+#include "evolve/replica_estimator.hpp"
+#include "evolve/sample_summary.hpp"
 
 namespace sodaevo::app {
 
@@ -34,6 +41,9 @@ struct RaceOptions {
   std::string trace;
   std::string render;
   int timeout = -1;
+  int replicas = 0;
+  double jitter = 0.002;
+  int threads = 0;
 };
 
 struct Entry {
@@ -42,6 +52,7 @@ struct Entry {
   soda::ModelDef model;
   soda::RaceOutcome outcome;
   int place = 0;
+  SampleSummary replicas; ///< --replicas: the results of the jittered replicas
 };
 
 std::string result_text(const soda::RaceOutcome& o) {
@@ -54,23 +65,34 @@ std::string result_text(const soda::RaceOutcome& o) {
   return text;
 }
 
+/// The contenders of race file `file` (`race`), named "FILE#k".
+void add_race_contenders(const std::string& file, const soda::RaceDef& race, std::vector<Entry>& out) {
+  for (std::size_t k = 0; k < race.contenders.size(); ++k) {
+    Entry e;
+    e.file = file + "#" + std::to_string(k + 1);
+    e.model = race.contenders[k].model;
+    e.name = !e.model.name.empty() ? e.model.name : "contender " + std::to_string(k + 1) + " (line " +
+                                                         std::to_string(race.contenders[k].line) + ")";
+    out.push_back(std::move(e));
+  }
+}
+
 std::vector<Entry> load_entries(const RaceOptions& opt, const soda::RaceDef& race) {
   std::vector<Entry> out;
   if (opt.contenders.empty()) {
-    for (std::size_t k = 0; k < race.contenders.size(); ++k) {
-      Entry e;
-      e.file = opt.race + "#" + std::to_string(k + 1);
-      e.model = race.contenders[k].model;
-      e.name = !e.model.name.empty() ? e.model.name : "contender " + std::to_string(k + 1) + " (line " +
-                                                           std::to_string(race.contenders[k].line) + ")";
-      out.push_back(std::move(e));
-    }
+    add_race_contenders(opt.race, race, out);
     if (out.empty()) {
       throw soda::InputError(opt.race + ": the race file has no contenders; name contender model files after it");
     }
     return out;
   }
   for (const std::string& path : opt.contenders) {
+    if (soda::looks_like_race(soda::read_race_file_text(path))) {
+      const std::size_t before = out.size();
+      add_race_contenders(path, soda::read_race_file(path), out);
+      if (out.size() == before) throw soda::InputError(path + ": a race file without contenders (expected a contender)");
+      continue;
+    }
     soda::LoadedModel loaded = soda::read_model_file(path);
     for (const std::string& w : loaded.warnings) std::cerr << "sodaevo: warning: " << w << '\n';
     Entry e;
@@ -80,6 +102,26 @@ std::vector<Entry> load_entries(const RaceOptions& opt, const soda::RaceDef& rac
     out.push_back(std::move(e));
   }
   return out;
+}
+
+/// The results of `opt.replicas` replicas of the lane with sine jitter (seeds of
+/// the check on fresh replicas, from the contender's genome: the same on every run).
+SampleSummary race_replicas(const soda::RaceLane& lane, const soda::Model& model, int timeout,
+                            const soda::ModelDef& contender, const RaceOptions& opt) {
+  const std::uint64_t key = creature_key(contender);
+  std::vector<double> results(static_cast<std::size_t>(opt.replicas));
+  parallel_for_index(results.size(), opt.threads, [&](std::size_t r) {
+    soda::State state = soda::make_state(model);
+    state.jitter = {replica_seed(1, ReplicaPurpose::Check, key, static_cast<int>(r)), opt.jitter};
+    results[r] = soda::run_race_fast(lane, model, timeout, state).result;
+  });
+  return summarize_sample(results);
+}
+
+std::string distribution_text(const SampleSummary& s) {
+  char text[96];
+  std::snprintf(text, sizeof text, "%.1f [%.1f, %.1f]", s.median, s.interval95_low, s.interval95_high);
+  return text;
 }
 
 /// Places: 1 for the lowest result; equal results share a place.
@@ -142,9 +184,13 @@ void run_race_command(const RaceOptions& opt) {
       trace.emplace(trace_file, model);
       trace->write_row(soda::make_state(model));
     }
-    e.outcome = soda::run_race(lane, model, timeout, [&](const soda::State& s) {
-      if (trace) trace->write_row(s);
-    });
+    if (trace) {
+      e.outcome = soda::run_race(lane, model, timeout, [&](const soda::State& s) { trace->write_row(s); });
+    } else {
+      soda::State state = soda::make_state(model);
+      e.outcome = soda::run_race_fast(lane, model, timeout, state);
+    }
+    if (opt.replicas > 0) e.replicas = race_replicas(lane, model, timeout, e.model, opt);
     if (trace) {
       trace_file.flush();
       if (!trace_file) throw soda::InputError(opt.trace + ": writing the trace failed (disk full?)");
@@ -164,11 +210,18 @@ void run_race_command(const RaceOptions& opt) {
     nlohmann::json j = {{"race", opt.race}, {"timeout", timeout}, {"bar_engine", engine}};
     nlohmann::json list = nlohmann::json::array();
     for (const Entry& e : entries) {
-      list.push_back({{"file", e.file},
-                      {"name", e.name},
-                      {"frames", e.outcome.result},
-                      {"finished", e.outcome.finished},
-                      {"place", e.place}});
+      nlohmann::json item = {{"file", e.file},
+                             {"name", e.name},
+                             {"frames", e.outcome.result},
+                             {"finished", e.outcome.finished},
+                             {"place", e.place}};
+      if (opt.replicas > 0) {
+        const SampleSummary& s = e.replicas;
+        item["replicas"] = {{"n", s.n},     {"jitter", opt.jitter}, {"mean", s.mean}, {"median", s.median},
+                            {"sd", s.sd},   {"min", s.min},         {"max", s.max},
+                            {"interval95", {s.interval95_low, s.interval95_high}}};
+      }
+      list.push_back(std::move(item));
     }
     j["contenders"] = list;
     std::cout << j.dump() << '\n';
@@ -177,12 +230,22 @@ void run_race_command(const RaceOptions& opt) {
   std::printf("race        %s\ntimeout     %d frames\nfixed bars  %s rule (the racer's: bars running downhill or right "
               "to left are not hit)\n\n",
               opt.race.c_str(), timeout, engine.c_str());
-  std::printf("%-6s %-22s %s\n", "place", "frames", "contender");
+  const bool replicas = opt.replicas > 0;
+  if (replicas) {
+    std::printf("%-6s %-22s %-30s %s\n", "place", "frames", "replicas: median [95 % interval]", "contender");
+  } else {
+    std::printf("%-6s %-22s %s\n", "place", "frames", "contender");
+  }
   std::vector<const Entry*> order;
   for (const Entry& e : entries) order.push_back(&e);
   std::stable_sort(order.begin(), order.end(), [](const Entry* a, const Entry* b) { return a->place < b->place; });
   for (const Entry* e : order) {
-    std::printf("%-6d %-22s %s (%s)\n", e->place, result_text(e->outcome).c_str(), e->name.c_str(), e->file.c_str());
+    if (replicas) {
+      std::printf("%-6d %-22s %-30s %s (%s)\n", e->place, result_text(e->outcome).c_str(),
+                  distribution_text(e->replicas).c_str(), e->name.c_str(), e->file.c_str());
+    } else {
+      std::printf("%-6d %-22s %s (%s)\n", e->place, result_text(e->outcome).c_str(), e->name.c_str(), e->file.c_str());
+    }
   }
 }
 
@@ -201,18 +264,28 @@ void add_race_command(CLI::App& app) {
       ->check(non_empty_path())
       ->check(CLI::ExistingFile);
   cmd->add_option("contenders", opt->contenders,
-                  "Contender model files (.xml, v1 or v2); none: the race file's own contenders")
+                  "Contender model files (.xml, v1 or v2), or race files (their contenders); none: the race\n"
+                  "file's own contenders")
       ->check(non_empty_path())
       ->check(CLI::ExistingFile);
   cmd->add_flag("--json", opt->json,
                 "Print {\"race\", \"timeout\", \"bar_engine\", \"contenders\": [{\"file\", \"name\", \"frames\",\n"
-                "\"finished\", \"place\"}]}");
+                "\"finished\", \"place\"}]}; with --replicas each entry also has \"replicas\"");
   cmd->add_option("--trace", opt->trace,
                   "Write the lane's CSV trace (one contender): frame,wave_phase,wave_mode,x0,y0,vx0,vy0,...");
   cmd->add_option("--render", opt->render,
                   "Write an HTML player of the race (one contender): terrain, start and finish lines, frames");
   cmd->add_option("--timeout", opt->timeout, "Timeout in frames instead of the race file's")
       ->check(CLI::Range(1, soda::kMaxRaceTimeout));
+  cmd->add_option("--replicas", opt->replicas,
+                  "Also race K replicas with sine jitter (another machine's sine) per contender: the\n"
+                  "distribution of the result (median, 95 % prediction interval; --json: n, mean, median,\n"
+                  "sd, min, max, interval95)")
+      ->check(CLI::Range(2, 4096));
+  cmd->add_option("--jitter", opt->jitter, "Share of sines a replica moves by 1 ulp")
+      ->default_val(0.002)
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--threads", opt->threads, "Threads for the replicas (0: all cores)")->check(CLI::Range(0, 4096));
   cmd->callback([opt] { run_race_command(*opt); });
 }
 

@@ -25,6 +25,10 @@ FastStepper::~FastStepper() = default;
 FastStepper::FastStepper(FastStepper&&) noexcept = default;
 FastStepper& FastStepper::operator=(FastStepper&&) noexcept = default;
 
+long long FastStepper::run_until(State& state, long long frames, const std::function<bool(double, double)>& stop) {
+  return scene_->run_until(state, frames, stop);
+}
+
 const SceneNeeds& FastStepper::needs() const { return scene_->needs(0); }
 const Model& FastStepper::model() const { return scene_->model(0); }
 bool FastStepper::used(const KernelChoice& k) const { return scene_->used(k); }

@@ -45,6 +45,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -103,6 +104,10 @@ class FastStepper {
   void run(State& state, long long frames);
   /// One frame (for traces).
   void step(State& state) { run(state, 1); }
+  /// Steps until `stop(min_x, max_x)` holds after a frame (the free masses' least and
+  /// greatest x, in mass order), at most `frames` frames; returns the frames run
+  /// (FusedScene::run_until). A race checks its finish this way.
+  long long run_until(State& state, long long frames, const std::function<bool(double, double)>& stop);
 
   [[nodiscard]] const SceneNeeds& needs() const;
   [[nodiscard]] const Model& model() const;

@@ -33,7 +33,7 @@ struct Evaluation {
   EvaluationStatus status = EvaluationStatus::Invalid;
   std::string reason;           ///< why invalid or diverged; empty when Ok
   double fitness = kWorstFitness;
-  double distance = 0.0;        ///< centroid x displacement over the scored frames, px
+  double distance = 0.0;        ///< centroid x displacement over the scored frames, px (a race: its result, frames)
   double px_per_frame = 0.0;    ///< distance / frames
   /// Honesty check (/fitness/honesty): relative change of the distance under the
   /// refined step (evolve/honesty.hpp); 0 when the check is off.

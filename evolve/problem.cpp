@@ -1,5 +1,6 @@
 #include "problem.hpp"
 
+#include "evolve/race_problem.hpp"
 #include "evolve/walk_problem.hpp"
 #include "evolve/wire_format.hpp"
 
@@ -8,6 +9,7 @@ namespace sodaevo {
 std::unique_ptr<Problem> read_problem(WireReader& in) {
   const std::string kind = in.text();
   if (kind == "walk") return std::make_unique<WalkProblem>(WalkProblem::read_fields(in));
+  if (kind == "race") return std::make_unique<RaceProblem>(RaceProblem::read_fields(in));
   throw WireError("unknown problem kind '" + kind + "'");
 }
 

@@ -70,6 +70,17 @@ nlohmann::json champion_json(const ReplicaCheck& c, const std::string& file, lon
   return j;
 }
 
+nlohmann::json champion_json(const ReplicaCheck& c, const std::string& file, const RunConfig& config) {
+  nlohmann::json j = champion_json(c, file, config.fitness.settle_frames, config.fitness.frames);
+  if (config.fitness.kind == FitnessKind::Race) {
+    j.erase("settle_frames");
+    j.erase("frames");
+    j["unit"] = "frames";
+    j["race"] = to_json(config.fitness.race);
+  }
+  return j;
+}
+
 std::vector<ReplicaCheck> write_run_champions(const std::filesystem::path& run_dir, int count, int replicas,
                                               int threads) {
   const RunConfig config = read_run_config(run_dir / "config.json");
@@ -78,19 +89,19 @@ std::vector<ReplicaCheck> write_run_champions(const std::filesystem::path& run_d
       check_all_on_fresh_replicas(*roles_of(config).problem, best, replica_plan(config), replicas, threads);
   nlohmann::json all = nlohmann::json::array();
   for (const ReplicaCheck& c : checks) {
-    all.push_back(champion_json(c, "", config.fitness.settle_frames, config.fitness.frames));
+    all.push_back(champion_json(c, "", config));
   }
   soda::write_file_atomically(run_dir / "champions.json", all.dump(2) + "\n");
   return checks;
 }
 
-std::string check_comment(const ReplicaCheck& c) {
+std::string check_comment(const ReplicaCheck& c, const std::string& unit) {
   using soda::format_double_plain;
   if (!c.ok) return "check on fresh replicas failed: " + c.reason;
   return "checked on " + std::to_string(c.check.n) + " fresh replicas: median " + format_double_plain(c.check.median) +
-         " px, 95 % interval [" + format_double_plain(c.check.interval95_low) + ", " +
-         format_double_plain(c.check.interval95_high) + "] px (exact engine " + format_double_plain(c.exact_distance) +
-         " px)";
+         " " + unit + ", 95 % interval [" + format_double_plain(c.check.interval95_low) + ", " +
+         format_double_plain(c.check.interval95_high) + "] " + unit + " (exact engine " +
+         format_double_plain(c.exact_distance) + " " + unit + ")";
 }
 
 } // namespace sodaevo

@@ -51,13 +51,19 @@ std::vector<ReplicaCheck> check_all_on_fresh_replicas(const Problem& problem, co
 nlohmann::json champion_json(const ReplicaCheck& c, const std::string& file, long long settle_frames,
                              long long frames);
 
+/// champion_json for a run of `config`: a race's entry has, instead of the walk's
+/// frames, "unit": "frames" and its "race" (/fitness/race): exact_distance and the
+/// check are then race results in frames.
+nlohmann::json champion_json(const ReplicaCheck& c, const std::string& file, const RunConfig& config);
+
 /// The check of a run's `count` best creatures on `replicas` fresh replicas each,
 /// written to RUN/champions.json (file "" for each: nothing exported); what the run
 /// report's "Claimed against checked" shows. Returns the checks.
 std::vector<ReplicaCheck> write_run_champions(const std::filesystem::path& run_dir, int count, int replicas,
                                               int threads);
 
-/// One line for the exported XML's comment: the checked median and interval.
-std::string check_comment(const ReplicaCheck& c);
+/// One line for the exported XML's comment: the checked median and interval, in
+/// `unit` (the score's: px for a walk, frames for a race).
+std::string check_comment(const ReplicaCheck& c, const std::string& unit = "px");
 
 } // namespace sodaevo

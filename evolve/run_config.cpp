@@ -6,8 +6,6 @@
 // the first problem: every error is collected and reported together.
 #include "run_config.hpp"
 
-#include <fnmatch.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -23,6 +21,7 @@
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "evolve/input_limits.hpp"
+#include "evolve/seed_model_paths.hpp"
 #include "evolve/strict_json.hpp"
 
 namespace sodaevo {
@@ -41,6 +40,8 @@ enum class Kind {
   Preset,           ///< /preset (not stored; resolved into /world/evolve)
   Comment,          ///< /comment, /$schema: a string, ignored
   SeedModels,       ///< /population/seed_models
+  FitnessKindName,  ///< /fitness/kind
+  Race,             ///< /fitness/race: an object read by race_fitness_config.cpp
   Direction,        ///< /fitness/direction
   Scaling,          ///< /fitness/scaling
   Mode,             ///< /fitness/mode
@@ -129,6 +130,7 @@ const std::vector<Field>& fields() {
       integer("/budget/evaluations", SODAEVO_FIELD(budget.max_evaluations), 0, kTwoPow53),
       number("/budget/wall_seconds", SODAEVO_FIELD(budget.max_wall_seconds), 0, 1e9),
 
+      special("/fitness/kind", Kind::FitnessKindName),
       integer("/fitness/frames", SODAEVO_FIELD(fitness.frames), 1, 1e7),
       integer("/fitness/settle_frames", SODAEVO_FIELD(fitness.settle_frames), 0, 1e7),
       special("/fitness/direction", Kind::Direction),
@@ -144,6 +146,7 @@ const std::vector<Field>& fields() {
       integer("/fitness/replicas_max", SODAEVO_FIELD(fitness.replicas_max), 1, 1024),
       special("/fitness/statistic", Kind::Statistic),
       number("/fitness/jitter", SODAEVO_FIELD(fitness.jitter), 0, 1),
+      special("/fitness/race", Kind::Race),
 
       number("/world/gravity", SODAEVO_FIELD(world.gravity), soda::kGravityRange),
       number("/world/friction", SODAEVO_FIELD(world.friction), soda::kFrictionRange),
@@ -423,6 +426,17 @@ class ConfigReader {
         return;
       case Kind::SeedModels:
         return read_seed_models(v);
+      case Kind::FitnessKindName:
+        if (v == "race") config_.fitness.kind = FitnessKind::Race;
+        else if (v != "walk") expected(p, "one of " + quoted_list({"walk", "race"}), v);
+        return;
+      case Kind::Race: {
+        std::vector<ConfigProblem> problems;
+        read_race_fitness(v, base_dir_, config_.fitness.race, problems);
+        for (const ConfigProblem& problem : problems) error(problem.pointer, problem.message);
+        if (!problems.empty()) bad_.insert(p);
+        return;
+      }
       case Kind::Direction:
         return read_enum(p, v, kDirections, config_.fitness.direction);
       case Kind::Scaling:
@@ -466,58 +480,11 @@ class ConfigReader {
   }
 
   void read_seed_models(const json& v) {
-    const std::string p = "/population/seed_models";
-    if (!v.is_array()) return expected(p, "an array of model file paths", v);
-    if (v.size() > kMaxSeedModels) {
-      return error(p, "expected at most " + std::to_string(kMaxSeedModels) + " model file paths, got " +
-                          std::to_string(v.size()));
-    }
-    std::vector<std::string> models;
-    bool all_ok = true;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const std::string pi = p + "/" + std::to_string(i);
-      const json& item = v[i];
-      if (!item.is_string() || item.get<std::string>().empty()) {
-        expected(pi, "a model file path", item);
-        all_ok = false;
-        continue;
-      }
-      const fs::path given = fs::path(item.get<std::string>());
-      std::error_code ec;
-      fs::path resolved = fs::absolute(given.is_absolute() ? given : base_dir_ / given, ec);
-      if (ec) resolved = base_dir_ / given;
-      resolved = resolved.lexically_normal();
-      const std::string pattern = resolved.filename().string();
-      if (pattern.find_first_of("*?[") != std::string::npos) {
-        // A pattern in the file name (e.g. "../models/*.xml"): every matching
-        // regular file of that folder, sorted by name, so the resolved config (and
-        // with it the run) does not depend on the order the folder lists them in.
-        std::vector<std::string> matches;
-        for (const fs::directory_entry& e : fs::directory_iterator(resolved.parent_path(), ec)) {
-          if (e.is_regular_file(ec) && ::fnmatch(pattern.c_str(), e.path().filename().c_str(), 0) == 0) {
-            matches.push_back(e.path().string());
-          }
-        }
-        std::sort(matches.begin(), matches.end());
-        if (matches.empty()) {
-          expected(pi, "a pattern matching at least one model file (looked in " + resolved.parent_path().string() + ")",
-                   item);
-          all_ok = false;
-        }
-        models.insert(models.end(), matches.begin(), matches.end());
-        continue;
-      }
-      if (!fs::is_regular_file(resolved, ec)) {
-        std::string what = "an existing model file";
-        if (resolved.string() != item.get<std::string>()) what += " (looked for " + resolved.string() + ")";
-        expected(pi, what, item);
-        all_ok = false;
-        continue;
-      }
-      models.push_back(resolved.string());
-    }
-    if (all_ok) config_.population.seed_models = std::move(models);
-    else bad_.insert(p);
+    std::vector<ConfigProblem> problems;
+    std::optional<std::vector<std::string>> models = read_seed_model_paths(v, base_dir_, problems);
+    for (const ConfigProblem& problem : problems) error(problem.pointer, problem.message);
+    if (models) config_.population.seed_models = std::move(*models);
+    else bad_.insert("/population/seed_models");
   }
 
   void read_world_evolve(const json& v) {
@@ -600,6 +567,14 @@ class ConfigReader {
       error("/algorithm", "expected \"ga\" with /fitness/mode \"continuous\", /fitness/divergence \"energy\" or "
                           "/fitness/honesty (MAP-Elites measures its descriptors in the soda mode only), "
                           "got \"map-elites\"");
+    }
+    if (ok("/fitness/kind") && ok("/fitness/race") && ok("/algorithm")) {
+      const bool soda_mode = c.fitness.mode == soda::PhysicsMode::Soda &&
+                             c.fitness.divergence == DivergenceCheck::Finite && !(c.fitness.honesty_max_change > 0.0);
+      for (const ConfigProblem& problem : race_fitness_conflicts(c.fitness.kind, c.fitness.race, given("/fitness/race"),
+                                                                 c.algorithm == AlgorithmKind::Genetic, soda_mode)) {
+        error(problem.pointer, problem.message);
+      }
     }
     if (ok("/fitness/replicas") && ok("/fitness/replicas_max")) {
       // Unset, the cap follows a large replica count up.
@@ -690,6 +665,13 @@ nlohmann::json to_json(const RunConfig& config) {
         break;
       case Kind::Name: j[p] = c.name; break;
       case Kind::SeedModels: j[p] = c.population.seed_models; break;
+      // A walk run's config.json stays as it was before races existed.
+      case Kind::FitnessKindName:
+        if (c.fitness.kind != FitnessKind::Walk) j[p] = fitness_kind_name(c.fitness.kind);
+        break;
+      case Kind::Race:
+        if (c.fitness.kind != FitnessKind::Walk) j[p] = to_json(c.fitness.race);
+        break;
       case Kind::Direction: j[p] = direction_name(c.fitness.direction); break;
       case Kind::Scaling: j[p] = scaling_name(c.fitness.scaling); break;
       case Kind::Mode: j[p] = enum_name(kModes, c.fitness.mode); break;

@@ -17,6 +17,7 @@
 #include "core/model_def.hpp"
 #include "core/stepping.hpp"
 #include "evolve/map_elites_config.hpp"
+#include "evolve/race_fitness_config.hpp"
 
 namespace sodaevo {
 
@@ -30,8 +31,11 @@ enum class DivergenceCheck { Finite, Energy };
 /// the 95 % confidence interval of their mean.
 enum class EstimateStatistic { Mean, Median, LowerBound };
 
-/// How a creature is scored (the distance walked by the centroid; configs/README.md, /fitness).
+/// How a creature is scored: the distance walked by the centroid, or a race
+/// (configs/README.md, /fitness).
 struct FitnessConfig {
+  FitnessKind kind = FitnessKind::Walk; ///< /fitness/kind: "walk" | "race"
+  RaceFitnessConfig race;               ///< /fitness/race: only with kind "race"
   long long frames = 2000;        ///< /fitness/frames: scored frames, [1, 1e7]
   long long settle_frames = 200;  ///< /fitness/settle_frames: unscored frames first, [0, 1e7]
   WalkDirection direction = WalkDirection::Right; ///< /fitness/direction: "right" | "left" | "either"

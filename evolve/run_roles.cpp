@@ -1,13 +1,23 @@
 #include "run_roles.hpp"
 
 #include "evolve/genetic_algorithm.hpp"
+#include "evolve/race_problem.hpp"
 #include "evolve/replica_estimator.hpp"
 #include "evolve/walk_problem.hpp"
 
 namespace sodaevo {
 
+namespace {
+
+std::unique_ptr<Problem> problem_of(const RunConfig& config) {
+  if (config.fitness.kind == FitnessKind::Race) return std::make_unique<RaceProblem>(config);
+  return std::make_unique<WalkProblem>(config);
+}
+
+} // namespace
+
 RunRoles roles_of(const RunConfig& config) {
-  return {std::make_unique<WalkProblem>(config), std::make_unique<ReplicaEstimator>(replica_plan(config)),
+  return {problem_of(config), std::make_unique<ReplicaEstimator>(replica_plan(config)),
           std::make_unique<GeneticAlgorithm>(config)};
 }
 

@@ -21,8 +21,8 @@ struct RunRoles {
   std::unique_ptr<Algorithm> algorithm;
 };
 
-/// Today every config makes a WalkProblem, a ReplicaEstimator (/fitness/replicas...)
-/// and a GeneticAlgorithm.
+/// A WalkProblem, or a RaceProblem for /fitness/kind "race"; a ReplicaEstimator
+/// (/fitness/replicas...) and a GeneticAlgorithm.
 RunRoles roles_of(const RunConfig& config);
 
 /// One creature evaluated as the run `config` evaluates it (its problem and

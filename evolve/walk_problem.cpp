@@ -16,6 +16,7 @@
 #include "evolve/descriptors.hpp"
 #include "evolve/honesty.hpp"
 #include "evolve/wire_format.hpp"
+#include "evolve/world_wire.hpp"
 
 namespace sodaevo {
 
@@ -321,17 +322,7 @@ void WalkProblem::write(WireWriter& out) const {
   out.u8(static_cast<std::uint8_t>(fitness_.divergence));
   out.f64(fitness_.honesty_max_change);
   out.i32(fitness_.honesty_substeps_factor);
-  out.f64(world_.gravity);
-  out.f64(world_.friction);
-  out.f64(world_.springyness);
-  out.f64(world_.surface_friction);
-  out.f64(world_.surface_reflection);
-  out.i32(static_cast<int>(world_.gravity_direction));
-  out.u64(world_.evolve.size());
-  for (const std::string& name : world_.evolve) out.text(name);
-  out.i32(limits_.min_masses);
-  out.i32(limits_.max_masses);
-  out.i32(limits_.max_links);
+  write_world_and_limits(out, world_, limits_);
   out.u64(static_cast<std::uint64_t>(describe_every_));
 }
 
@@ -361,26 +352,8 @@ WalkProblem WalkProblem::read_fields(WireReader& in) {
   f.honesty_max_change = in.f64();
   f.honesty_substeps_factor = in.i32();
   WorldConfig w;
-  w.gravity = in.f64();
-  w.friction = in.f64();
-  w.springyness = in.f64();
-  w.surface_friction = in.f64();
-  w.surface_reflection = in.f64();
-  w.gravity_direction = enum_field<soda::GravityDirection>(in.i32(), -1, 1, "gravity direction");
-  const std::uint64_t evolving = in.u64();
-  const std::vector<std::string>& names = world_parameter_names();
-  if (evolving > names.size()) throw WireError("walk problem: bad count of evolving world parameters");
-  for (std::uint64_t k = 0; k < evolving; ++k) {
-    std::string name = in.text();
-    if (std::find(names.begin(), names.end(), name) == names.end()) {
-      throw WireError("walk problem: unknown world parameter '" + name + "'");
-    }
-    w.evolve.push_back(std::move(name));
-  }
   LimitsConfig l;
-  l.min_masses = in.i32();
-  l.max_masses = in.i32();
-  l.max_links = in.i32();
+  read_world_and_limits(in, "walk problem", w, l);
   const std::uint64_t describe_every = in.u64();
   if (describe_every > kMaxDescribeEvery) throw WireError("walk problem: bad descriptor sample interval");
   return WalkProblem(f, w, l, static_cast<long long>(describe_every));

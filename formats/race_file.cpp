@@ -173,6 +173,8 @@ RaceDef read_race_file(const std::filesystem::path& path) {
   return read_race_text(read_whole_file(path), path.string());
 }
 
+std::string read_race_file_text(const std::filesystem::path& path) { return read_whole_file(path); }
+
 bool looks_like_race(std::string_view text) {
   const std::size_t open = text.find("<race");
   if (open == std::string_view::npos) return false;

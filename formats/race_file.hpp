@@ -19,6 +19,8 @@ namespace soda {
 /// integer in [1, kMaxRaceTimeout], a constraint other than CONTENDER or RACER.
 RaceDef read_race_text(std::string_view text, const std::string& source_name);
 RaceDef read_race_file(const std::filesystem::path& path);
+/// A race file's text, as read_race_file reads it (size limit, messages naming the path).
+std::string read_race_file_text(const std::filesystem::path& path);
 
 /// Whether the XML text's root element is <race> (cheap look at the text).
 bool looks_like_race(std::string_view text);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <stdexcept>
+#include <utility>
 
 #include "core/fused/kernel_table.hpp"
 #include "core/fused/scene_data.hpp"
@@ -77,6 +78,62 @@ const KernelChoice& FusedScene::last_kernel() const { return d_->last; }
 long long FusedScene::sines_evaluated() const { return d_->sines_evaluated; }
 bool FusedScene::points_in_registers() const { return d_->points_in_registers; }
 bool FusedScene::frame_in_registers() const { return d_->frame_in_registers; }
+
+namespace {
+
+/// The free masses' least and greatest x, in mass order (as a race takes them).
+template <typename XOf>
+std::pair<double, double> x_extent(int masses, const XOf& x_of) {
+  double lo = x_of(0), hi = lo;
+  for (int p = 1; p < masses; ++p) {
+    const double x = x_of(p);
+    lo = std::min(lo, x);
+    hi = std::max(hi, x);
+  }
+  return {lo, hi};
+}
+
+} // namespace
+
+long long FusedScene::run_until(State& state, long long frames, const std::function<bool(double, double)>& stop) {
+  SceneData& s = *d_;
+  if (s.creatures.size() != 1) throw std::invalid_argument("FusedScene::run_until: a scene of one model only");
+  const Model& m = *s.creatures[0].model;
+  State* const st[1] = {&state};
+  const bool ordered = s.options.force_ordered || s.bars != BarKind::None;
+  if (!ordered || m.mass_count == 0) { // the SIMD kernels run whole chunks: one frame per call
+    for (long long f = 0; f < frames; ++f) {
+      run(st, 1);
+      const auto [lo, hi] = x_extent(m.mass_count, [&](int p) { return m.mass_count > 0 ? state.x[p] : 0.0; });
+      if (stop(lo, hi)) return f + 1;
+    }
+    return std::max(0LL, frames);
+  }
+  require_batch_states(st, 1, [&](int) { return m.point_count; }, "FastStepper::run_until");
+  require_no_jitter(state.jitter, "FastStepper::run_until");
+  if (frames <= 0) return 0;
+  s.load_state(st);
+  s.leave_rows(); // the state may be another, or changed since
+  KernelChoice k;
+  k.simd = s.simd;
+  k.wave = s.any_wave;
+  k.gravity = s.any_gravity;
+  k.bars = s.bars;
+  k.ordered = true;
+  k.walls = WallNeeds{};
+  s.record(k);
+  const std::vector<int>& work = s.creatures[0].work_of_point;
+  long long done = 0;
+  while (done < frames) {
+    s.ordered_frame(state);
+    ++done;
+    const auto [lo, hi] = x_extent(m.mass_count, [&](int p) { return s.px(work[static_cast<std::size_t>(p)]); });
+    if (stop(lo, hi)) break;
+  }
+  s.store_state(st);
+  state.frame += done;
+  return done;
+}
 
 void FusedScene::run(State* const* states, long long frames) {
   SceneData& s = *d_;

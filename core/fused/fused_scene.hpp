@@ -30,6 +30,7 @@
 // The Models must outlive the scene; one scene is used by one thread at a time.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -59,6 +60,14 @@ class FusedScene {
 
   /// Steps states[c] (a state of model c) by `frames` frames, for every model c.
   void run(State* const* states, long long frames);
+
+  /// A scene of one model: steps `state` until `stop(min_x, max_x)` is true after a
+  /// frame (the free masses' least and greatest x, taken in mass order with std::min
+  /// and std::max), at most `frames` frames; returns the frames run. The state after
+  /// n frames is what run gives for n frames. (A race ends when its contender passes
+  /// the finish: checking that per frame inside the scene keeps the state and the
+  /// rows of sines in place.)
+  long long run_until(State& state, long long frames, const std::function<bool(double, double)>& stop);
 
   [[nodiscard]] int size() const;
   [[nodiscard]] const Model& model(int c) const;

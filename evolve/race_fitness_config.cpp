@@ -1,0 +1,142 @@
+#include "evolve/race_fitness_config.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <system_error>
+
+#include "core/race_def.hpp"
+#include "evolve/strict_json.hpp"
+#include "formats/race_file.hpp"
+
+namespace sodaevo {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string fitness_kind_name(FitnessKind k) { return k == FitnessKind::Race ? "race" : "walk"; }
+std::string race_combine_name(RaceCombine c) { return c == RaceCombine::Worst ? "worst" : "mean"; }
+
+fs::path find_race_terrain(const std::string& entry, const fs::path& base_dir) {
+  std::error_code ec;
+  const fs::path given(entry);
+  const fs::path relative = (given.is_absolute() ? given : base_dir / given).lexically_normal();
+  if (fs::is_regular_file(relative, ec)) return fs::absolute(relative, ec).lexically_normal();
+  if (given.has_parent_path()) return {};
+  const std::string file = given.extension() == ".xml" ? entry : entry + ".xml";
+  for (const fs::path& dir : {base_dir / ".." / "models" / "terrains", fs::current_path(ec) / "models" / "terrains"}) {
+    const fs::path p = (dir / file).lexically_normal();
+    if (fs::is_regular_file(p, ec)) return fs::absolute(p, ec).lexically_normal();
+  }
+  return {};
+}
+
+namespace {
+
+class Reader {
+ public:
+  Reader(const fs::path& base_dir, RaceFitnessConfig& config, std::vector<ConfigProblem>& problems)
+      : base_dir_(base_dir), config_(config), problems_(problems) {}
+
+  void read(const json& v) {
+    static const std::vector<std::string> keys = {"terrains", "combine", "timeout"};
+    if (!v.is_object()) return expected("", "an object with keys terrains, combine, timeout", v);
+    for (const auto& [key, value] : v.items()) {
+      if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
+        problem("/" + key, "unknown key (expected one of: terrains, combine, timeout)");
+      }
+    }
+    if (const auto it = v.find("combine"); it != v.end()) {
+      if (*it == "mean") config_.combine = RaceCombine::Mean;
+      else if (*it == "worst") config_.combine = RaceCombine::Worst;
+      else expected("/combine", "one of \"mean\" or \"worst\"", *it);
+    }
+    if (const auto it = v.find("timeout"); it != v.end()) {
+      const bool integral = it->is_number() && it->get<double>() == std::floor(it->get<double>());
+      if (!integral || it->get<double>() < 0 || it->get<double>() > soda::kMaxRaceTimeout) {
+        expected("/timeout", "an integer in [0, " + std::to_string(soda::kMaxRaceTimeout) + "] (0: the race file's)",
+                 *it);
+      } else {
+        config_.timeout = static_cast<int>(it->get<double>());
+      }
+    }
+    read_terrains(v);
+  }
+
+ private:
+  void problem(const std::string& pointer, const std::string& message) {
+    problems_.push_back({"/fitness/race" + pointer, message});
+  }
+  void expected(const std::string& pointer, const std::string& what, const json& got) {
+    problem(pointer, "expected " + what + ", got " + show_json(got));
+  }
+
+  void read_terrains(const json& v) {
+    const auto it = v.find("terrains");
+    if (it == v.end()) return; // checked with /fitness/kind (a race needs terrains)
+    constexpr std::size_t kMaxTerrains = 64;
+    if (!it->is_array() || it->empty() || it->size() > kMaxTerrains) {
+      return expected("/terrains", "an array of 1 to 64 race files or bundled terrain names", *it);
+    }
+    std::vector<std::string> paths;
+    for (std::size_t i = 0; i < it->size(); ++i) {
+      const json& item = (*it)[i];
+      const std::string at = "/terrains/" + std::to_string(i);
+      if (!item.is_string() || item.get<std::string>().empty()) {
+        expected(at, "a race file or a bundled terrain name (e.g. \"TerrainFlat\")", item);
+        continue;
+      }
+      const fs::path found = find_race_terrain(item.get<std::string>(), base_dir_);
+      if (found.empty()) {
+        expected(at, "an existing race file (looked in " + base_dir_.string() +
+                         ") or a bundled terrain of models/terrains/",
+                 item);
+        continue;
+      }
+      try {
+        (void)soda::read_race_file(found);
+      } catch (const std::exception& ex) {
+        problem(at, std::string("expected a race file, got one that does not read: ") + ex.what());
+        continue;
+      }
+      paths.push_back(found.string());
+    }
+    if (paths.size() == it->size()) config_.terrains = std::move(paths);
+  }
+
+  fs::path base_dir_;
+  RaceFitnessConfig& config_;
+  std::vector<ConfigProblem>& problems_;
+};
+
+} // namespace
+
+void read_race_fitness(const json& value, const fs::path& base_dir, RaceFitnessConfig& config,
+                       std::vector<ConfigProblem>& problems) {
+  Reader(base_dir, config, problems).read(value);
+}
+
+std::vector<ConfigProblem> race_fitness_conflicts(FitnessKind kind, const RaceFitnessConfig& race, bool race_given,
+                                                  bool genetic_algorithm, bool soda_mode) {
+  std::vector<ConfigProblem> out;
+  if (kind != FitnessKind::Race) {
+    if (race_given) out.push_back({"/fitness/race", "expected only with /fitness/kind \"race\", got it with \"walk\""});
+    return out;
+  }
+  if (race.terrains.empty()) {
+    out.push_back({"/fitness/race/terrains",
+                   "expected at least one race file or bundled terrain with /fitness/kind \"race\", got none"});
+  }
+  if (!genetic_algorithm) out.push_back({"/algorithm", "expected \"ga\" with /fitness/kind \"race\", got \"map-elites\""});
+  if (!soda_mode) {
+    out.push_back({"/fitness/kind", "expected \"walk\" with /fitness/mode \"continuous\", /fitness/divergence \"energy\" "
+                                    "or /fitness/honesty (a race runs the racer's own step), got \"race\""});
+  }
+  return out;
+}
+
+json to_json(const RaceFitnessConfig& c) {
+  return {{"terrains", c.terrains}, {"combine", race_combine_name(c.combine)}, {"timeout", c.timeout}};
+}
+
+} // namespace sodaevo

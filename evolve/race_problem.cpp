@@ -1,0 +1,230 @@
+#include "evolve/race_problem.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <exception>
+#include <filesystem>
+#include <utility>
+
+#include "core/divergence.hpp"
+#include "core/input_error.hpp"
+#include "core/model.hpp"
+#include "core/number_text.hpp"
+#include "core/race_lane.hpp"
+#include "evolve/creature_limits.hpp"
+#include "evolve/walk_problem.hpp"
+#include "evolve/wire_format.hpp"
+#include "evolve/world_wire.hpp"
+#include "formats/race_file.hpp"
+
+namespace sodaevo {
+
+RaceTerrain read_race_terrain(const std::string& file) {
+  RaceTerrain t;
+  t.file = file;
+  t.text = soda::read_race_file_text(file);
+  t.race = soda::read_race_text(t.text, file);
+  return t;
+}
+
+RaceProblem::RaceProblem(const RaceFitnessConfig& race, std::vector<RaceTerrain> terrains, const WorldConfig& world,
+                         const LimitsConfig& limits)
+    : race_(race), terrains_(std::move(terrains)), world_(world), limits_(limits) {
+  if (terrains_.empty()) throw soda::InputError("race problem: expected at least one terrain, got none");
+}
+
+namespace {
+
+std::vector<RaceTerrain> read_terrains(const RaceFitnessConfig& race) {
+  std::vector<RaceTerrain> out;
+  for (const std::string& file : race.terrains) out.push_back(read_race_terrain(file));
+  return out;
+}
+
+bool evolves(const WorldConfig& world, const char* name) {
+  return std::find(world.evolve.begin(), world.evolve.end(), name) != world.evolve.end();
+}
+
+} // namespace
+
+RaceProblem::RaceProblem(const RunConfig& config)
+    : RaceProblem(config.fitness.race, read_terrains(config.fitness.race), config.world, config.limits) {}
+
+int RaceProblem::timeout_of(std::size_t t) const {
+  return race_.timeout > 0 ? race_.timeout : terrains_[t].race.timeout;
+}
+
+soda::ModelDef RaceProblem::prepare(const soda::ModelDef& creature) const {
+  if (std::optional<std::string> invalid = check_creature(creature, limits_)) {
+    throw soda::InputError("creature " + *invalid);
+  }
+  soda::ModelDef m = creature;
+  // The world, except what the creature chooses for itself (the race constraints
+  // are CONTENDER: the lane takes the contender's values).
+  const auto world = [&](const char* name, double& field, double value) {
+    if (!evolves(world_, name)) field = value;
+  };
+  world("gravity", m.environment.gravity, world_.gravity);
+  world("friction", m.environment.friction, world_.friction);
+  world("springyness", m.environment.springyness, world_.springyness);
+  world("surface_friction", m.collisions.surface_friction, world_.surface_friction);
+  world("surface_reflection", m.collisions.surface_reflection, world_.surface_reflection);
+  m.settings.gravity_direction = world_.gravity_direction;
+  m.settings.wave_direction = soda::WaveDirection::Forward;
+  m.settings.autoreverse = false;
+
+  // At racing size: the racer's scale (half the container height over the root of
+  // the sum of Lmax^2) is then 1 to the last bits.
+  const std::optional<double> s = sodarace_scale(m);
+  if (!s) throw soda::InputError("cannot race: the creature has no springs or muscles of non-zero length");
+  for (soda::NodeDef& n : m.nodes) {
+    n.x *= *s;
+    n.y *= *s;
+    n.vx *= *s;
+    n.vy *= *s;
+  }
+  for (soda::LinkDef& l : m.links) l.rest_length *= *s;
+  m.environment.gravity *= *s;
+  if (!soda::kGravityRange.contains(m.environment.gravity)) {
+    throw soda::InputError("racing size (scale " + soda::format_double_plain(*s) + ") gives gravity " +
+                           soda::format_double_plain(m.environment.gravity) + ", above the original's limit 4");
+  }
+  // Placed in a default-height container (the racer scales by half of it): the
+  // leftmost mass 20 px from the left wall, the lowest 5 px above the floor.
+  double min_x = INFINITY, max_x = -INFINITY, min_y = INFINITY;
+  for (const soda::NodeDef& n : m.nodes) {
+    min_x = std::min(min_x, n.x);
+    max_x = std::max(max_x, n.x);
+    min_y = std::min(min_y, n.y);
+  }
+  m.height = soda::kDefaultHeight;
+  m.width = static_cast<int>(std::max<double>(soda::kDefaultWidth, std::ceil(max_x - min_x + 40.0)));
+  for (soda::NodeDef& n : m.nodes) {
+    n.x += 20.0 - min_x;
+    n.y += 5.0 - min_y;
+  }
+  return m;
+}
+
+std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) const {
+  std::vector<Evaluation> results(runs.size());
+  // The lanes and their models of each distinct prepared model (replicas share them).
+  struct Lanes {
+    const soda::ModelDef* prepared = nullptr;
+    std::vector<soda::RaceLane> lanes;
+    std::vector<soda::Model> models;
+    std::string error;
+  };
+  std::vector<Lanes> built;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    auto it = std::find_if(built.begin(), built.end(), [&](const Lanes& l) { return l.prepared == runs[i].prepared; });
+    if (it == built.end()) {
+      Lanes l;
+      l.prepared = runs[i].prepared;
+      try {
+        for (const RaceTerrain& t : terrains_) {
+          l.lanes.push_back(soda::build_lane(t.race.terrain, t.race.constraints, *l.prepared, "creature"));
+          l.models.push_back(soda::build_lane_model(l.lanes.back()));
+        }
+      } catch (const std::exception& ex) {
+        l.error = ex.what();
+      }
+      built.push_back(std::move(l));
+      it = built.end() - 1;
+    }
+    Evaluation& e = results[i];
+    if (!it->error.empty()) {
+      e.reason = it->error;
+      continue;
+    }
+    double sum = 0.0, worst = 0.0;
+    bool healthy = true;
+    for (std::size_t t = 0; t < terrains_.size() && healthy; ++t) {
+      const soda::Model& model = it->models[t];
+      soda::State state = soda::make_state(model);
+      state.jitter = runs[i].jitter;
+      soda::RaceOutcome o;
+      try {
+        o = soda::run_race_fast(it->lanes[t], model, timeout_of(t), state);
+      } catch (const std::exception& ex) {
+        e.status = EvaluationStatus::Diverged;
+        e.reason = terrains_[t].file + ": " + ex.what();
+        healthy = false;
+        break;
+      }
+      if (const int m = soda::first_non_finite_mass(model, state); m >= 0) {
+        e.status = EvaluationStatus::Diverged;
+        e.reason = terrains_[t].file + ": non-finite state of mass " + std::to_string(m) + " at update " +
+                   std::to_string(o.updates);
+        healthy = false;
+        break;
+      }
+      sum += o.result;
+      worst = t == 0 ? o.result : std::max(worst, o.result);
+    }
+    if (!healthy) continue;
+    const double frames = race_.combine == RaceCombine::Worst ? worst : sum / static_cast<double>(terrains_.size());
+    e.status = EvaluationStatus::Ok;
+    e.distance = frames;
+    e.px_per_frame = 0.0;
+    e.fitness = -frames;
+  }
+  return results;
+}
+
+soda::ModelDef RaceProblem::export_form(const soda::ModelDef& creature, const std::string& id,
+                                        const Evaluation& evaluation) const {
+  soda::ModelDef prepared = prepare(creature);
+  prepared.name = id;
+  std::string on;
+  for (const RaceTerrain& t : terrains_) on += (on.empty() ? "" : ", ") + std::filesystem::path(t.file).filename().string();
+  prepared.comment = "sodaevo " + id + ": race fitness " + soda::format_double_plain(evaluation.fitness) + " (" +
+                     soda::format_double_plain(evaluation.distance) + " frames, " +
+                     (terrains_.size() > 1 ? race_combine_name(race_.combine) + " over " : std::string("on ")) + on +
+                     "; the original racer, 2004 bar rule)";
+  return prepared;
+}
+
+void RaceProblem::write(WireWriter& out) const {
+  out.text(kind());
+  out.u8(static_cast<std::uint8_t>(race_.combine));
+  out.i32(race_.timeout);
+  out.u64(terrains_.size());
+  for (const RaceTerrain& t : terrains_) {
+    out.text(t.file);
+    out.text(t.text);
+  }
+  write_world_and_limits(out, world_, limits_);
+}
+
+RaceProblem RaceProblem::read_fields(WireReader& in) {
+  RaceFitnessConfig race;
+  const int combine = in.u8();
+  if (combine > 1) throw WireError("race problem: bad combine value " + std::to_string(combine));
+  race.combine = static_cast<RaceCombine>(combine);
+  race.timeout = in.i32();
+  if (race.timeout < 0 || race.timeout > soda::kMaxRaceTimeout) throw WireError("race problem: bad timeout");
+  const std::uint64_t count = in.u64();
+  constexpr std::uint64_t kMaxTerrains = 64;
+  if (count == 0 || count > kMaxTerrains) throw WireError("race problem: bad terrain count");
+  std::vector<RaceTerrain> terrains;
+  for (std::uint64_t k = 0; k < count; ++k) {
+    RaceTerrain t;
+    t.file = in.text();
+    t.text = in.text();
+    try {
+      t.race = soda::read_race_text(t.text, t.file);
+    } catch (const std::exception& ex) {
+      throw WireError(std::string("race problem: ") + ex.what());
+    }
+    race.terrains.push_back(t.file);
+    terrains.push_back(std::move(t));
+  }
+  WorldConfig w;
+  LimitsConfig l;
+  read_world_and_limits(in, "race problem", w, l);
+  return RaceProblem(race, std::move(terrains), w, l);
+}
+
+} // namespace sodaevo

@@ -1,0 +1,71 @@
+// RaceProblem: how fast a creature races over Sodarace terrains, as the original
+// racer (2004) races a contender (core/race_lane.hpp; /fitness/kind "race").
+//
+// A creature is checked against the limits and prepared as a contender the
+// original racer accepts: the world applied (except what the creature evolves),
+// wave forward, autoreverse off, scaled as the racer scales contenders (so the
+// file holds the creature at the size it races, and the racer's own scale is 1
+// to the last bits), in a container of the default height 422 (the racer scales by
+// half the contender's own container height). The prepared model is exactly what
+// `export` writes, so `sodaevo race TERRAIN.xml EXPORTED.xml` and the original
+// racer give the result the run logged. A rollout races it on every terrain, each
+// in its own lane, until the finish or the timeout (the race file's, or
+// /fitness/race/timeout): its result is the racer's, frames to the finish or
+// timeout + the fraction of the way left. Several terrains score their mean or the
+// worst. Fewer frames is better, so fitness = -frames; Evaluation::distance holds
+// the frames (the score in its natural unit), px_per_frame is 0.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "core/race_def.hpp"
+#include "evolve/problem.hpp"
+#include "evolve/run_config.hpp"
+
+namespace sodaevo {
+
+/// One terrain of a race problem: the race file's text (it travels to MPI
+/// workers as is) and what it reads to.
+struct RaceTerrain {
+  std::string file; ///< as configured (for messages and comments)
+  std::string text;
+  soda::RaceDef race;
+};
+
+/// Reads a race file into a RaceTerrain. Throws soda::InputError.
+RaceTerrain read_race_terrain(const std::string& file);
+
+class RaceProblem final : public Problem {
+ public:
+  RaceProblem(const RaceFitnessConfig& race, std::vector<RaceTerrain> terrains, const WorldConfig& world,
+              const LimitsConfig& limits);
+  /// The run's problem: /fitness/race (its terrains read now), /world and /limits.
+  explicit RaceProblem(const RunConfig& config);
+
+  [[nodiscard]] const std::vector<RaceTerrain>& terrains() const { return terrains_; }
+
+  [[nodiscard]] std::string kind() const override { return "race"; }
+  [[nodiscard]] soda::ModelDef prepare(const soda::ModelDef& creature) const override;
+  /// Each run on every terrain; the lanes of one prepared model are built once and
+  /// shared by its replicas. Exact runs step with the fast stepper, jittered ones
+  /// with the reference step (run_race_fast). A lane that cannot be built is
+  /// Invalid; a non-finite state at the end of a race is Diverged.
+  [[nodiscard]] std::vector<Evaluation> rollouts(const std::vector<Rollout>& runs) const override;
+  [[nodiscard]] soda::ModelDef export_form(const soda::ModelDef& creature, const std::string& id,
+                                           const Evaluation& evaluation) const override;
+  void write(WireWriter& out) const override;
+  /// The fields `write` wrote after the kind tag.
+  static RaceProblem read_fields(WireReader& in);
+
+  /// The timeout raced on terrain `t`: /fitness/race/timeout, or the race file's.
+  [[nodiscard]] int timeout_of(std::size_t t) const;
+
+ private:
+  RaceFitnessConfig race_;
+  std::vector<RaceTerrain> terrains_;
+  WorldConfig world_;
+  LimitsConfig limits_;
+};
+
+} // namespace sodaevo

@@ -1,0 +1,260 @@
+// Race fitness (/fitness/kind "race", evolve/race_problem.hpp) and the fast race
+// runner (core/race_lane.hpp run_race_fast): the fast runner against the original
+// racer's golden results (tests/data/terrain/races.tsv, copied from
+// ../shared/models/soda/golden/terrain) and against the reference runner; a race
+// run's exported creature raced again from its file; the config keys and their
+// errors; the problem over the wire.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "core/input_error.hpp"
+#include "core/race_lane.hpp"
+#include "core/step.hpp"
+#include "evolve/race_problem.hpp"
+#include "evolve/replica_estimator.hpp"
+#include "evolve/run_roles.hpp"
+#include "evolve/wire_format.hpp"
+#include "formats/model_file.hpp"
+#include "formats/race_file.hpp"
+#include "test_support.hpp"
+
+using namespace sodaevo;
+using namespace sodaevo::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+fs::path golden_file(const std::string& p) {
+  const std::string terrain = "shared/models/soda/golden/terrain/";
+  const std::string soda = "shared/models/soda/";
+  if (p.rfind(terrain, 0) == 0) return data_dir() / "terrain" / p.substr(terrain.size());
+  if (p.rfind(soda, 0) == 0) return data_dir() / "soda" / p.substr(soda.size());
+  return p;
+}
+
+struct GoldenResult {
+  std::string race, contender;
+  double result = 0.0;
+};
+
+/// races.tsv rows whose contender path contains `contender`.
+std::vector<GoldenResult> golden_rows(const std::string& contender) {
+  std::ifstream in(data_dir() / "terrain" / "races.tsv");
+  std::string line;
+  std::getline(in, line);
+  std::vector<GoldenResult> out;
+  GoldenResult r;
+  while (in >> r.race >> r.contender >> r.result) {
+    if (r.contender.find(contender) != std::string::npos) out.push_back(r);
+  }
+  return out;
+}
+
+fs::path terrain(const std::string& name) { return models_dir() / "terrains" / (name + ".xml"); }
+
+RunConfig race_config(const std::vector<std::string>& terrains, int timeout) {
+  RunConfig c = walker_run_config("race", 1, 8, 2, 100, 0);
+  c.fitness.kind = FitnessKind::Race;
+  for (const std::string& t : terrains) c.fitness.race.terrains.push_back(terrain(t).string());
+  c.fitness.race.timeout = timeout;
+  c.world.evolve = world_parameter_names(); // the racer's CONTENDER rules: each brings its own world
+  return c;
+}
+
+soda::ModelDef dainty_walker() { return soda::read_model_file(models_dir() / "dainty_walker.xml").def; }
+
+} // namespace
+
+// Independent: the original racer's results. The monster truck and the Dainty
+// Walker as written reproduce on all 20 race files with the reference runner
+// (test_race.cpp); the fast runner must give the same, to the last bit.
+TEST_CASE("run_race_fast gives the original racer's results (classics on all 20 race files)", "[race][golden]") {
+  int raced = 0;
+  for (const char* who : {"golden/dw_v1_container651", "monster_truck_v2converted", "dw_v1_wavereverse"}) {
+    for (const GoldenResult& g : golden_rows(who)) {
+      const bool flat = g.race.find("lat") != std::string::npos || g.race.find("inc1_0") != std::string::npos;
+      if (std::string(who) == "dw_v1_wavereverse" && !flat) continue; // reproduced on the flat terrains only
+      const soda::RaceDef race = soda::read_race_file(golden_file(g.race));
+      const soda::RaceLane lane = soda::build_lane(race.terrain, race.constraints,
+                                                   soda::read_model_file(golden_file(g.contender)).def, g.contender);
+      const soda::Model model = soda::build_lane_model(lane);
+      soda::State state = soda::make_state(model);
+      const soda::RaceOutcome o = soda::run_race_fast(lane, model, race.timeout, state);
+      INFO(g.race << " " << g.contender << ": original " << g.result << ", ours " << o.result);
+      CHECK(o.result == g.result);
+      ++raced;
+    }
+  }
+  CHECK(raced == 43);
+}
+
+TEST_CASE("run_race_fast equals the reference race to the last bit of the final state, on every bundled terrain",
+          "[race]") {
+  const soda::ModelDef walker = dainty_walker();
+  for (const fs::path& file : xml_files_under(models_dir() / "terrains")) {
+    INFO(file.filename().string());
+    const soda::RaceDef race = soda::read_race_file(file);
+    const soda::RaceLane lane = soda::build_lane(race.terrain, race.constraints, walker, "dainty_walker");
+    const soda::Model model = soda::build_lane_model(lane);
+    constexpr int kTimeout = 600; // long enough to fall, walk and meet the bars
+    soda::State reference;
+    long long frames = 0;
+    const soda::RaceOutcome slow = soda::run_race(lane, model, kTimeout, [&](const soda::State& s) {
+      reference = s;
+      ++frames;
+    });
+    soda::State fast = soda::make_state(model);
+    const soda::RaceOutcome quick = soda::run_race_fast(lane, model, kTimeout, fast);
+    CHECK(same_bits(quick.result, slow.result));
+    CHECK(quick.updates == slow.updates);
+    CHECK(quick.finished == slow.finished);
+    CHECK(compare_states(model, fast, reference) == "");
+    CHECK(fast.bar_memory == reference.bar_memory);
+  }
+}
+
+TEST_CASE("run_race_fast: a jittered replica races as the reference step with the same jitter", "[race]") {
+  const soda::RaceDef race = soda::read_race_file(terrain("TerrainFlat"));
+  const soda::RaceLane lane = soda::build_lane(race.terrain, race.constraints, dainty_walker(), "dainty_walker");
+  const soda::Model model = soda::build_lane_model(lane);
+  soda::State jittered = soda::make_state(model);
+  jittered.jitter = {12345, 0.05};
+  soda::State by_hand = jittered;
+  const soda::RaceOutcome o = soda::run_race_fast(lane, model, 400, jittered);
+  soda::run(model, by_hand, o.updates);
+  CHECK(compare_states(model, jittered, by_hand) == "");
+  soda::State exact = soda::make_state(model);
+  soda::run(model, exact, o.updates);
+  CHECK_FALSE(compare_states(model, jittered, exact) == ""); // the jitter did act
+}
+
+namespace {
+
+Evaluation estimate_one(const Problem& problem, const RunConfig& config, const soda::ModelDef& creature) {
+  return roles_of(config).estimator->estimate(problem, {&creature}).front();
+}
+
+} // namespace
+
+TEST_CASE("race problem: the exported creature races in `race` as the run scored it, at the racer's own scale",
+          "[race][evolve]") {
+  RunConfig config = race_config({"TerrainFlat"}, 800);
+  config.fitness.replicas = 1;
+  const RaceProblem problem(config);
+  const soda::ModelDef walker = dainty_walker();
+  const Evaluation e = estimate_one(problem, config, walker);
+  REQUIRE(e.ok());
+  CHECK(e.fitness == -e.distance);
+  CHECK(e.distance > 0.0);
+  // Through the file, as a user hands it to the original racer.
+  const fs::path dir = fresh_temp_dir("race_export");
+  const soda::ModelDef exported = problem.export_form(walker, "c1", e);
+  CHECK(exported.height == 422); // the racer scales by half the contender's container height
+  soda::write_model_file(dir / "c1.xml", exported);
+  const soda::ModelDef read = soda::read_model_file(dir / "c1.xml").def;
+  const soda::RaceDef race = soda::read_race_file(terrain("TerrainFlat"));
+  const soda::RaceLane lane = soda::build_lane(race.terrain, race.constraints, read, "c1.xml");
+  CHECK(std::fabs(lane.scale - 1.0) < 1e-12); // prepared at racing size
+  const soda::Model model = soda::build_lane_model(lane);
+  soda::State state = soda::make_state(model);
+  CHECK(soda::run_race_fast(lane, model, 800, state).result == e.distance);
+  // And as the command line races it.
+  const ShellResult r = run_sodaevo("race " + terrain("TerrainFlat").string() + " " + (dir / "c1.xml").string() +
+                                    " --timeout 800 --json");
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  CHECK(j["contenders"][0]["frames"].get<double>() == e.distance);
+}
+
+TEST_CASE("race problem: several terrains score the mean or the worst of their races", "[race][evolve]") {
+  const soda::ModelDef walker = dainty_walker();
+  RunConfig one = race_config({"TerrainFlat"}, 300);
+  one.fitness.replicas = 1;
+  RunConfig other = race_config({"TerrainHilly"}, 300);
+  other.fitness.replicas = 1;
+  const double flat = estimate_one(RaceProblem(one), one, walker).distance;
+  const double hilly = estimate_one(RaceProblem(other), other, walker).distance;
+  REQUIRE(flat != hilly);
+  RunConfig both = race_config({"TerrainFlat", "TerrainHilly"}, 300);
+  both.fitness.replicas = 1;
+  CHECK(estimate_one(RaceProblem(both), both, walker).distance == (flat + hilly) / 2.0);
+  both.fitness.race.combine = RaceCombine::Worst;
+  CHECK(estimate_one(RaceProblem(both), both, walker).distance == std::max(flat, hilly));
+  CHECK(estimate_one(RaceProblem(both), both, walker).fitness == -std::max(flat, hilly));
+}
+
+TEST_CASE("race problem: the problem travels over the wire and races its rollouts alike", "[race][evolve]") {
+  RunConfig config = race_config({"TerrainFlat"}, 600);
+  config.fitness.replicas = 4;
+  config.fitness.jitter = 0.2;
+  const RaceProblem problem(config);
+  const soda::ModelDef prepared = problem.prepare(dainty_walker());
+  std::vector<Rollout> runs;
+  for (std::uint64_t seed : {0, 7, 8}) runs.emplace_back(&prepared, soda::SineJitter{seed, 0.2});
+  const std::vector<Evaluation> here = problem.rollouts(runs);
+  REQUIRE(here.size() == 3);
+  for (const Evaluation& e : here) REQUIRE(e.ok());
+  WireWriter w;
+  problem.write(w);
+  WireReader r(w.bytes());
+  const std::unique_ptr<Problem> copy = read_problem(r);
+  r.expect_end();
+  REQUIRE(copy->kind() == "race");
+  const std::vector<Evaluation> there = copy->rollouts(runs);
+  for (std::size_t i = 0; i < runs.size(); ++i) CHECK(same_bits(there[i].distance, here[i].distance));
+  CHECK(copy->prepare(dainty_walker()) == prepared);
+}
+
+TEST_CASE("race config: bundled terrain names, the resolved config, and errors naming the pointer", "[race][config]") {
+  const fs::path configs = models_dir().parent_path() / "configs";
+  const RunConfig c = parse_run_config(
+      R"({"population": {"random_fraction": 1}, "fitness": {"kind": "race", "race": {"terrains": ["TerrainFlat", "race00.xml"], "combine": "worst", "timeout": 2000}}})",
+      "r.json", configs);
+  CHECK(c.fitness.kind == FitnessKind::Race);
+  REQUIRE(c.fitness.race.terrains.size() == 2);
+  CHECK(fs::equivalent(c.fitness.race.terrains[0], terrain("TerrainFlat")));
+  CHECK(fs::equivalent(c.fitness.race.terrains[1], terrain("race00")));
+  CHECK(c.fitness.race.combine == RaceCombine::Worst);
+  CHECK(c.fitness.race.timeout == 2000);
+  CHECK(parse_run_config(to_json(c).dump(), "resolved.json", "/nowhere") == c);
+  // A walk's resolved config does not mention races.
+  const RunConfig walk = parse_run_config(R"({"population": {"random_fraction": 1}})", "w.json", configs);
+  CHECK_FALSE(to_json(walk).at("fitness").contains("kind"));
+  CHECK_FALSE(to_json(walk).at("fitness").contains("race"));
+
+  const auto error_of = [&](const std::string& fitness, const std::string& more = "") {
+    try {
+      (void)parse_run_config(R"({"population": {"random_fraction": 1}, "fitness": )" + fitness + more + "}", "bad.json",
+                             configs);
+    } catch (const soda::InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string();
+  };
+  CHECK_THAT(error_of(R"({"kind": "race"})"),
+             Catch::Contains("bad.json: /fitness/race/terrains: expected at least one race file"));
+  CHECK_THAT(error_of(R"({"kind": "run"})"), Catch::Contains("/fitness/kind: expected one of \"walk\" or \"race\", got \"run\""));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["NoSuchTerrain"]}})"),
+             Catch::Contains("/fitness/race/terrains/0: expected an existing race file"));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["../models/dainty_walker.xml"]}})"),
+             Catch::Contains("/fitness/race/terrains/0: expected a race file, got one that does not read"));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"], "combine": "best"}})"),
+             Catch::Contains("/fitness/race/combine: expected one of \"mean\" or \"worst\", got \"best\""));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"], "timeout": -5}})"),
+             Catch::Contains("/fitness/race/timeout: expected an integer in [0, 49997]"));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"], "timeot": 5}})"),
+             Catch::Contains("/fitness/race/timeot: unknown key"));
+  CHECK_THAT(error_of(R"({"race": {"terrains": ["TerrainFlat"]}})"),
+             Catch::Contains("/fitness/race: expected only with /fitness/kind \"race\""));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"]}})", R"(, "algorithm": "map-elites")"),
+             Catch::Contains("/algorithm: expected \"ga\" with /fitness/kind \"race\""));
+  CHECK_THAT(error_of(R"({"kind": "race", "mode": "continuous", "race": {"terrains": ["TerrainFlat"]}})"),
+             Catch::Contains("/fitness/kind: expected \"walk\" with /fitness/mode \"continuous\""));
+}
