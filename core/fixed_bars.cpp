@@ -110,22 +110,31 @@ bool outside_container(Point p, const Surface& s) {
   return p.x < 0.0 || p.x > s.width || p.y < 0.0 || p.y > s.height;
 }
 
-/// Bars whose x range the move's x range touches, in link order, into `out`.
-void candidate_bars(const FixedBars& bars, double lo, double hi, std::vector<int>& out) {
-  out.clear();
+/// A run of bar indices in link order.
+struct BarList {
+  const int* first = nullptr;
+  const int* last = nullptr;
+  [[nodiscard]] const int* begin() const { return first; }
+  [[nodiscard]] const int* end() const { return last; }
+};
+
+/// Bars whose x range the move's x range touches, in link order: one cell's list
+/// as it is (a move is shorter than a cell, so nearly always), else the cells'
+/// lists merged into `merged`.
+BarList candidate_bars(const FixedBars& bars, double lo, double hi, std::vector<int>& merged) {
   const auto cell = [&](double x) {
     const double c = std::floor((x - bars.cell_x0) / bars.cell_width);
     if (!(c > 0.0)) return 0;
     return c >= bars.cell_count - 1 ? bars.cell_count - 1 : static_cast<int>(c);
   };
   const int c0 = cell(lo), c1 = cell(hi);
-  for (int c = c0; c <= c1; ++c) {
-    out.insert(out.end(), bars.cell_bars.begin() + bars.cell_start[c], bars.cell_bars.begin() + bars.cell_start[c + 1]);
-  }
-  if (c1 > c0) {
-    std::sort(out.begin(), out.end());
-    out.erase(std::unique(out.begin(), out.end()), out.end());
-  }
+  const int* cells = bars.cell_bars.data();
+  if (c0 == c1) return {cells + bars.cell_start[c0], cells + bars.cell_start[c0 + 1]};
+  merged.clear();
+  for (int c = c0; c <= c1; ++c) merged.insert(merged.end(), cells + bars.cell_start[c], cells + bars.cell_start[c + 1]);
+  std::sort(merged.begin(), merged.end());
+  merged.erase(std::unique(merged.begin(), merged.end()), merged.end());
+  return {merged.data(), merged.data() + merged.size()};
 }
 
 /// A mass in a corner: only the two corner bars count (spec 5.4, research 2.5).
@@ -305,31 +314,37 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
     if (corner_move(bars, memory, mass, m, surface, end)) return true;
     return false;
   }
-  thread_local std::vector<int> candidates;
-  candidate_bars(bars, std::min(m.x0, m.x), std::max(m.x0, m.x), candidates);
+  thread_local std::vector<int> merged;
+  const BarList candidates = candidate_bars(bars, std::min(m.x0, m.x), std::max(m.x0, m.x), merged);
   // Bars that remember the mass but are out of reach: their box test fails.
+  bool remembered_any = false; // whether any bar remembers this mass (else nothing to find or forget)
   for (std::size_t k = memory.contacts.size(); k-- > 0;) {
     const BarContact c = memory.contacts[k];
-    if (c.mass == mass && !std::binary_search(candidates.begin(), candidates.end(), c.bar)) {
+    if (c.mass != mass) continue;
+    if (!std::binary_search(candidates.begin(), candidates.end(), c.bar)) {
       memory.contacts[k] = memory.contacts.back();
       memory.contacts.pop_back();
+    } else {
+      remembered_any = true;
     }
   }
   int best = -1;
   int best_side = 0;
   Point best_point{0.0, 0.0};
   double best_distance = 0.0;
+  // The memory changes exactly as with find / remember / forget each time: a
+  // remembered side is never changed here (s0 is it), an absent pair is added.
   for (int k : candidates) {
     const FixedBar& bar = bars.bars[static_cast<std::size_t>(k)];
+    const BarContact* remembered = remembered_any ? memory.find(k, mass) : nullptr;
     if (!box_touches(bar, bars.engine, m)) {
-      memory.forget(k, mass);
+      if (remembered) memory.forget(k, mass);
       continue;
     }
-    const BarContact* remembered = memory.find(k, mass);
     const int s0 = remembered ? remembered->side : side_of(bar, m.x0, m.y0);
     const int s1 = side_of(bar, m.x, m.y);
     if (s0 == s1 && s0 != 0) {
-      memory.forget(k, mass);
+      if (remembered) memory.forget(k, mass);
       continue;
     }
     Point p{0.0, 0.0};
@@ -342,8 +357,9 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
     } else {
       if (!lines_intersect(m.x0, m.y0, m.x, m.y, bar.x1, bar.y1, bar.x2, bar.y2)) continue;
       p = crossing_point(bar, m.x0, m.y0, m.x, m.y);
+      memory.contacts.push_back({k, mass, static_cast<std::int8_t>(s0)});
+      remembered_any = true;
     }
-    memory.remember(k, mass, s0);
     const double dx = p.x - m.x0, dy = p.y - m.y0;
     const double distance = std::sqrt(dx * dx + dy * dy);
     if (best < 0 || distance < best_distance) {
