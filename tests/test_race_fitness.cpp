@@ -224,6 +224,10 @@ TEST_CASE("race config: bundled terrain names, the resolved config, and errors n
   CHECK(c.fitness.race.combine == RaceCombine::Worst);
   CHECK(c.fitness.race.timeout == 2000);
   CHECK(parse_run_config(to_json(c).dump(), "resolved.json", "/nowhere") == c);
+  const RunConfig flat = read_run_config(configs / "sodarace_flat.json");
+  CHECK(flat.fitness.kind == FitnessKind::Race);
+  REQUIRE(flat.fitness.race.terrains.size() == 1);
+  CHECK(fs::equivalent(flat.fitness.race.terrains[0], terrain("TerrainFlat")));
   // A walk's resolved config does not mention races.
   const RunConfig walk = parse_run_config(R"({"population": {"random_fraction": 1}})", "w.json", configs);
   CHECK_FALSE(to_json(walk).at("fitness").contains("kind"));
@@ -257,4 +261,34 @@ TEST_CASE("race config: bundled terrain names, the resolved config, and errors n
              Catch::Contains("/algorithm: expected \"ga\" with /fitness/kind \"race\""));
   CHECK_THAT(error_of(R"({"kind": "race", "mode": "continuous", "race": {"terrains": ["TerrainFlat"]}})"),
              Catch::Contains("/fitness/kind: expected \"walk\" with /fitness/mode \"continuous\""));
+}
+
+TEST_CASE("a race run: evolve, export, and `race` confirms the exported champion's result", "[race][evolve]") {
+  const fs::path dir = fresh_temp_dir("race_run");
+  std::ofstream(dir / "race.json")
+      << R"({"name": "r", "seed": 3, "generations": 3, "preset": "sodarace",
+             "population": {"size": 12, "random_fraction": 1, "random": {"masses_min": 2, "masses_max": 4}},
+             "limits": {"min_masses": 2},
+             "fitness": {"kind": "race", "race": {"terrains": [")"
+      << terrain("TerrainFlat").string() << R"("], "timeout": 300}, "replicas": 2, "replicas_max": 4}})";
+  const ShellResult evolved =
+      run_sodaevo("evolve " + (dir / "race.json").string() + " --quiet --out " + (dir / "run").string());
+  INFO(evolved.output);
+  REQUIRE(evolved.exit_code == 0);
+  CHECK_THAT(evolved.output, Catch::Contains("frames)"));
+  const ShellResult exported =
+      run_sodaevo("export " + (dir / "run").string() + " --best 1 --check-replicas 4 --out " + (dir / "best").string());
+  INFO(exported.output);
+  REQUIRE(exported.exit_code == 0);
+  std::ifstream in(dir / "best" / "champions.json");
+  const nlohmann::json champions = nlohmann::json::parse(in);
+  REQUIRE(champions.size() == 1);
+  CHECK(champions[0]["unit"] == "frames");
+  CHECK(champions[0]["check"]["n"] == 4);
+  const ShellResult raced = run_sodaevo("race " + terrain("TerrainFlat").string() + " " +
+                                        (dir / "best" / champions[0]["file"].get<std::string>()).string() +
+                                        " --timeout 300 --json");
+  REQUIRE(raced.exit_code == 0);
+  const auto j = nlohmann::json::parse(raced.output.substr(raced.output.find('{')));
+  CHECK(j["contenders"][0]["frames"].get<double>() == champions[0]["exact_distance"].get<double>());
 }
