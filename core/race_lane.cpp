@@ -236,13 +236,6 @@ RaceOutcome run_race(const RaceLane& lane, const Model& model, int timeout,
 
 RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout, State& state) {
   RaceOutcome out;
-  if (state.jitter.seed != 0) {
-    for (long long u = 1; u <= kRacerUpdateLimit; ++u) {
-      step(model, state);
-      if (ends_after(lane, model, timeout, u, state, out)) return out;
-    }
-    racer_limit();
-  }
   // The timeout ends the race at update timeout + 3; the finish is watched after
   // every frame inside the stepper (same extremes as ends_after takes).
   const long long last = std::min<long long>(kRacerUpdateLimit, static_cast<long long>(timeout) + 3);

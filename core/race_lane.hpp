@@ -55,9 +55,9 @@ RaceOutcome run_race(const RaceLane& lane, const Model& model, int timeout,
                      const std::function<void(const State&)>& on_frame = {});
 
 /// Runs the lane from `state` (a fresh state of `model`, possibly with sine
-/// jitter) until the race ends, with the same result and final state as run_race:
-/// the fast stepper for the exact engine (bit for bit the reference step), the
-/// reference step for a jittered state (the fast steppers take exact sines only).
+/// jitter) until the race ends, with the same result and final state as run_race
+/// (the reference step) gives that state: the fast stepper, the finish watched
+/// after every frame (FastStepper::run_until).
 RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout, State& state);
 
 } // namespace soda

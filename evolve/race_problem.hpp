@@ -48,9 +48,9 @@ class RaceProblem final : public Problem {
   [[nodiscard]] std::string kind() const override { return "race"; }
   [[nodiscard]] soda::ModelDef prepare(const soda::ModelDef& creature) const override;
   /// Each run on every terrain; the lanes of one prepared model are built once and
-  /// shared by its replicas. Exact runs step with the fast stepper, jittered ones
-  /// with the reference step (run_race_fast). A lane that cannot be built is
-  /// Invalid; a non-finite state at the end of a race is Diverged.
+  /// shared by its replicas, each raced with the fast stepper (run_race_fast). A
+  /// lane that cannot be built is Invalid; a non-finite state at the end of a race
+  /// is Diverged.
   [[nodiscard]] std::vector<Evaluation> rollouts(const std::vector<Rollout>& runs) const override;
   [[nodiscard]] soda::ModelDef export_form(const soda::ModelDef& creature, const std::string& id,
                                            const Evaluation& evaluation) const override;

@@ -81,6 +81,31 @@ bool FusedScene::frame_in_registers() const { return d_->frame_in_registers; }
 
 namespace {
 
+/// Checks the states of a run and takes their sine jitter: jitter is part of the
+/// rows of sines (fill_rows), so a state whose jitter is not the one its creature's
+/// rows and targets were made with makes them again.
+void take_states(SceneData& s, State* const* states, const char* who) {
+  const bool alone = s.creatures.size() == 1;
+  require_batch_states(
+      states, static_cast<int>(s.creatures.size()), [&](int c) { return s.creatures[c].model->point_count; }, who);
+  bool jitter_changed = false;
+  for (std::size_t c = 0; c < s.creatures.size(); ++c) {
+    const SineJitter& jitter = states[c]->jitter;
+    require_valid_jitter_of(jitter, who, alone ? -1 : static_cast<int>(c));
+    if (!(jitter == s.creatures[c].jitter)) {
+      s.creatures[c].jitter = jitter;
+      jitter_changed = true;
+    }
+  }
+  if (jitter_changed) {
+    s.numbering_valid = false;
+    s.targets_valid = false;
+    s.row_count = 0;
+    s.row_next = 0;
+    s.rows_synced = false;
+  }
+}
+
 /// The free masses' least and greatest x, in mass order (as a race takes them).
 template <typename XOf>
 std::pair<double, double> x_extent(int masses, const XOf& x_of) {
@@ -109,8 +134,7 @@ long long FusedScene::run_until(State& state, long long frames, const std::funct
     }
     return std::max(0LL, frames);
   }
-  require_batch_states(st, 1, [&](int) { return m.point_count; }, "FastStepper::run_until");
-  require_no_jitter(state.jitter, "FastStepper::run_until");
+  take_states(s, st, "FastStepper::run_until");
   if (frames <= 0) return 0;
   s.load_state(st);
   s.leave_rows(); // the state may be another, or changed since
@@ -139,27 +163,8 @@ void FusedScene::run(State* const* states, long long frames) {
   SceneData& s = *d_;
   const bool alone = s.creatures.size() == 1;
   const char* who = alone ? "FastStepper::run" : "FusedScene::run";
-  require_batch_states(
-      states, static_cast<int>(s.creatures.size()), [&](int c) { return s.creatures[c].model->point_count; }, who);
-  // Sine jitter is part of the rows of sines (fill_rows): a state whose jitter
-  // is not the one its creature's rows and targets were made with makes them again.
-  bool jitter_changed = false;
-  for (std::size_t c = 0; c < s.creatures.size(); ++c) {
-    const SineJitter& jitter = states[c]->jitter;
-    require_valid_jitter_of(jitter, who, alone ? -1 : static_cast<int>(c));
-    if (!(jitter == s.creatures[c].jitter)) {
-      s.creatures[c].jitter = jitter;
-      jitter_changed = true;
-    }
-  }
+  take_states(s, states, who);
   if (frames <= 0) return;
-  if (jitter_changed) {
-    s.numbering_valid = false;
-    s.targets_valid = false;
-    s.row_count = 0;
-    s.row_next = 0;
-    s.rows_synced = false;
-  }
   s.load_state(states);
   s.leave_rows(); // the states may be others, or changed since
   KernelChoice k;
