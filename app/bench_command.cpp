@@ -126,6 +126,7 @@ void add_bench_command(CLI::App& app) {
   add_bench_transfer_command(*bench);
   add_bench_qd_command(*bench);
   add_bench_races_command(*bench);
+  add_bench_stability_command(*bench);
 }
 
 } // namespace sodaevo::app

@@ -25,6 +25,8 @@ void add_bench_evolve_command(CLI::App& bench);
 void add_bench_transfer_command(CLI::App& bench);
 /// `bench qd` (MAP-Elites against the GA), registered on the `bench` subcommand.
 void add_bench_qd_command(CLI::App& bench);
+/// `bench stability` (app/bench_stability_command.cpp), registered the same way.
+void add_bench_stability_command(CLI::App& bench);
 void add_render_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 void add_designer_command(CLI::App& app);

@@ -17,7 +17,9 @@
 #include "core/input_error.hpp"
 #include "core/model.hpp"
 #include "core/number_text.hpp"
+#include "core/stability.hpp"
 #include "core/step.hpp"
+#include "core/step_failure.hpp"
 #include "core/stepping.hpp"
 #include "evolve/honesty.hpp"
 #include "evolve/replica_ensemble.hpp"
@@ -45,6 +47,8 @@ struct SimulateOptions {
   double jitter = 0.002;
   long long settle = 0;
   std::string bar_engine = "2003";
+  bool stability = false;
+  long long stability_every = 10;
 };
 
 struct SimulateSummary {
@@ -138,7 +142,11 @@ soda::Divergence run_watched(const soda::Model& model, soda::State& state, long 
   soda::DivergenceMonitor monitor(model, state, {}, energy);
   soda::State next = state;
   for (long long f = 0; f < frames; ++f) {
-    stepper.step(next);
+    try {
+      stepper.step(next);
+    } catch (const soda::StepFailure& failure) { // an implicit solve failed: diverged there
+      return {true, failure.frame, failure.reason};
+    }
     if (!monitor.check(next)) return monitor.result();
     state = next;
     per_frame(state);
@@ -154,7 +162,52 @@ soda::BarEngine bar_engine_of(const SimulateOptions& opt) {
   return engine;
 }
 
+/// A step's stability margin as JSON: +inf (no step is unstable) is null.
+nlohmann::json finite_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
+
+/// --stability: the predicted margin at the state as loaded and its minimum over
+/// the run (core/stability.hpp), instead of the distance summary.
+void run_stability(const SimulateOptions& opt) {
+  const soda::LoadedModel loaded = soda::read_model_file(opt.model);
+  for (const std::string& w : loaded.warnings) std::cerr << "sodaevo: warning: " << w << '\n';
+  const soda::Model model = soda::build_model(loaded.def, bar_engine_of(opt));
+  const soda::Stepping stepping = stepping_of(opt.stepping);
+  const soda::StabilityAlongRun r = soda::stability_along_run(model, stepping, opt.frames, opt.stability_every);
+  const soda::StabilityPrediction& p = r.first;
+  if (opt.json) {
+    const nlohmann::json j = {{"model", opt.model},
+                              {"stepping", soda::stepping_label(stepping)},
+                              {"omega_max", p.omega_max},
+                              {"omega_max_squared", p.omega_max * p.omega_max},
+                              {"dt", p.dt},
+                              {"stable_dt", finite_or_null(p.stable_dt)},
+                              {"margin", finite_or_null(p.margin)},
+                              {"stable", p.margin > 1.0},
+                              {"eigen_method", p.eigen.method},
+                              {"frames", opt.frames},
+                              {"samples", r.samples},
+                              {"min_margin", finite_or_null(r.lowest.margin)},
+                              {"min_margin_frame", r.lowest_frame}};
+    std::cout << j.dump() << '\n';
+    return;
+  }
+  auto number = [](double v) { return std::isfinite(v) ? soda::format_double_plain(v) : std::string("unlimited"); };
+  std::printf("model               %s\n", opt.model.c_str());
+  std::printf("stepping            %s (dt %s frame)\n", soda::stepping_label(stepping).c_str(), number(p.dt).c_str());
+  std::printf("omega_max           %s rad/frame (omega_max^2 %s, largest eigenvalue of the stiffness, %s)\n",
+              number(p.omega_max).c_str(), number(p.omega_max * p.omega_max).c_str(), p.eigen.method.c_str());
+  std::printf("stable_dt           %s frame\n", number(p.stable_dt).c_str());
+  std::printf("margin              %s (%s; (stable_dt/dt)^2, above 1 is stable)\n", number(p.margin).c_str(),
+              p.margin > 1.0 ? "stable" : "UNSTABLE");
+  std::printf("min margin          %s at frame %lld (%d samples, every %lld frames of %lld)\n",
+              number(r.lowest.margin).c_str(), r.lowest_frame, r.samples, opt.stability_every, opt.frames);
+}
+
 void run_simulate(const SimulateOptions& opt) {
+  if (opt.stability) {
+    run_stability(opt);
+    return;
+  }
   soda::LoadedModel loaded = soda::read_model_file(opt.model);
   for (const std::string& w : loaded.warnings) std::cerr << "sodaevo: warning: " << w << '\n';
   const soda::BarEngine bar_engine = bar_engine_of(opt);
@@ -188,8 +241,13 @@ void run_simulate(const SimulateOptions& opt) {
     for (long long done = 0; done < opt.frames && !divergence.diverged;) {
       const long long n = std::min(kBlock, opt.frames - done);
       soda::State block_start = state;
-      stepper.run(state, n);
-      if (soda::first_non_finite(model, state)) {
+      bool failed = false;
+      try {
+        stepper.run(state, n);
+      } catch (const soda::StepFailure&) {
+        failed = true; // replayed frame by frame below, which stops at the failure
+      }
+      if (failed || soda::first_non_finite(model, state)) {
         state = block_start;
         divergence = run_watched(model, state, n, stepping, false, opt.reference, [](const soda::State&) {});
       }
@@ -345,11 +403,19 @@ void add_simulate_command(CLI::App& app) {
       ->default_val(4)
       ->check(CLI::Range(2, 64));
   add_replica_options(cmd, *opt);
+  cmd->add_flag("--stability", opt->stability,
+                "Instead of the distance: the predicted stability of the step (docs/stability.md):\n"
+                "omega_max (fastest vibration, rad/frame), stable_dt (largest stable step, frames) and\n"
+                "margin = (stable_dt/dt)^2 at the state as loaded, and the smallest margin sampled along\n"
+                "--frames frames (JSON: omega_max, stable_dt, margin, min_margin; null = no limit)");
+  cmd->add_option("--stability-every", opt->stability_every, "With --stability: sample every this many frames")
+      ->default_val(10)
+      ->check(CLI::Range(1LL, 1'000'000'000LL));
   cmd->callback([opt] {
-    if (opt->replicas > 0) {
+    if (opt->replicas > 0 && !opt->stability) {
       run_simulate_replicas(*opt);
     } else {
-      run_simulate(*opt);
+      run_simulate(*opt); // --stability first: the prediction instead of a run
     }
   });
 }
