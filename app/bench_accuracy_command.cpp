@@ -73,7 +73,9 @@ void run_bench_stress(const BenchStressOptions& opt, const std::string& command)
     so.steppings = {soda::Stepping{},
                     {soda::PhysicsMode::Continuous, soda::Integrator::Euler, 4},
                     {soda::PhysicsMode::Continuous, soda::Integrator::Verlet, 4},
-                    {soda::PhysicsMode::Continuous, soda::Integrator::Rk4, 4}};
+                    {soda::PhysicsMode::Continuous, soda::Integrator::Rk4, 4},
+                    {soda::PhysicsMode::Continuous, soda::Integrator::BackwardEuler, 1},
+                    {soda::PhysicsMode::Continuous, soda::Integrator::ImplicitMidpoint, 1}};
   }
   const auto t0 = std::chrono::steady_clock::now();
   const std::vector<bench::StressCounts> counts = bench::run_stress(so);
@@ -125,7 +127,7 @@ void add_bench_accuracy_commands(CLI::App& bench) {
   stress->add_option("--frames", sopt->frames, "Frames per creature")->default_val(20)->check(CLI::Range(1LL, 1'000'000LL));
   stress->add_option("--seed", sopt->seed, "Seed of the creatures")->default_val(1);
   stress->add_option("--threads", sopt->threads, "Threads (0 = all cores)")->default_val(0)->check(CLI::Range(0, 1024));
-  stress->add_flag("--all-modes", sopt->all_modes, "Also run continuous euler, verlet and rk4 at 4 sub-steps");
+  stress->add_flag("--all-modes", sopt->all_modes, "Also run continuous euler, verlet and rk4 at 4 sub-steps, backward-euler and\nimplicit-midpoint at 1");
   stress->add_option("--out", sopt->out, "Output directory")->default_val("results/bench");
   stress->callback([sopt] {
     std::string command = "sodaevo bench stress --creatures " + std::to_string(sopt->creatures) + " --frames " +

@@ -10,6 +10,7 @@
 #include "bench/median.hpp"
 #include "core/divergence.hpp"
 #include "core/model.hpp"
+#include "core/step_failure.hpp"
 #include "evolve/rng.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/variation.hpp"
@@ -47,7 +48,15 @@ RunResult run_with_checkpoints(const soda::Model& model, const soda::Stepping& s
   long long done = 0;
   const auto t0 = Clock::now();
   for (long long frame : checkpoints) {
-    stepper.run(s, frame - done);
+    try {
+      stepper.run(s, frame - done);
+    } catch (const soda::StepFailure&) { // an implicit solve failed: the run counts as diverged
+      r.diverged = true;
+      r.positions.resize(checkpoints.size(), std::vector<double>(2 * static_cast<std::size_t>(model.mass_count),
+                                                                 std::numeric_limits<double>::quiet_NaN()));
+      r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+      return r;
+    }
     done = frame;
     std::vector<double> p;
     p.reserve(2 * static_cast<std::size_t>(model.mass_count));
@@ -255,10 +264,18 @@ void walkers_section(const AccuracyOptions& o, const std::vector<soda::Stepping>
 
 } // namespace
 
+int swept_max_substeps(soda::Integrator integrator) {
+  const bool implicit =
+      integrator == soda::Integrator::BackwardEuler || integrator == soda::Integrator::ImplicitMidpoint;
+  return implicit ? kImplicitMaxSubsteps : soda::kMaxSubsteps;
+}
+
 std::vector<soda::Stepping> swept_settings(int max_substeps) {
   std::vector<soda::Stepping> s = {soda::Stepping{}};
-  for (soda::Integrator in : {soda::Integrator::Euler, soda::Integrator::Verlet, soda::Integrator::Rk4}) {
-    for (int k = 1; k <= max_substeps; k *= 2) s.push_back({soda::PhysicsMode::Continuous, in, k});
+  for (soda::Integrator in : soda::kIntegrators) {
+    for (int k = 1; k <= std::min(max_substeps, swept_max_substeps(in)); k *= 2) {
+      s.push_back({soda::PhysicsMode::Continuous, in, k});
+    }
   }
   return s;
 }

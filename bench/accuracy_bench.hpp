@@ -78,7 +78,14 @@ struct AccuracyReport {
 
 AccuracyReport run_accuracy_bench(const AccuracyOptions& options);
 
-/// The settings swept: soda, then euler, verlet, rk4 at 1, 2, 4, ... max_substeps.
+/// The implicit integrators are swept only up to this many sub-steps: a Newton
+/// solve costs tens of explicit steps, and their case is the large step.
+inline constexpr int kImplicitMaxSubsteps = 8;
+/// kImplicitMaxSubsteps for the implicit integrators, else no limit.
+int swept_max_substeps(soda::Integrator integrator);
+
+/// The settings swept: soda, then every integrator at 1, 2, 4, ... max_substeps
+/// (the implicit ones up to kImplicitMaxSubsteps).
 std::vector<soda::Stepping> swept_settings(int max_substeps);
 
 /// Kendall's tau-b of two equally long samples (ties handled); 1 = same order.

@@ -97,9 +97,9 @@ std::string work_precision_svg(const std::string& title, const std::string& y_la
   c.title = title;
   c.x_axis = {"run time per frame (s)", true};
   c.y_axis = {y_label, true};
-  for (soda::Integrator in : {soda::Integrator::Euler, soda::Integrator::Verlet, soda::Integrator::Rk4}) {
+  for (soda::Integrator in : soda::kIntegrators) {
     charts::LineSeries s;
-    s.name = soda::integrator_name(in) + " (dt = 1 ... 1/64)";
+    s.name = soda::integrator_name(in) + " (dt = 1 ... 1/" + std::to_string(std::min(64, swept_max_substeps(in))) + ")";
     for (const Aggregate& a : points) {
       if (a.stepping.mode != soda::PhysicsMode::Continuous || a.stepping.integrator != in) continue;
       s.x.push_back(a.seconds_per_frame);

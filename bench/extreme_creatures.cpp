@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "core/model.hpp"
+#include "core/step_failure.hpp"
 #include "evolve/walk_problem.hpp"
 #include "evolve/parallel_for.hpp"
 
@@ -130,7 +131,13 @@ CreatureResult stress_one(const soda::ModelDef& def, const soda::Stepping& stepp
   soda::FrameStepper stepper(model, stepping, frames);
   soda::DivergenceMonitor monitor(model, state, {}, energy);
   for (long long f = 0; f < frames; ++f) {
-    stepper.step(state);
+    try {
+      stepper.step(state);
+    } catch (const soda::StepFailure& failure) { // an implicit solve failed: diverged, state kept finite
+      r.kind = CreatureResult::Kind::NonFinite;
+      r.what = "frame " + std::to_string(failure.frame) + ": " + failure.reason;
+      break;
+    }
     ++r.frames;
     const bool healthy = monitor.check(state);
     if (healthy && !all_finite(model, state)) {

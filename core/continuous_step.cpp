@@ -3,8 +3,10 @@
 #include <cmath>
 #include <limits>
 
+#include "implicit_step.hpp"
 #include "physics_rules.hpp"
 #include "step.hpp"
+#include "step_failure.hpp"
 
 namespace soda {
 
@@ -23,7 +25,18 @@ ContinuousStepper::ContinuousStepper(const Model& model, ContinuousSettings sett
   wave_step_ = model.wave_speed * dt_;
   const auto n = static_cast<std::size_t>(model.point_count);
   for (auto* v : {&ax_, &ay_, &x1_, &y1_, &vx1_, &vy1_, &kx_, &ky_, &kvx_, &kvy_}) v->assign(n, 0.0);
+  const bool implicit =
+      settings.integrator == Integrator::BackwardEuler || settings.integrator == Integrator::ImplicitMidpoint;
+  if (implicit && std::isfinite(drag_)) {
+    implicit_ = std::make_unique<ImplicitSolver>(
+        model, dt_, drag_, settings.integrator == Integrator::ImplicitMidpoint,
+        [this](const double* x, const double* y, double phase, double* ax, double* ay) {
+          smooth_acceleration(x, y, phase, ax, ay);
+        });
+  }
 }
+
+ContinuousStepper::~ContinuousStepper() = default;
 
 void ContinuousStepper::step(State& s) {
   require_state_size(s, model_.point_count, "ContinuousStepper::step");
@@ -31,14 +44,58 @@ void ContinuousStepper::step(State& s) {
 }
 
 void ContinuousStepper::step_unchecked(State& s) {
+  const bool implicit =
+      settings_.integrator == Integrator::BackwardEuler || settings_.integrator == Integrator::ImplicitMidpoint;
+  if (implicit) {
+    // A failed solve leaves the state at the start of the frame: copy it (cheap
+    // next to the factorisations).
+    const State start = s;
+    std::string why;
+    for (int k = 0; k < settings_.substeps; ++k) {
+      if (!implicit_step(s, why)) {
+        s = start;
+        throw StepFailure(s.frame + 1, integrator_name(settings_.integrator) + ": " + why + " in step " +
+                                           std::to_string(k + 1) + " of the frame");
+      }
+    }
+    ++s.frame;
+    return;
+  }
   for (int k = 0; k < settings_.substeps; ++k) {
     switch (settings_.integrator) {
       case Integrator::Euler: euler_step(s); break;
       case Integrator::Verlet: verlet_step(s); break;
       case Integrator::Rk4: rk4_step(s); break;
+      case Integrator::BackwardEuler:
+      case Integrator::ImplicitMidpoint: break; // above
     }
   }
   ++s.frame;
+}
+
+void ContinuousStepper::stop_all(State& s) const {
+  for (int i = 0; i < model_.mass_count; ++i) {
+    s.vx[i] = 0.0;
+    s.vy[i] = 0.0;
+  }
+  advance_wave(s);
+}
+
+bool ContinuousStepper::implicit_step(State& s, std::string& why) {
+  if (!implicit_) { // f = 1
+    stop_all(s);
+    return true;
+  }
+  const bool midpoint = settings_.integrator == Integrator::ImplicitMidpoint;
+  const double phase_eval =
+      rules::advance_wave_phase(s.wave_phase, midpoint ? wave_step_ / 2.0 : wave_step_, s.wave_mode);
+  if (!implicit_->step(s.x.data(), s.y.data(), s.vx.data(), s.vy.data(), phase_eval, x1_.data(), y1_.data(),
+                       vx1_.data(), vy1_.data(), why)) {
+    return false;
+  }
+  for (int i = 0; i < model_.mass_count; ++i) finish_mass(s, i, s.x[i], s.y[i], x1_[i], y1_[i], vx1_[i], vy1_[i]);
+  advance_wave(s);
+  return true;
 }
 
 void ContinuousStepper::run(State& s, long long frames) {
@@ -140,11 +197,7 @@ void ContinuousStepper::rk4_step(State& s) {
   const Model& m = model_;
   const int n = m.mass_count;
   if (!std::isfinite(drag_)) { // f = 1: infinite drag, nothing moves (the ODE's limit)
-    for (int i = 0; i < n; ++i) {
-      s.vx[i] = 0.0;
-      s.vy[i] = 0.0;
-    }
-    advance_wave(s);
+    stop_all(s);
     return;
   }
   const double half = dt_ / 2.0;

@@ -42,8 +42,13 @@
 //   exactly as (1-f)^(dt/2) before and after (Strang splitting): order 2.
 // - rk4: classic Runge-Kutta 4 on (x, v) with friction as the drag -lambda*v:
 //   order 4. With f = 1 (infinite drag) nothing moves, the ODE's limit.
+// - backward-euler, implicit-midpoint: implicit, orders 1 and 2, drag -lambda*v
+//   implicit, one Newton solve per step (implicit_step.hpp); then syrup, rest test,
+//   container and bars as for Verlet and RK4. A failed solve throws StepFailure
+//   (step_failure.hpp) with the state left at the start of the frame.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "model.hpp"
@@ -56,12 +61,18 @@ struct ContinuousSettings {
   int substeps = 1; ///< [1, kMaxSubsteps]
 };
 
+class ImplicitSolver;
+
 class ContinuousStepper {
 public:
   /// Throws InputError for a bad sub-step count. `model` must outlive the stepper.
   ContinuousStepper(const Model& model, ContinuousSettings settings);
+  ~ContinuousStepper();
+  ContinuousStepper(const ContinuousStepper&) = delete; // the implicit solver calls back into this one
+  ContinuousStepper& operator=(const ContinuousStepper&) = delete;
 
-  /// One frame: `substeps` steps of dt; state.frame advances by 1.
+  /// One frame: `substeps` steps of dt; state.frame advances by 1. The implicit
+  /// integrators throw StepFailure (state unchanged) when a Newton solve fails.
   void step(State& state);
   void run(State& state, long long frames);
 
@@ -72,6 +83,10 @@ private:
   void euler_step(State& s);
   void verlet_step(State& s);
   void rk4_step(State& s);
+  /// false with `why` when the Newton solve fails (s then unchanged)
+  bool implicit_step(State& s, std::string& why);
+  /// f = 1: infinite drag stops every mass (the ODE's limit); the wave goes on.
+  void stop_all(State& s) const;
   /// Link forces plus gravity on every free mass at positions (x, y) and wave
   /// phase `phase` (fixed nodes get 0), with the state's sine jitter. Links in file order.
   void smooth_acceleration(const double* x, const double* y, double phase, const SineJitter& jitter, double* ax,
@@ -90,6 +105,7 @@ private:
   double surface_keep_ = 1.0; ///< Fs^dt
   double gravity_step_ = 0.0; ///< g*dt
   double wave_step_ = 0.0;    ///< wave speed*dt
+  std::unique_ptr<ImplicitSolver> implicit_; ///< backward-euler, implicit-midpoint (finite drag)
   // scratch, [point_count]
   std::vector<double> ax_, ay_, x1_, y1_, vx1_, vy1_, kx_, ky_, kvx_, kvy_;
 };

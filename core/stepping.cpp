@@ -14,6 +14,8 @@ std::string integrator_name(Integrator integrator) {
     case Integrator::Euler: return "euler";
     case Integrator::Verlet: return "verlet";
     case Integrator::Rk4: return "rk4";
+    case Integrator::BackwardEuler: return "backward-euler";
+    case Integrator::ImplicitMidpoint: return "implicit-midpoint";
   }
   return "euler";
 }
@@ -25,9 +27,9 @@ std::optional<PhysicsMode> parse_mode(const std::string& name) {
 }
 
 std::optional<Integrator> parse_integrator(const std::string& name) {
-  if (name == "euler") return Integrator::Euler;
-  if (name == "verlet") return Integrator::Verlet;
-  if (name == "rk4") return Integrator::Rk4;
+  for (Integrator in : kIntegrators) {
+    if (name == integrator_name(in)) return in;
+  }
   return std::nullopt;
 }
 

@@ -19,8 +19,14 @@ enum class PhysicsMode { Soda, Continuous };
 
 /// Integrators of the continuous mode (continuous_step.hpp has the details):
 /// semi-implicit Euler (order 1; dt = 1 is the original scheme), velocity Verlet
-/// (order 2) and classic Runge-Kutta 4 (order 4) for the smooth forces.
-enum class Integrator { Euler, Verlet, Rk4 };
+/// (order 2) and classic Runge-Kutta 4 (order 4) for the smooth forces; and the
+/// implicit backward Euler (order 1) and implicit midpoint rule (order 2), Newton
+/// solves with a sparse factorisation (implicit_step.hpp).
+enum class Integrator { Euler, Verlet, Rk4, BackwardEuler, ImplicitMidpoint };
+
+/// Every integrator, in the order of the enum (for option lists and sweeps).
+inline constexpr Integrator kIntegrators[] = {Integrator::Euler, Integrator::Verlet, Integrator::Rk4,
+                                              Integrator::BackwardEuler, Integrator::ImplicitMidpoint};
 
 /// Largest sub-step count accepted (dt = 1/4096 frame): far below any useful dt,
 /// and a bound that keeps a typo from running for days.
@@ -35,7 +41,7 @@ struct Stepping {
 };
 
 std::string mode_name(PhysicsMode mode);       ///< "soda" | "continuous"
-std::string integrator_name(Integrator integrator); ///< "euler" | "verlet" | "rk4"
+std::string integrator_name(Integrator integrator); ///< "euler" | "verlet" | "rk4" | "backward-euler" | "implicit-midpoint"
 std::optional<PhysicsMode> parse_mode(const std::string& name);
 std::optional<Integrator> parse_integrator(const std::string& name);
 

@@ -244,7 +244,11 @@ constexpr EnumName<FitnessScaling> kScalings[] = {
 constexpr EnumName<soda::PhysicsMode> kModes[] = {
     {soda::PhysicsMode::Soda, "soda"}, {soda::PhysicsMode::Continuous, "continuous"}};
 constexpr EnumName<soda::Integrator> kIntegrators[] = {
-    {soda::Integrator::Euler, "euler"}, {soda::Integrator::Verlet, "verlet"}, {soda::Integrator::Rk4, "rk4"}};
+    {soda::Integrator::Euler, "euler"},
+    {soda::Integrator::Verlet, "verlet"},
+    {soda::Integrator::Rk4, "rk4"},
+    {soda::Integrator::BackwardEuler, "backward-euler"},
+    {soda::Integrator::ImplicitMidpoint, "implicit-midpoint"}};
 constexpr EnumName<DivergenceCheck> kDivergenceChecks[] = {
     {DivergenceCheck::Finite, "finite"}, {DivergenceCheck::Energy, "energy"}};
 constexpr EnumName<EstimateStatistic> kStatistics[] = {

@@ -12,6 +12,8 @@
 #include "core/model.hpp"
 #include "core/step.hpp"
 #include "core/number_text.hpp"
+#include "core/step_failure.hpp"
+#include "core/stepping.hpp"
 #include "evolve/creature_limits.hpp"
 #include "evolve/descriptors.hpp"
 #include "evolve/honesty.hpp"
@@ -267,7 +269,13 @@ Evaluation WalkProblem::rollout_with(const soda::ModelDef& prepared, const soda:
     if (done < fitness_.settle_frames) n = std::min(n, fitness_.settle_frames - done);
     else if (meter) n = std::min(n, next_sample - done);
     n = std::min(n, total - done);
-    stepper.run(state, n);
+    try {
+      stepper.run(state, n);
+    } catch (const soda::StepFailure& failure) { // an implicit integrator's Newton solve failed
+      e.status = EvaluationStatus::Diverged;
+      e.reason = failure.reason + " (by frame " + std::to_string(failure.frame) + ")";
+      return e;
+    }
     done += n;
     if (!monitor.check(state)) {
       e.status = EvaluationStatus::Diverged;

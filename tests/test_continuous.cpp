@@ -10,7 +10,11 @@
 #include <vector>
 
 #include "bench/analytic_scenes.hpp"
+#include "bench/extreme_creatures.hpp"
 #include "core/continuous_step.hpp"
+#include "core/divergence.hpp"
+#include "formats/model_file.hpp"
+#include "core/step_failure.hpp"
 #include "core/input_error.hpp"
 #include "core/step.hpp"
 #include "core/stepping.hpp"
@@ -116,6 +120,10 @@ TEST_CASE("each integrator converges at its order on the smooth scenes", "[conti
       {soda::Integrator::Euler, {4, 8, 16, 32, 64}, 1.0},
       {soda::Integrator::Verlet, {4, 8, 16, 32, 64}, 2.0},
       {soda::Integrator::Rk4, {2, 4, 8, 16}, 4.0},
+      // Backward Euler's damping is far from asymptotic at 4 steps per frame (the spring
+      // loses 40 % of its amplitude in 40 frames): its range starts finer.
+      {soda::Integrator::BackwardEuler, {32, 64, 128, 256, 512}, 1.0},
+      {soda::Integrator::ImplicitMidpoint, {4, 8, 16, 32, 64}, 2.0},
   };
   for (const sodaevo::bench::AnalyticScene& scene : sodaevo::bench::analytic_scenes()) {
     const soda::Model model = soda::build_model(scene.def);
@@ -158,6 +166,8 @@ TEST_CASE("continuous stepper rejects a bad sub-step count", "[continuous]") {
   CHECK_THROWS_AS(soda::ContinuousStepper(model, {soda::Integrator::Euler, 0}), soda::InputError);
   CHECK_THROWS_AS(soda::ContinuousStepper(model, {soda::Integrator::Rk4, soda::kMaxSubsteps + 1}), soda::InputError);
   CHECK(soda::parse_integrator("verlet") == soda::Integrator::Verlet);
+  CHECK(soda::parse_integrator("backward-euler") == soda::Integrator::BackwardEuler);
+  CHECK(soda::parse_integrator("implicit-midpoint") == soda::Integrator::ImplicitMidpoint);
   CHECK_FALSE(soda::parse_integrator("leapfrog").has_value());
   CHECK(soda::parse_mode("continuous") == soda::PhysicsMode::Continuous);
 }
@@ -181,7 +191,7 @@ TEST_CASE("a block sliding on the sticky floor stops where the continuous model'
   def.nodes.push_back({"m", false, 500.0, 0.0, vx0, 0.0});
   const soda::Model model = soda::build_model(def);
   const double exact = vx0 / (-std::log1p(-f) - std::log(fs));
-  for (soda::Integrator integrator : {soda::Integrator::Euler, soda::Integrator::Verlet, soda::Integrator::Rk4}) {
+  for (soda::Integrator integrator : soda::kIntegrators) {
     double errors[2] = {};
     int k = 0;
     for (int substeps : {64, 256}) {
@@ -193,4 +203,66 @@ TEST_CASE("a block sliding on the sticky floor stops where the continuous model'
     CHECK(errors[1] < 0.01 * exact);
     CHECK(errors[0] / errors[1] == Approx(4.0).margin(1.0)); // first order: 4x the steps, a quarter of the error
   }
+}
+
+TEST_CASE("implicit integrators: a singular Newton matrix is a StepFailure with the frame, the state untouched",
+          "[continuous][implicit]") {
+  // Two masses 50 px apart, one spring of rest 100, k 0.5, no friction: the compressed
+  // spring's geometric term gives K the eigenvalue 2k (1 - D/L) = -1 across it, so
+  // backward Euler at dt = 1 has J = I + K singular.
+  soda::ModelDef def = sodaevo::bench::open_world(0.0, 0.0, 0.5);
+  def.nodes.push_back({"a", false, 500.0, 500.0, 0.0, 1.0});
+  def.nodes.push_back({"b", false, 550.0, 500.0, 0.0, 1.0});
+  def.links.push_back({soda::LinkKind::Spring, 0, 1, 100.0, 0.0, 0.0});
+  const soda::Model model = soda::build_model(def);
+  soda::State s = soda::make_state(model);
+  const soda::State before = s;
+  soda::ContinuousStepper stepper(model, {soda::Integrator::BackwardEuler, 1});
+  try {
+    stepper.step(s);
+    FAIL("no StepFailure");
+  } catch (const soda::StepFailure& failure) {
+    CHECK(failure.frame == 1);
+    CHECK(failure.reason.find("backward-euler: singular Newton matrix") == 0);
+  }
+  CHECK(compare_states(model, before, s).empty());
+  // The same pair at 4 steps per frame is regular: it steps, finite.
+  soda::State fine = soda::make_state(model);
+  soda::ContinuousStepper(model, {soda::Integrator::BackwardEuler, 4}).run(fine, 10);
+  CHECK(std::isfinite(fine.x[0]));
+  // simulate reports it as divergence at frame 1, not as an error and never as NaN.
+  const fs::path file = fresh_temp_dir("implicit_singular") / "pair.xml";
+  soda::write_model_file(file, def);
+  const ShellResult r = run_sodaevo("simulate " + file.string() +
+                                    " --mode continuous --integrator backward-euler --frames 5 --json");
+  INFO(r.output);
+  CHECK(r.exit_code == 0);
+  CHECK(r.output.find("\"diverged\":true") != std::string::npos);
+  CHECK(r.output.find("\"diverged_frame\":1") != std::string::npos);
+  CHECK(r.output.find("singular Newton matrix") != std::string::npos);
+  CHECK(r.output.find("nan") == std::string::npos);
+}
+
+TEST_CASE("implicit integrators on extreme creatures: finite states or a StepFailure, never a hang",
+          "[continuous][implicit]") {
+  int failures = 0, runs = 0;
+  for (std::uint64_t i = 0; i < 12; ++i) {
+    sodaevo::Rng rng = sodaevo::Rng::stream(7, i, 0, 0x1a91);
+    const soda::Model model = soda::build_model(sodaevo::bench::extreme_creature(rng));
+    for (soda::Integrator integrator : {soda::Integrator::BackwardEuler, soda::Integrator::ImplicitMidpoint}) {
+      soda::State s = soda::make_state(model);
+      soda::ContinuousStepper stepper(model, {integrator, 1});
+      ++runs;
+      try {
+        stepper.run(s, 60);
+      } catch (const soda::StepFailure& failure) {
+        ++failures;
+        CHECK(!failure.reason.empty());
+        CHECK(failure.frame == s.frame + 1);
+      }
+      INFO("creature " << i << ", " << soda::integrator_name(integrator));
+      CHECK(!soda::first_non_finite(model, s).has_value());
+    }
+  }
+  CHECK(failures < runs);
 }
