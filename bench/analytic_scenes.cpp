@@ -68,6 +68,31 @@ AnalyticScene pendulum_chain() {
   return s;
 }
 
-std::vector<AnalyticScene> analytic_scenes() { return {free_fall_with_friction(), single_spring(), pendulum_chain()}; }
+AnalyticScene stiff_hub() {
+  const double k = 0.5, f = 0.05, x0 = 2.0, centre = 500.0, y = 500.0;
+  const int parallel = 6;
+  AnalyticScene s;
+  s.name = "stiff hub";
+  s.def = open_world(0.0, f, k);
+  s.def.nodes.push_back(mass("m", centre + x0, y));
+  s.def.nodes.push_back({"left", true, centre - 100.0, y, 0.0, 0.0});
+  s.def.nodes.push_back({"right", true, centre + 100.0, y, 0.0, 0.0});
+  for (int i = 0; i < parallel; ++i) {
+    s.def.links.push_back({soda::LinkKind::Spring, 1, 0, 100.0, 0.0, 0.0});
+    s.def.links.push_back({soda::LinkKind::Spring, 0, 2, 100.0, 0.0, 0.0});
+  }
+  s.exact = [=](double t) {
+    const double lambda = -std::log1p(-f);
+    const double w2 = 2.0 * parallel * k;
+    const double wd = std::sqrt(w2 - lambda * lambda / 4.0);
+    const double x = x0 * std::exp(-lambda * t / 2.0) * (std::cos(wd * t) + lambda / (2.0 * wd) * std::sin(wd * t));
+    return std::vector<double>{centre + x, y};
+  };
+  return s;
+}
+
+std::vector<AnalyticScene> analytic_scenes() {
+  return {free_fall_with_friction(), single_spring(), pendulum_chain(), stiff_hub()};
+}
 
 } // namespace sodaevo::bench

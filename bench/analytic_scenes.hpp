@@ -42,6 +42,15 @@ AnalyticScene single_spring();
 /// smooth, chaotic-free 40-frame swing with no contact. No closed form.
 AnalyticScene pendulum_chain();
 
+/// A stiff scene: one free mass between two fixed nodes, held by 6 parallel springs
+/// (k 0.5) on each side along x, at rest, started 2 px off centre, air friction
+/// 0.05, no gravity: x'' = -w^2 x - lambda x' with w^2 = 12k = 6, so
+/// x(t) = 2 e^(-lambda t/2) (cos(wd t) + lambda/(2 wd) sin(wd t)), wd^2 = w^2 - lambda^2/4.
+/// One update per frame is unstable on it (w^2 = 6 > 2(1+c)/c = 4.1), as are euler
+/// and verlet at one step per frame (w dt < 2); rk4 is not (w dt < 2.83); the
+/// implicit integrators never are.
+AnalyticScene stiff_hub();
+
 std::vector<AnalyticScene> analytic_scenes();
 
 } // namespace sodaevo::bench

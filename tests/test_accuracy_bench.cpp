@@ -5,6 +5,7 @@
 #include <string>
 
 #include "bench/accuracy_bench.hpp"
+#include "bench/analytic_scenes.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo;
@@ -44,7 +45,7 @@ TEST_CASE("accuracy benchmark quick run: every section, soda equals euler/1, rk4
     }
   }
   const int settings = static_cast<int>(bench::swept_settings(8).size()); // quick: dt down to 1/8
-  CHECK(analytic == 3 * settings);
+  CHECK(analytic == static_cast<int>(bench::analytic_scenes().size()) * settings);
   CHECK(classic == settings);
   CHECK(walkers == settings);
   CHECK(soda_error == euler1_error);
