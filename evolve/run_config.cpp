@@ -147,6 +147,7 @@ const std::vector<Field>& fields() {
       special("/fitness/statistic", Kind::Statistic),
       number("/fitness/jitter", SODAEVO_FIELD(fitness.jitter), 0, 1),
       special("/fitness/race", Kind::Race),
+      number("/fitness/stability_margin_min", SODAEVO_FIELD(fitness.stability_margin_min), 0, 1e6),
 
       number("/world/gravity", SODAEVO_FIELD(world.gravity), soda::kGravityRange),
       number("/world/friction", SODAEVO_FIELD(world.friction), soda::kFrictionRange),

@@ -65,6 +65,11 @@ struct FitnessConfig {
   int replicas_max = 32;
   EstimateStatistic statistic = EstimateStatistic::Mean; ///< /fitness/statistic: "mean" | "median" | "lcb"
   double jitter = 0.002; ///< /fitness/jitter: share of sines a jittered replica moves by 1 ulp, [0, 1]
+  /// /fitness/stability_margin_min: refuse (as invalid, with the reason) a creature
+  /// whose predicted stability margin of the step (core/stability.hpp, at its
+  /// prepared start, in this stepping) is below this: a guard against walks that
+  /// are an integration instability. 0 = no check. [0, 1e6]
+  double stability_margin_min = 0.0;
 
   [[nodiscard]] soda::Stepping stepping() const { return {mode, integrator, substeps}; }
 

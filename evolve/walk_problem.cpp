@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <exception>
 #include <stdexcept>
+#include <iterator>
 
 #include "core/batch_step.hpp"
 #include "core/divergence.hpp"
@@ -12,6 +13,7 @@
 #include "core/model.hpp"
 #include "core/step.hpp"
 #include "core/number_text.hpp"
+#include "core/stability.hpp"
 #include "core/step_failure.hpp"
 #include "core/stepping.hpp"
 #include "evolve/creature_limits.hpp"
@@ -109,6 +111,17 @@ soda::ModelDef WalkProblem::prepare(const soda::ModelDef& creature) const {
   for (soda::NodeDef& n : m.nodes) {
     n.x += dx;
     n.y += dy;
+  }
+  if (fitness_.stability_margin_min > 0.0) {
+    const soda::Model model = soda::build_model(m);
+    const soda::StabilityPrediction p = soda::predict_stability(model, soda::make_state(model), fitness_.stepping());
+    if (p.margin < fitness_.stability_margin_min) {
+      throw soda::InputError("stability margin " + soda::format_double_plain(p.margin) + " of " +
+                             soda::stepping_label(fitness_.stepping()) + " (omega_max^2 " +
+                             soda::format_double_plain(p.omega_max * p.omega_max) +
+                             ") below /fitness/stability_margin_min " +
+                             soda::format_double_plain(fitness_.stability_margin_min));
+    }
   }
   return m;
 }
@@ -330,6 +343,7 @@ void WalkProblem::write(WireWriter& out) const {
   out.u8(static_cast<std::uint8_t>(fitness_.divergence));
   out.f64(fitness_.honesty_max_change);
   out.i32(fitness_.honesty_substeps_factor);
+  out.f64(fitness_.stability_margin_min);
   write_world_and_limits(out, world_, limits_);
   out.u64(static_cast<std::uint64_t>(describe_every_));
 }
@@ -354,11 +368,13 @@ WalkProblem WalkProblem::read_fields(WireReader& in) {
   f.scaling = enum_field<FitnessScaling>(in.u8(), 0, 1, "scaling");
   f.drop_height = in.f64();
   f.mode = enum_field<soda::PhysicsMode>(in.u8(), 0, 1, "physics mode");
-  f.integrator = enum_field<soda::Integrator>(in.u8(), 0, 2, "integrator");
+  f.integrator = enum_field<soda::Integrator>(in.u8(), 0, static_cast<int>(std::size(soda::kIntegrators)) - 1,
+                                              "integrator");
   f.substeps = in.i32();
   f.divergence = enum_field<DivergenceCheck>(in.u8(), 0, 1, "divergence check");
   f.honesty_max_change = in.f64();
   f.honesty_substeps_factor = in.i32();
+  f.stability_margin_min = in.f64();
   WorldConfig w;
   LimitsConfig l;
   read_world_and_limits(in, "walk problem", w, l);

@@ -134,7 +134,7 @@ const std::vector<std::string> kAllKeys = {
     "/fitness/direction", "/fitness/scaling", "/fitness/drop_height", "/fitness/mode", "/fitness/integrator",
     "/fitness/substeps", "/fitness/divergence", "/fitness/honesty/max_change",
     "/fitness/honesty/substeps_factor", "/fitness/replicas", "/fitness/replicas_max", "/fitness/statistic",
-    "/fitness/jitter", "/world/gravity",
+    "/fitness/jitter", "/fitness/stability_margin_min", "/world/gravity",
     "/world/friction", "/world/springyness", "/world/surface_friction", "/world/surface_reflection",
     "/world/gravity_direction", "/world/evolve", "/save/generation_every", "/save/checkpoint_every"};
 

@@ -17,6 +17,9 @@
 #include "core/stability.hpp"
 #include "core/step.hpp"
 #include "core/stiffness.hpp"
+#include "core/input_error.hpp"
+#include "evolve/run_config.hpp"
+#include "evolve/walk_problem.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo::test;
@@ -253,4 +256,28 @@ TEST_CASE("bench stability: a small run flags unstable extreme creatures better 
   CHECK(diverged < 150);
   CHECK(r.auc_first > 0.6);
   CHECK(r.auc_lowest >= r.auc_first - 0.05);
+}
+
+TEST_CASE("/fitness/stability_margin_min refuses a creature below the margin, with the reason", "[stability][evolve]") {
+  // The Dainty Walker's margin at its start in its own world is 1.27 (w_max^2 3.20
+  // against 4.06); Sodarace scaling and placement keep it (K scales with k only).
+  const soda::ModelDef walker = soda::read_model_file(models_dir() / "dainty_walker.xml").def;
+  sodaevo::RunConfig config;
+  config.fitness.stability_margin_min = 1.2;
+  const sodaevo::WalkProblem lenient(config.fitness, config.world, config.limits);
+  CHECK_NOTHROW(lenient.prepare(walker));
+  config.fitness.stability_margin_min = 1.3;
+  const sodaevo::WalkProblem strict(config.fitness, config.world, config.limits);
+  try {
+    (void)strict.prepare(walker);
+    FAIL("not refused");
+  } catch (const soda::InputError& e) {
+    const std::string why = e.what();
+    CHECK(why.find("stability margin 1.26") == 0);
+    CHECK(why.find("below /fitness/stability_margin_min 1.3") != std::string::npos);
+  }
+  // With more sub-steps the same creature passes: euler/2 has four times the margin, about.
+  config.fitness.mode = soda::PhysicsMode::Continuous;
+  config.fitness.substeps = 2;
+  CHECK_NOTHROW(sodaevo::WalkProblem(config.fitness, config.world, config.limits).prepare(walker));
 }

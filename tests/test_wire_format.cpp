@@ -100,11 +100,12 @@ WalkProblem unusual_problem() {
   f.scaling = FitnessScaling::None;
   f.drop_height = 0.1 + 0.2;
   f.mode = soda::PhysicsMode::Continuous;
-  f.integrator = soda::Integrator::Rk4;
+  f.integrator = soda::Integrator::ImplicitMidpoint;
   f.substeps = 3;
   f.divergence = DivergenceCheck::Energy;
   f.honesty_max_change = 0.125;
   f.honesty_substeps_factor = 5;
+  f.stability_margin_min = 1.5;
   WorldConfig w;
   w.gravity = 0.5;
   w.friction = 0.01;
