@@ -10,7 +10,7 @@
 
 #include "app/commands.hpp"
 #include "app/stepping_options.hpp"
-#include "app/svg_chart.hpp"
+#include "charts/svg_chart.hpp"
 #include "bench/stability_bench.hpp"
 #include "formats/atomic_file.hpp"
 #include "core/number_text.hpp"
@@ -105,13 +105,13 @@ void run_bench_stability(const BenchStabilityOptions& opt, const std::string& co
   if (!missed_example.empty()) md << " Example: " << missed_example << ".";
   md << "\n";
 
-  LineChart chart;
+  charts::LineChart chart;
   chart.title = "Stability predictor: ROC on " + std::to_string(r.cases.size()) + " extreme creatures (" +
                 soda::stepping_label(o.stepping) + ")";
   chart.x_axis = {"false positive rate (healthy creatures called unstable)", false, 0.0, 1.0};
   chart.y_axis = {"true positive rate (diverged creatures called unstable)", false, 0.0, 1.0};
   auto series = [](const std::string& name, const std::vector<bench::RocPoint>& roc) {
-    LineSeries s;
+    charts::LineSeries s;
     s.name = name;
     s.markers = false;
     for (const bench::RocPoint& p : roc) {
@@ -127,7 +127,7 @@ void run_bench_stability(const BenchStabilityOptions& opt, const std::string& co
   fs::create_directories(opt.out);
   soda::write_file_atomically(fs::path(opt.out) / "stability.csv", csv.str());
   soda::write_file_atomically(fs::path(opt.out) / "stability.md", md.str());
-  soda::write_file_atomically(fs::path(opt.out) / "stability.svg", render_line_chart(chart));
+  soda::write_file_atomically(fs::path(opt.out) / "stability.svg", charts::render_line_chart(chart));
   std::cout << md.str();
 }
 
