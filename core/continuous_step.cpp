@@ -31,7 +31,7 @@ ContinuousStepper::ContinuousStepper(const Model& model, ContinuousSettings sett
     implicit_ = std::make_unique<ImplicitSolver>(
         model, dt_, drag_, settings.integrator == Integrator::ImplicitMidpoint,
         [this](const double* x, const double* y, double phase, double* ax, double* ay) {
-          smooth_acceleration(x, y, phase, ax, ay);
+          smooth_acceleration(x, y, phase, *solving_jitter_, ax, ay);
         });
   }
 }
@@ -86,6 +86,7 @@ bool ContinuousStepper::implicit_step(State& s, std::string& why) {
     stop_all(s);
     return true;
   }
+  solving_jitter_ = &s.jitter;
   const bool midpoint = settings_.integrator == Integrator::ImplicitMidpoint;
   const double phase_eval =
       rules::advance_wave_phase(s.wave_phase, midpoint ? wave_step_ / 2.0 : wave_step_, s.wave_mode);

@@ -106,6 +106,7 @@ private:
   double gravity_step_ = 0.0; ///< g*dt
   double wave_step_ = 0.0;    ///< wave speed*dt
   std::unique_ptr<ImplicitSolver> implicit_; ///< backward-euler, implicit-midpoint (finite drag)
+  const SineJitter* solving_jitter_ = nullptr; ///< the jitter of the state the solver is stepping
   // scratch, [point_count]
   std::vector<double> ax_, ay_, x1_, y1_, vx1_, vy1_, kx_, ky_, kvx_, kvy_;
 };

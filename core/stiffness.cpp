@@ -24,7 +24,7 @@ void link_block(const Model& m, int i, const double* x, const double* y, double 
   const double ux = dx / length;
   const double uy = dy / length;
   const double k = m.springyness;
-  const double tension = 1.0 - rules::link_target_length(m, i, wave_phase) / length; // (L - D) / L
+  const double tension = 1.0 - rules::link_target_length(m, i, wave_phase, SineJitter{}) / length; // (L - D) / L; exact sine: a jittered ulp moves no eigenvalue that matters
   // k [u u^T + tension (I - u u^T)] = k [tension I + (1 - tension) u u^T]
   const double axial = k * (1.0 - tension);
   block[0] = k * tension + axial * ux * ux;
