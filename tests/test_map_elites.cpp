@@ -485,7 +485,7 @@ std::string text_of(const std::filesystem::path& p) { return soda::read_whole_fi
 
 } // namespace
 
-TEST_CASE("MAP-Elites run: the same archive on 1 and 2 threads, and resumed after a stop or a crash",
+TEST_CASE("MAP-Elites run: the same archive on 1, 2 and 8 threads, and resumed after a stop or a crash",
           "[map-elites]") {
   const SmallRun run; // 2 replicas per new creature, up to 4
   const auto one = run_dir("one"), two = run_dir("two"), stopped = run_dir("stopped"), crashed = run_dir("crashed");
@@ -500,6 +500,11 @@ TEST_CASE("MAP-Elites run: the same archive on 1 and 2 threads, and resumed afte
   CHECK(b.evaluations == a.evaluations);
   CHECK(text_of(one / "qd.csv") == text_of(two / "qd.csv"));
   CHECK(text_of(one / "archive.json") == text_of(two / "archive.json"));
+  const auto eight = run_dir("eight");
+  ThreadEvaluator threads8(8, 3); // and batches of 3 creatures
+  run_map_elites(eight, run.config, run.me, threads8, {});
+  CHECK(text_of(one / "qd.csv") == text_of(eight / "qd.csv"));
+  CHECK(text_of(one / "archive.json") == text_of(eight / "archive.json"));
 
   // Stopped after iteration 2 (as Ctrl-C stops it), then resumed to the end.
   std::atomic<bool> stop{false};
