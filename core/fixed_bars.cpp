@@ -123,7 +123,7 @@ struct BarList {
 /// lists merged into `merged`.
 BarList candidate_bars(const FixedBars& bars, double lo, double hi, std::vector<int>& merged) {
   const auto cell = [&](double x) {
-    const double c = std::floor((x - bars.cell_x0) / bars.cell_width);
+    const double c = std::floor((x - bars.cell_x0) * bars.cell_scale); // exact: a power of two
     if (!(c > 0.0)) return 0;
     return c >= bars.cell_count - 1 ? bars.cell_count - 1 : static_cast<int>(c);
   };
@@ -288,13 +288,16 @@ FixedBars make_fixed_bars(const std::vector<int>& bar_a, const std::vector<int>&
     hi = std::max(hi, reach_hi(b));
   }
   out.cell_x0 = lo;
-  out.cell_width = std::max(FixedBars::kMinCellWidth, (hi - lo) / FixedBars::kMaxCells);
-  out.cell_count = static_cast<int>(std::floor((hi - lo) / out.cell_width)) + 1;
+  // A power of two: the lookup multiplies by its inverse, which is the division exactly.
+  out.cell_width = FixedBars::kMinCellWidth;
+  while (out.cell_width < (hi - lo) / FixedBars::kMaxCells) out.cell_width *= 2.0;
+  out.cell_scale = 1.0 / out.cell_width;
+  out.cell_count = static_cast<int>(std::floor((hi - lo) * out.cell_scale)) + 1;
   std::vector<std::vector<int>> cells(static_cast<std::size_t>(out.cell_count));
   for (int k = 0; k < n; ++k) {
     const FixedBar& b = out.bars[static_cast<std::size_t>(k)];
-    const int c0 = static_cast<int>(std::floor((reach_lo(b) - lo) / out.cell_width));
-    const int c1 = std::min(out.cell_count - 1, static_cast<int>(std::floor((reach_hi(b) - lo) / out.cell_width)));
+    const int c0 = static_cast<int>(std::floor((reach_lo(b) - lo) * out.cell_scale));
+    const int c1 = std::min(out.cell_count - 1, static_cast<int>(std::floor((reach_hi(b) - lo) * out.cell_scale)));
     for (int c = c0; c <= c1; ++c) cells[static_cast<std::size_t>(c)].push_back(k);
   }
   out.cell_start.push_back(0);
@@ -360,9 +363,22 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
       memory.contacts.push_back({k, mass, static_cast<std::int8_t>(s0)});
       remembered_any = true;
     }
-    const double dx = p.x - m.x0, dy = p.y - m.y0;
-    const double distance = std::sqrt(dx * dx + dy * dy);
-    if (best < 0 || distance < best_distance) {
+    // The nearest crossing wins; the distances are taken only when two compete
+    // (the same square roots, later).
+    const auto distance_to = [&](Point q) {
+      const double dx = q.x - m.x0, dy = q.y - m.y0;
+      return std::sqrt(dx * dx + dy * dy);
+    };
+    if (best < 0) {
+      best = k;
+      best_side = s0;
+      best_point = p;
+      best_distance = -1.0; // not taken yet
+      continue;
+    }
+    if (best_distance < 0.0) best_distance = distance_to(best_point);
+    const double distance = distance_to(p);
+    if (distance < best_distance) {
       best = k;
       best_side = s0;
       best_point = p;

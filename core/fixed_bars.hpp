@@ -50,7 +50,8 @@ struct FixedBars {
   // Index by x: cells of cell_width px from cell_x0; cell c holds the bars whose
   // normalised x range touches it, in link order (cell_start[c] .. cell_start[c+1]).
   double cell_x0 = 0.0;
-  double cell_width = kMinCellWidth;
+  double cell_width = kMinCellWidth; ///< a power of two, so that x * cell_scale is x / cell_width exactly
+  double cell_scale = 1.0 / kMinCellWidth;
   int cell_count = 0;
   std::vector<int> cell_start;
   std::vector<int> cell_bars;
