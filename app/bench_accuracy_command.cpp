@@ -2,11 +2,14 @@
 // `sodaevo bench stress` (stability, bench/extreme_creatures.hpp): their options,
 // then the benchmark and its files under results/bench/ (bench/accuracy_report.hpp:
 // CSV, log-log SVG charts and a Markdown summary; bench/stress_report.hpp).
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "app/commands.hpp"
 #include "bench/accuracy_bench.hpp"
@@ -26,15 +29,29 @@ struct BenchAccuracyOptions {
   bool quick = false;
   std::string out = "results/bench";
   std::string models = "models";
-  int walkers = 200;
-  long long frames = 2000;
+  std::string champions = "models/champions";
+  int walkers = 100;
+  int replicas = 6;
+  long long frames = 1000;
   long long walker_frames = 1000;
 };
+
+/// Every *.xml in `dir`, by file name (none if the folder does not exist).
+std::vector<std::pair<std::string, std::string>> champions_in(const fs::path& dir) {
+  std::vector<std::pair<std::string, std::string>> out;
+  if (!fs::is_directory(dir)) return out;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() == ".xml") out.emplace_back(e.path().stem().string(), e.path().string());
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
 
 void run_bench_accuracy(const BenchAccuracyOptions& opt, const std::string& command) {
   bench::AccuracyOptions ao;
   ao.quick = opt.quick;
   ao.walkers = opt.walkers;
+  ao.replicas = opt.replicas;
   ao.classic_frames = opt.frames;
   ao.walker_frames = opt.walker_frames;
   for (const char* name : {"dainty_walker", "carefulslug", "monster_truck", "treader", "wodka_m1", "wheel", "turbine"}) {
@@ -44,6 +61,8 @@ void run_bench_accuracy(const BenchAccuracyOptions& opt, const std::string& comm
     }
     ao.classics.emplace_back(name, p.string());
   }
+  ao.champions = champions_in(opt.champions);
+  if (ao.champions.empty()) std::cerr << "bench accuracy: no champions in " << opt.champions << " (section left out)\n";
   ao.progress = [](const std::string& line) { std::cerr << "bench accuracy: " << line << std::endl; };
   const bench::AccuracyReport report = bench::run_accuracy_bench(ao);
 
@@ -91,16 +110,22 @@ void add_bench_accuracy_commands(CLI::App& bench) {
   auto opt = std::make_shared<BenchAccuracyOptions>();
   CLI::App* acc = bench.add_subcommand(
       "accuracy",
-      "Work-precision: run time against error for soda and the continuous mode's euler, verlet\n"
-      "and rk4 at dt = 1 ... 1/64 frame, on analytic scenes (closed forms), the bundled classics\n"
-      "(distance walked vs RK4 at 256 sub-steps) and random walkers (Kendall tau of the ranking).\n"
-      "Writes accuracy.csv, accuracy_*.svg (log-log) and accuracy.md. Takes a few minutes.");
-  acc->add_flag("--quick", opt->quick, "Small sweep (dt down to 1/8, 20 walkers, short runs): a smoke test");
+      "Work-precision: run time against error for soda and the continuous mode's integrators\n"
+      "at dt = 1 ... 1/64 frame, on analytic scenes (closed forms), the bundled classics and the\n"
+      "GA's champions (expected distance over sine-jitter replicas vs RK4 at 128 sub-steps, with\n"
+      "95 % intervals) and random walkers (Kendall tau of the ranking by expected distance).\n"
+      "Writes accuracy.csv, accuracy_*.svg (log-log) and accuracy.md. Takes about 10 minutes.");
+  acc->add_flag("--quick", opt->quick, "Small sweep (dt down to 1/8, 20 walkers, 3 replicas, short runs): a smoke test");
   acc->add_option("--out", opt->out, "Output directory")->default_val("results/bench");
   acc->add_option("--models", opt->models, "Directory with the bundled creatures")->default_val("models");
-  acc->add_option("--walkers", opt->walkers, "Random walkers ranked")->default_val(200)->check(CLI::Range(2, 100000));
-  acc->add_option("--frames", opt->frames, "Scored frames of the classics (after 100 settle frames)")
-      ->default_val(2000)
+  acc->add_option("--champions", opt->champions, "Directory with the GA's champions (*.xml; none: left out)")
+      ->default_val("models/champions");
+  acc->add_option("--walkers", opt->walkers, "Random walkers ranked")->default_val(100)->check(CLI::Range(2, 100000));
+  acc->add_option("--replicas", opt->replicas, "Sine-jitter replicas per creature and setting (expected distances)")
+      ->default_val(6)
+      ->check(CLI::Range(2, 1024));
+  acc->add_option("--frames", opt->frames, "Scored frames of the classics and champions (after 100 settle frames)")
+      ->default_val(1000)
       ->check(CLI::Range(1LL, 10'000'000LL));
   acc->add_option("--walker-frames", opt->walker_frames, "Scored frames of each random walker")
       ->default_val(1000)
@@ -108,8 +133,9 @@ void add_bench_accuracy_commands(CLI::App& bench) {
   acc->callback([opt] {
     std::string command = "sodaevo bench accuracy";
     if (opt->quick) command += " --quick";
-    if (opt->walkers != 200) command += " --walkers " + std::to_string(opt->walkers);
-    if (opt->frames != 2000) command += " --frames " + std::to_string(opt->frames);
+    if (opt->walkers != 100) command += " --walkers " + std::to_string(opt->walkers);
+    if (opt->replicas != 6) command += " --replicas " + std::to_string(opt->replicas);
+    if (opt->frames != 1000) command += " --frames " + std::to_string(opt->frames);
     if (opt->walker_frames != 1000) command += " --walker-frames " + std::to_string(opt->walker_frames);
     run_bench_accuracy(*opt, command);
   });

@@ -1,16 +1,14 @@
 #include "accuracy_bench.hpp"
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
 #include "bench/analytic_scenes.hpp"
 #include "bench/median.hpp"
-#include "core/divergence.hpp"
+#include "bench/replica_runs.hpp"
 #include "core/model.hpp"
-#include "core/step_failure.hpp"
 #include "evolve/rng.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/variation.hpp"
@@ -21,55 +19,10 @@ namespace sodaevo::bench {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-/// Walkers are also ranked by the distance after this many scored frames, where
-/// their motion is still predictable (over 1000 frames most random creatures are
-/// chaotic: RK4 at 128 and 256 sub-steps disagree).
-constexpr long long kShortHorizon = 100;
 /// A walker "moves" when its reference centroid walks at least this fast, px/frame.
 constexpr double kMoverSpeed = 0.1;
-
-struct RunResult {
-  std::vector<std::vector<double>> positions; ///< per checkpoint: x0 y0 x1 y1 ... of the free masses
-  double seconds = 0.0;
-  bool diverged = false;
-};
-
-/// Runs from the initial state to each checkpoint frame (ascending) and records
-/// the free masses' positions there.
-RunResult run_with_checkpoints(const soda::Model& model, const soda::Stepping& stepping,
-                               const std::vector<long long>& checkpoints) {
-  RunResult r;
-  soda::State s = soda::make_state(model);
-  // Soda runs the plain reference step: a scalar loop like the continuous
-  // stepper, so that the timings compare methods, not implementations.
-  soda::FrameStepper stepper(model, stepping, checkpoints.empty() ? 0 : checkpoints.back(), true);
-  long long done = 0;
-  const auto t0 = Clock::now();
-  for (long long frame : checkpoints) {
-    try {
-      stepper.run(s, frame - done);
-    } catch (const soda::StepFailure&) { // an implicit solve failed: the run counts as diverged
-      r.diverged = true;
-      r.positions.resize(checkpoints.size(), std::vector<double>(2 * static_cast<std::size_t>(model.mass_count),
-                                                                 std::numeric_limits<double>::quiet_NaN()));
-      r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-      return r;
-    }
-    done = frame;
-    std::vector<double> p;
-    p.reserve(2 * static_cast<std::size_t>(model.mass_count));
-    for (int i = 0; i < model.mass_count; ++i) {
-      p.push_back(s.x[i]);
-      p.push_back(s.y[i]);
-    }
-    r.positions.push_back(std::move(p));
-  }
-  r.seconds = std::chrono::duration<double>(Clock::now() - t0).count();
-  r.diverged = soda::first_non_finite(model, s).has_value();
-  return r;
-}
+/// A creature "walks" when its reference distance exceeds this, px.
+constexpr double kWalkingDistance = 50.0;
 
 double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
   double worst = 0.0;
@@ -80,23 +33,25 @@ double max_abs_difference(const std::vector<double>& a, const std::vector<double
   return worst;
 }
 
-double centroid_x(const std::vector<double>& p) {
-  double sx = 0.0;
-  for (std::size_t i = 0; i < p.size(); i += 2) sx += p[i];
-  return p.empty() ? 0.0 : sx / static_cast<double>(p.size() / 2);
-}
+/// The scale relative errors are taken against: the reference distance, at least 1 px.
+double scale_of(double reference) { return std::max(std::fabs(reference), 1.0); }
 
 double relative_error(double value, double reference) {
-  return std::fabs(value - reference) / std::max(std::fabs(reference), 1.0);
+  const double e = std::fabs(value - reference) / scale_of(reference);
+  return std::isnan(e) ? std::numeric_limits<double>::infinity() : e;
 }
 
 void say(const AccuracyOptions& o, const std::string& line) {
   if (o.progress) o.progress(line);
 }
 
-RunConfig classic_config(const AccuracyOptions& o) {
+soda::Stepping reference_of(const AccuracyOptions& o, int divisor = 1) {
+  return {soda::PhysicsMode::Continuous, soda::Integrator::Rk4, o.reference_substeps / divisor};
+}
+
+RunConfig creature_config(const AccuracyOptions& o) {
   RunConfig c;
-  c.world.evolve = world_parameter_names(); // keep each classic's own world
+  c.world.evolve = world_parameter_names(); // keep each creature's own world
   c.fitness.scaling = FitnessScaling::None;
   c.fitness.frames = o.classic_frames;
   c.fitness.settle_frames = o.settle_frames;
@@ -145,52 +100,74 @@ void analytic_section(const AccuracyOptions& o, const std::vector<soda::Stepping
   }
 }
 
-void classic_section(const AccuracyOptions& o, const std::vector<soda::Stepping>& settings, AccuracyReport& out) {
-  const RunConfig config = classic_config(o);
+/// Classics or champions: every setting's expected distance against the reference's.
+void creature_section(const AccuracyOptions& o, const std::string& section,
+                      const std::vector<std::pair<std::string, std::string>>& creatures,
+                      const std::vector<soda::Stepping>& settings, AccuracyReport& out) {
+  const RunConfig config = creature_config(o);
+  ReplicaPlan plan;
+  plan.replicas = o.replicas;
+  plan.jitter = o.jitter;
   const long long settle = o.settle_frames, end = o.settle_frames + o.classic_frames;
   const long long early = std::min<long long>(100, end);
-  std::vector<long long> checkpoints = {early, settle, end};
-  std::sort(checkpoints.begin(), checkpoints.end());
-  checkpoints.erase(std::unique(checkpoints.begin(), checkpoints.end()), checkpoints.end());
+  plan.checkpoints = {early, settle, end};
+  std::sort(plan.checkpoints.begin(), plan.checkpoints.end());
+  plan.checkpoints.erase(std::unique(plan.checkpoints.begin(), plan.checkpoints.end()), plan.checkpoints.end());
   auto index_of = [&](long long f) {
-    return static_cast<std::size_t>(std::find(checkpoints.begin(), checkpoints.end(), f) - checkpoints.begin());
+    return static_cast<std::size_t>(std::find(plan.checkpoints.begin(), plan.checkpoints.end(), f) -
+                                    plan.checkpoints.begin());
   };
-  for (const auto& [name, path] : o.classics) {
-    say(o, "classic: " + name);
+  plan.from = index_of(settle);
+  plan.to = index_of(end);
+  plan.keep = index_of(early);
+  for (const auto& [name, path] : creatures) {
+    say(o, section + ": " + name + ", reference");
     const soda::ModelDef creature = creature_from_seed(soda::read_model_file(path).def, config);
     const soda::Model model = soda::build_model(WalkProblem(config).prepare(creature));
-    auto distance_of = [&](const RunResult& r) {
-      return centroid_x(r.positions[index_of(end)]) - centroid_x(r.positions[index_of(settle)]);
-    };
-    const soda::Stepping reference{soda::PhysicsMode::Continuous, soda::Integrator::Rk4, o.reference_substeps};
-    const RunResult ref = run_with_checkpoints(model, reference, checkpoints);
-    const RunResult half_ref = run_with_checkpoints(
-        model, {soda::PhysicsMode::Continuous, soda::Integrator::Rk4, o.reference_substeps / 2}, checkpoints);
-    const double ref_distance = distance_of(ref);
-    if (std::fabs(ref_distance) > 50.0) out.walkers_among_classics.push_back(name);
-    out.reference_uncertainty.emplace_back(name, relative_error(distance_of(half_ref), ref_distance));
+    const ExpectedDistance ref = expected_distance(model, reference_of(o), plan);
+    const ExpectedDistance half_ref = expected_distance(model, reference_of(o, 2), plan);
+    const double scale = scale_of(ref.summary.mean);
+    const DifferenceInterval half = difference_interval(half_ref, ref);
+    const double half_width = ref.summary.n > 1 ? student_t_975(ref.summary.n - 1) * ref.standard_error : 0.0;
+    out.references.push_back({section, name, ref.summary.mean, ref.standard_error, ref.summary.sd, half_width,
+                              half.difference / scale, half.low / scale, half.high / scale});
+    if (std::fabs(ref.summary.mean) > kWalkingDistance) {
+      (section == "champion" ? out.walkers_among_champions : out.walkers_among_classics).push_back(name);
+    }
     for (const soda::Stepping& st : settings) {
-      // The machine is shared: the fastest of a few identical runs is the run time.
-      RunResult r = run_with_checkpoints(model, st, checkpoints);
-      for (int again = 1; again < o.timing_runs; ++again) {
-        r.seconds = std::min(r.seconds, run_with_checkpoints(model, st, checkpoints).seconds);
-      }
+      say(o, section + ": " + name + ", " + soda::stepping_label(st));
+      const ExpectedDistance e = expected_distance(model, st, plan);
+      const DifferenceInterval d = difference_interval(e, ref);
       AccuracyRow row;
-      row.section = "classic";
+      row.section = section;
       row.scene = name;
       row.stepping = st;
-      row.seconds_per_frame = r.seconds / static_cast<double>(end);
-      row.position_error = max_abs_difference(r.positions[index_of(early)], ref.positions[index_of(early)]);
-      row.distance = distance_of(r);
-      row.reference_distance = ref_distance;
-      row.distance_error = relative_error(row.distance, ref_distance);
-      row.diverged = r.diverged ? 1 : 0;
+      row.seconds_per_frame = e.seconds_per_frame;
+      row.position_error = max_abs_difference(e.exact_positions, ref.exact_positions);
+      row.distance = e.summary.mean;
+      row.distance_se = e.standard_error;
+      row.reference_distance = ref.summary.mean;
+      row.reference_se = ref.standard_error;
+      row.distance_error = relative_error(e.summary.mean, ref.summary.mean);
+      row.error_low = d.low / scale;
+      row.error_high = d.high / scale;
+      row.exact_distance = e.exact;
+      row.exact_error = relative_error(e.exact, ref.exact);
+      row.diverged = e.diverged;
       out.rows.push_back(row);
     }
   }
 }
 
-void walkers_section(const AccuracyOptions& o, const std::vector<soda::Stepping>& settings, AccuracyReport& out) {
+/// Per walker, the expected distance of one setting (the GA's rank of a creature
+/// with a diverged replica: the worst) and replica 0's.
+struct WalkerDistances {
+  std::vector<double> expected, exact, standard_error;
+  double seconds = 0.0;
+  int diverged = 0;
+};
+
+std::vector<soda::Model> random_walkers(const AccuracyOptions& o) {
   RunConfig config;
   config.fitness.frames = o.walker_frames;
   config.fitness.settle_frames = o.settle_frames;
@@ -203,61 +180,82 @@ void walkers_section(const AccuracyOptions& o, const std::vector<soda::Stepping>
       // e.g. too small to scale within gravity's range: draw another
     }
   }
-  const long long settle = o.settle_frames;
-  const long long short_end = settle + std::min(kShortHorizon, o.walker_frames);
-  const long long end = settle + o.walker_frames;
-  const std::vector<long long> checkpoints = {settle, short_end, end};
-  struct Distances {
-    std::vector<double> full, shorter;
-    double seconds = 0.0;
-    int diverged = 0;
-  };
+  return models;
+}
+
+void walkers_section(const AccuracyOptions& o, const std::vector<soda::Stepping>& settings, AccuracyReport& out) {
+  const std::vector<soda::Model> models = random_walkers(o);
+  ReplicaPlan plan;
+  plan.replicas = o.replicas;
+  plan.jitter = o.jitter;
+  plan.checkpoints = {o.settle_frames, o.settle_frames + o.walker_frames};
+  plan.from = 0;
+  plan.to = 1;
   auto distances = [&](const soda::Stepping& st) {
-    Distances d;
+    WalkerDistances d;
     for (const soda::Model& m : models) {
-      const RunResult r = run_with_checkpoints(m, st, checkpoints);
-      d.seconds += r.seconds;
-      if (r.diverged) ++d.diverged;
-      const double worst = -std::numeric_limits<double>::max(); // the GA's rank of a diverged creature
-      d.shorter.push_back(r.diverged ? worst : centroid_x(r.positions[1]) - centroid_x(r.positions[0]));
-      d.full.push_back(r.diverged ? worst : centroid_x(r.positions[2]) - centroid_x(r.positions[0]));
+      const ExpectedDistance e = expected_distance(m, st, plan);
+      d.seconds += e.seconds_per_frame;
+      const double worst = -std::numeric_limits<double>::max();
+      if (e.diverged > 0) ++d.diverged;
+      d.expected.push_back(e.diverged > 0 ? worst : e.summary.mean);
+      d.exact.push_back(std::isnan(e.exact) ? worst : e.exact);
+      d.standard_error.push_back(e.standard_error);
     }
+    d.seconds /= static_cast<double>(std::max<std::size_t>(1, models.size()));
     return d;
   };
+  out.walkers = static_cast<int>(models.size());
   say(o, "walkers: " + std::to_string(models.size()) + " random creatures, reference");
-  const Distances ref = distances({soda::PhysicsMode::Continuous, soda::Integrator::Rk4, o.reference_substeps});
-  const Distances half_ref = distances({soda::PhysicsMode::Continuous, soda::Integrator::Rk4, o.reference_substeps / 2});
-  out.walkers_noise_floor_tau = kendall_tau(half_ref.full, ref.full);
-  out.walkers_noise_floor_tau_short = kendall_tau(half_ref.shorter, ref.shorter);
+  const WalkerDistances ref = distances(reference_of(o));
+  const WalkerDistances half_ref = distances(reference_of(o, 2));
   // The movers: creatures whose reference walks at least kMoverSpeed. Among the
   // others the ranking is a ranking of jitter.
   std::vector<std::size_t> movers;
-  for (std::size_t i = 0; i < ref.full.size(); ++i) {
-    if (std::fabs(ref.full[i]) >= kMoverSpeed * static_cast<double>(o.walker_frames)) movers.push_back(i);
+  for (std::size_t i = 0; i < ref.expected.size(); ++i) {
+    const double v = std::fabs(ref.expected[i]);
+    if (v >= kMoverSpeed * static_cast<double>(o.walker_frames) && v < 1e300) movers.push_back(i); // not diverged
   }
   auto subset = [&](const std::vector<double>& v) {
-    std::vector<double> out_values;
-    for (std::size_t i : movers) out_values.push_back(v[i]);
-    return out_values;
+    std::vector<double> values;
+    for (std::size_t i : movers) values.push_back(v[i]);
+    return values;
   };
   out.walkers_movers = static_cast<int>(movers.size());
-  out.walkers_noise_floor_tau_movers = kendall_tau(subset(half_ref.full), subset(ref.full));
-  const double frames = static_cast<double>(models.size()) * static_cast<double>(end);
+  out.walkers_noise_floor_tau = kendall_tau(half_ref.expected, ref.expected);
+  out.walkers_noise_floor_tau_movers = kendall_tau(subset(half_ref.expected), subset(ref.expected));
+  out.walkers_noise_floor_tau_exact_movers = kendall_tau(subset(half_ref.exact), subset(ref.exact));
+  const std::vector<double> mover_means = subset(ref.expected), mover_errors = subset(ref.standard_error);
+  auto scaled = [&](double factor) {
+    std::vector<double> e = mover_errors;
+    for (double& v : e) v *= factor;
+    return e;
+  };
+  out.walkers_predicted_tau_movers = predicted_tau(mover_means, mover_errors);
+  out.walkers_predicted_tau_movers_4r = predicted_tau(mover_means, scaled(0.5));
+  out.walkers_predicted_tau_movers_16r = predicted_tau(mover_means, scaled(0.25));
+  std::vector<double> relative_se;
+  for (std::size_t k = 0; k < movers.size(); ++k) relative_se.push_back(mover_errors[k] / scale_of(mover_means[k]));
+  out.walkers_median_relative_se = median(relative_se);
   for (const soda::Stepping& st : settings) {
     say(o, "walkers: " + soda::stepping_label(st));
+    const WalkerDistances d = distances(st);
     AccuracyRow row;
     row.section = "walkers";
     row.scene = std::to_string(models.size()) + " random walkers";
     row.stepping = st;
-    const Distances d = distances(st);
     row.diverged = d.diverged;
-    row.seconds_per_frame = d.seconds / frames;
-    row.kendall_tau = kendall_tau(d.full, ref.full);
-    row.kendall_tau_short = kendall_tau(d.shorter, ref.shorter);
-    row.kendall_tau_movers = kendall_tau(subset(d.full), subset(ref.full));
-    std::vector<double> errors;
-    for (std::size_t i = 0; i < d.full.size(); ++i) errors.push_back(relative_error(d.full[i], ref.full[i]));
+    row.seconds_per_frame = d.seconds;
+    row.kendall_tau = kendall_tau(d.expected, ref.expected);
+    row.kendall_tau_movers = kendall_tau(subset(d.expected), subset(ref.expected));
+    row.kendall_tau_exact_movers = kendall_tau(subset(d.exact), subset(ref.exact));
+    std::vector<double> errors, exact_errors;
+    for (std::size_t i : movers) {
+      errors.push_back(relative_error(d.expected[i], ref.expected[i]));
+      exact_errors.push_back(relative_error(d.exact[i], ref.exact[i]));
+    }
     row.distance_error = median(errors);
+    row.exact_error = median(exact_errors);
     out.rows.push_back(row);
   }
 }
@@ -300,6 +298,23 @@ double kendall_tau(const std::vector<double>& a, const std::vector<double>& b) {
   return static_cast<double>(concordant - discordant) / std::sqrt(n1 * n2);
 }
 
+double predicted_tau(const std::vector<double>& means, const std::vector<double>& errors) {
+  if (means.size() != errors.size()) throw std::invalid_argument("predicted_tau: samples of different lengths");
+  double sum = 0.0;
+  long long pairs = 0;
+  for (std::size_t i = 0; i < means.size(); ++i) {
+    for (std::size_t j = i + 1; j < means.size(); ++j) {
+      const double s = std::sqrt(errors[i] * errors[i] + errors[j] * errors[j]);
+      const double gap = std::fabs(means[i] - means[j]);
+      // 2 Phi(g / s) - 1 = erf(g / (s sqrt 2)): how likely one estimate orders the pair right.
+      const double agree = s > 0.0 ? std::erf(gap / (s * std::sqrt(2.0))) : (gap > 0.0 ? 1.0 : 0.0);
+      sum += agree * agree;
+      ++pairs;
+    }
+  }
+  return pairs > 0 ? sum / static_cast<double>(pairs) : 0.0;
+}
+
 AccuracyReport run_accuracy_bench(const AccuracyOptions& options) {
   AccuracyOptions o = options;
   if (o.quick) {
@@ -308,13 +323,21 @@ AccuracyReport run_accuracy_bench(const AccuracyOptions& options) {
     o.classic_frames = std::min<long long>(o.classic_frames, 300);
     o.settle_frames = std::min<long long>(o.settle_frames, 50);
     o.max_substeps = std::min(o.max_substeps, 8);
+    o.walker_max_substeps = std::min(o.walker_max_substeps, 4);
     o.reference_substeps = std::min(o.reference_substeps, 32);
+    o.replicas = std::min(o.replicas, 3);
   }
-  const std::vector<soda::Stepping> settings = swept_settings(o.max_substeps);
+  if (o.replicas < 2) throw std::invalid_argument("bench accuracy: at least 2 replicas (a standard error needs two)");
   AccuracyReport report;
+  report.replicas = o.replicas;
+  report.reference = reference_of(o);
+  report.creature_frames = o.classic_frames;
+  report.settle_frames = o.settle_frames;
+  const std::vector<soda::Stepping> settings = swept_settings(o.max_substeps);
   analytic_section(o, settings, report);
-  classic_section(o, settings, report);
-  walkers_section(o, settings, report);
+  creature_section(o, "classic", o.classics, settings, report);
+  creature_section(o, "champion", o.champions, settings, report);
+  walkers_section(o, swept_settings(o.walker_max_substeps), report);
   return report;
 }
 
