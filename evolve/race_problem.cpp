@@ -76,20 +76,7 @@ soda::ModelDef RaceProblem::prepare(const soda::ModelDef& creature) const {
 
   // At racing size: the racer's scale (half the container height over the root of
   // the sum of Lmax^2) is then 1 to the last bits.
-  const std::optional<double> s = sodarace_scale(m);
-  if (!s) throw soda::InputError("cannot race: the creature has no springs or muscles of non-zero length");
-  for (soda::NodeDef& n : m.nodes) {
-    n.x *= *s;
-    n.y *= *s;
-    n.vx *= *s;
-    n.vy *= *s;
-  }
-  for (soda::LinkDef& l : m.links) l.rest_length *= *s;
-  m.environment.gravity *= *s;
-  if (!soda::kGravityRange.contains(m.environment.gravity)) {
-    throw soda::InputError("racing size (scale " + soda::format_double_plain(*s) + ") gives gravity " +
-                           soda::format_double_plain(m.environment.gravity) + ", above the original's limit 4");
-  }
+  apply_sodarace_scale(m);
   // Placed in a default-height container (the racer scales by half of it): the
   // leftmost mass 20 px from the left wall, the lowest 5 px above the floor.
   double min_x = INFINITY, max_x = -INFINITY, min_y = INFINITY;

@@ -38,6 +38,23 @@ std::optional<double> sodarace_scale(const soda::ModelDef& c) {
   return 211.0 / std::sqrt(sum);
 }
 
+void apply_sodarace_scale(soda::ModelDef& m) {
+  const std::optional<double> s = sodarace_scale(m);
+  if (!s) throw soda::InputError("cannot scale: the creature has no springs or muscles of non-zero length");
+  for (soda::NodeDef& n : m.nodes) {
+    n.x *= *s;
+    n.y *= *s;
+    n.vx *= *s;
+    n.vy *= *s;
+  }
+  for (soda::LinkDef& l : m.links) l.rest_length *= *s;
+  m.environment.gravity *= *s;
+  if (!soda::kGravityRange.contains(m.environment.gravity)) {
+    throw soda::InputError("Sodarace scaling by " + std::to_string(*s) + " gives gravity " +
+                           std::to_string(m.environment.gravity) + ", above the original's limit 4 (creature too small)");
+  }
+}
+
 WalkProblem::WalkProblem(const FitnessConfig& fitness, const WorldConfig& world, const LimitsConfig& limits,
                          long long describe_every)
     : fitness_(fitness), world_(world), limits_(limits), describe_every_(describe_every) {
@@ -70,22 +87,7 @@ soda::ModelDef WalkProblem::prepare(const soda::ModelDef& creature) const {
   m.settings.wave_direction = soda::WaveDirection::Forward;
   m.settings.autoreverse = false;
 
-  if (fitness_.scaling == FitnessScaling::Sodarace) {
-    const std::optional<double> s = sodarace_scale(m);
-    if (!s) throw soda::InputError("cannot scale: the creature has no springs or muscles of non-zero length");
-    for (soda::NodeDef& n : m.nodes) {
-      n.x *= *s;
-      n.y *= *s;
-      n.vx *= *s;
-      n.vy *= *s;
-    }
-    for (soda::LinkDef& l : m.links) l.rest_length *= *s;
-    m.environment.gravity *= *s;
-    if (!soda::kGravityRange.contains(m.environment.gravity)) {
-      throw soda::InputError("Sodarace scaling by " + std::to_string(*s) + " gives gravity " +
-                             std::to_string(m.environment.gravity) + ", above the original's limit 4 (creature too small)");
-    }
-  }
+  if (fitness_.scaling == FitnessScaling::Sodarace) apply_sodarace_scale(m);
 
   // Place the creature: leftmost mass at the middle of a container wide enough
   // that no mass can reach a side wall (speed is at most 20 px/frame), lowest mass

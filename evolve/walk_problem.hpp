@@ -26,6 +26,11 @@ namespace sodaevo {
 /// without links.
 std::optional<double> sodarace_scale(const soda::ModelDef& creature);
 
+/// Scales `creature` by sodarace_scale: positions, velocities, rest lengths and
+/// gravity. Throws soda::InputError without links, or when the scaled gravity
+/// leaves the original's range (a creature too small).
+void apply_sodarace_scale(soda::ModelDef& creature);
+
 class WalkProblem final : public Problem {
  public:
   /// `describe_every` > 0: measure the descriptors every that many scored frames

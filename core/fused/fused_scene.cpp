@@ -106,6 +106,22 @@ void take_states(SceneData& s, State* const* states, const char* who) {
   }
 }
 
+/// Loads the states into the scene and gives the kernel the scene needs (walls
+/// left to the caller).
+KernelChoice begin_frames(SceneData& s, State* const* states) {
+  s.load_state(states);
+  s.leave_rows(); // the states may be others, or changed since
+  KernelChoice k;
+  k.simd = s.simd;
+  k.wave = s.any_wave;
+  k.gravity = s.any_gravity;
+  k.bars = s.bars;
+  // Fixed bars: the masses one by one (the bar rules need each move before the
+  // container's response and keep a memory per mass).
+  k.ordered = s.options.force_ordered || s.bars != BarKind::None;
+  return k;
+}
+
 /// The free masses' least and greatest x, in mass order (as a race takes them).
 template <typename XOf>
 std::pair<double, double> x_extent(int masses, const XOf& x_of) {
@@ -136,14 +152,7 @@ long long FusedScene::run_until(State& state, long long frames, const std::funct
   }
   take_states(s, st, "FastStepper::run_until");
   if (frames <= 0) return 0;
-  s.load_state(st);
-  s.leave_rows(); // the state may be another, or changed since
-  KernelChoice k;
-  k.simd = s.simd;
-  k.wave = s.any_wave;
-  k.gravity = s.any_gravity;
-  k.bars = s.bars;
-  k.ordered = true;
+  KernelChoice k = begin_frames(s, st); // ordered
   k.walls = WallNeeds{};
   s.record(k);
   const std::vector<int>& work = s.creatures[0].work_of_point;
@@ -165,16 +174,7 @@ void FusedScene::run(State* const* states, long long frames) {
   const char* who = alone ? "FastStepper::run" : "FusedScene::run";
   take_states(s, states, who);
   if (frames <= 0) return;
-  s.load_state(states);
-  s.leave_rows(); // the states may be others, or changed since
-  KernelChoice k;
-  k.simd = s.simd;
-  k.wave = s.any_wave;
-  k.gravity = s.any_gravity;
-  k.bars = s.bars;
-  // Fixed bars: the masses one by one (the bar rules need each move before the
-  // container's response and keep a memory per mass).
-  k.ordered = s.options.force_ordered || s.bars != BarKind::None;
+  KernelChoice k = begin_frames(s, states);
   // Walls: without bars, the walls no mass of any creature can reach within a
   // chunk of frames are not tested in that chunk. A chunk ends when a skipped wall
   // might come into reach; while every wall is tested the reach is re-checked
