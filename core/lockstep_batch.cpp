@@ -60,7 +60,8 @@ struct LockstepBatch::Data {
   bool inline_sines = false;     ///< the CPU has the vector sine (exact_sines.hpp)
   std::vector<std::uint8_t> autoreverse; ///< [groups * 8]
   std::vector<State*> lane_state;        ///< [groups * 8] the state each lane loads from
-  std::vector<SineJitter> lane_jitter;   ///< [groups * 8] each lane's sine jitter (seed 0: exact)
+  std::vector<PreparedJitter> lane_jitter; ///< [groups * 8] each lane's sine jitter (seed 0: exact)
+  std::vector<std::uint64_t> lane_seed_mix, lane_threshold; ///< [groups * 8] the same, as rows for jitter_sines
   std::vector<std::uint8_t> group_jittered; ///< [groups] some lane of the group has jitter
 
   double* point_row(int g, int k, int p) { return point_rows + ((static_cast<std::size_t>(g) * 4 + k) * points + p) * kW; }
@@ -225,14 +226,27 @@ void LockstepBatch::Data::sines_now(int g) {
 
 // Group g's sines moved by each lane's jitter, as rules::muscle_sine moves them:
 // the arguments row still holds the arguments these sines were computed from
-// (inline for the predicted phase, or again by sines_now).
+// (inline for the predicted phase, or again by sines_now). The hash of
+// PreparedJitter::steps for the 8 lanes at once (64-bit multiplies: AVX-512DQ);
+// the few lanes it hits (a share p of them) move one by one.
 void LockstepBatch::Data::jitter_sines(int g) {
-  const SineJitter* jitter = lane_jitter.data() + static_cast<std::size_t>(g) * kW;
+  const std::size_t first = static_cast<std::size_t>(g) * kW;
+  const __m512i seed_mix = _mm512_loadu_si512(lane_seed_mix.data() + first);
+  const __m512i threshold = _mm512_loadu_si512(lane_threshold.data() + first);
+  const __m512i m1 = _mm512_set1_epi64(static_cast<long long>(0xbf58476d1ce4e5b9ULL));
+  const __m512i m2 = _mm512_set1_epi64(static_cast<long long>(0x94d049bb133111ebULL));
   for (int q = 0; q < columns; ++q) {
-    double* sine = sines_row(g, q);
     const double* argument = arguments_row(g, q);
-    for (int l = 0; l < kW; ++l) {
-      if (jitter[l].seed != 0) sine[l] = jittered(sine[l], argument[l], jitter[l]);
+    __m512i z = _mm512_xor_si512(_mm512_castpd_si512(_mm512_loadu_pd(argument)), seed_mix);
+    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 30)), m1);
+    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 27)), m2);
+    z = _mm512_xor_si512(z, _mm512_srli_epi64(z, 31));
+    unsigned hits = _mm512_cmplt_epu64_mask(_mm512_srli_epi64(z, 11), threshold);
+    if (hits == 0) [[likely]] continue;
+    double* sine = sines_row(g, q);
+    for (; hits != 0; hits &= hits - 1) {
+      const int l = __builtin_ctz(hits);
+      sine[l] = lane_jitter[first + static_cast<std::size_t>(l)].apply(sine[l], argument[l]);
     }
   }
 }
@@ -363,13 +377,18 @@ void LockstepBatch::run(State* const* states, long long frames) {
   std::vector<State> padding;
   padding.reserve(static_cast<std::size_t>(d.groups) * kW - d.count);
   d.lane_state.resize(static_cast<std::size_t>(d.groups) * kW);
-  d.lane_jitter.assign(static_cast<std::size_t>(d.groups) * kW, SineJitter{0, 0.0}); // padding lanes: exact, unread
+  d.lane_jitter.assign(static_cast<std::size_t>(d.groups) * kW, PreparedJitter{}); // padding lanes: exact, unread
+  d.lane_seed_mix.assign(d.lane_jitter.size(), 0);
+  d.lane_threshold.assign(d.lane_jitter.size(), 0);
   d.group_jittered.assign(static_cast<std::size_t>(d.groups), 0);
   for (int lane = 0; lane < d.groups * kW; ++lane) {
     if (lane < d.count) {
       d.lane_state[lane] = states[lane];
-      d.lane_jitter[lane] = states[lane]->jitter;
-      if (states[lane]->jitter.seed != 0) d.group_jittered[lane / kW] = 1;
+      const PreparedJitter jitter(states[lane]->jitter);
+      d.lane_jitter[lane] = jitter;
+      d.lane_seed_mix[lane] = jitter.seed_mix;
+      d.lane_threshold[lane] = jitter.threshold;
+      if (jitter.threshold != 0) d.group_jittered[lane / kW] = 1;
     } else {
       padding.push_back(*states[d.count - 1]);
       d.lane_state[lane] = &padding.back();

@@ -12,7 +12,9 @@
 // the exact engine.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <cstring>
 
 namespace soda {
 
@@ -22,6 +24,37 @@ struct SineJitter {
   std::uint64_t seed = 0;
   double probability = 0.002; // [0, 1]
   bool operator==(const SineJitter&) const = default;
+};
+
+/// splitmix64's finaliser: every input bit reaches every output bit.
+constexpr std::uint64_t jitter_mix64(std::uint64_t z) {
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+/// A SineJitter made ready for many arguments: the seed's mix and the threshold
+/// formed once, so that the steppers' loops hash each argument with one mix64
+/// (the lockstep lanes do it for 8 lanes at once from these two numbers).
+struct PreparedJitter {
+  std::uint64_t seed_mix = 0;  ///< jitter_mix64(seed)
+  std::uint64_t threshold = 0; ///< floor(probability * 2^53); 0 for seed 0: nothing moves
+  PreparedJitter() = default;
+  explicit PreparedJitter(const SineJitter& jitter);
+  /// jitter_steps(argument, the jitter this was made from).
+  [[nodiscard]] int steps(double argument) const {
+    if (threshold == 0) return 0;
+    std::uint64_t bits = 0;
+    std::memcpy(&bits, &argument, sizeof bits);
+    const std::uint64_t h = jitter_mix64(bits ^ seed_mix);
+    if ((h >> 11) >= threshold) return 0;
+    return (h & 1) != 0 ? 1 : -1;
+  }
+  /// jittered(sine_value, argument, the jitter this was made from).
+  [[nodiscard]] double apply(double sine_value, double argument) const {
+    const int s = steps(argument);
+    return s == 0 ? sine_value : std::nextafter(sine_value, s > 0 ? HUGE_VAL : -HUGE_VAL);
+  }
 };
 
 /// -1, 0 or +1: the ulp steps for this argument (0 whenever seed == 0).

@@ -118,12 +118,12 @@ void SceneData::fill_rows(State* const* st) {
 // jitter is its leader's.
 void SceneData::jitter_sines(State* const* st, int filled) {
   for (int k = 0; k < wave_states; ++k) {
-    const SineJitter& jitter = st[wave_state_leader[k]]->jitter;
-    if (jitter.seed == 0) continue;
+    const PreparedJitter jitter(st[wave_state_leader[k]]->jitter);
+    if (jitter.threshold == 0) continue;
     for (int r = 0; r < filled; ++r) {
       const std::size_t row = static_cast<std::size_t>(r) * distinct_arguments;
       for (int d = first_argument_of_state[k]; d < first_argument_of_state[k + 1]; ++d) {
-        argument_sines[row + d] = jittered(argument_sines[row + d], arguments[row + d], jitter);
+        argument_sines[row + d] = jitter.apply(argument_sines[row + d], arguments[row + d]);
       }
     }
   }
