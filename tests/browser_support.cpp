@@ -45,4 +45,12 @@ DumpedPage dump_dom(const std::string& chromium, const std::string& url, const f
   return p;
 }
 
+DumpedPage dump_dom_until(const std::string& chromium, const std::string& url, const fs::path& work,
+                          const std::string& extra_flags, const std::function<bool(const std::string&)>& done,
+                          int attempts) {
+  DumpedPage page = dump_dom(chromium, url, work, extra_flags);
+  for (int a = 1; a < attempts && !done(page.dom); ++a) page = dump_dom(chromium, url, work, extra_flags);
+  return page;
+}
+
 } // namespace sodaevo::test

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,5 +26,14 @@ struct DumpedPage {
 /// DOM (--dump-dom); fails the test if Chromium fails.
 DumpedPage dump_dom(const std::string& chromium, const std::string& url, const std::filesystem::path& work,
                     const std::string& extra_flags = "");
+
+/// dump_dom again (up to `attempts` times in all) while `done(dom)` is false.
+/// Why: --virtual-time-budget does not wait for work outside Chromium's scheduler
+/// (compiling the WebAssembly engine, a DecompressionStream), so on a busy machine
+/// the DOM can be dumped before the page is done; a page that never gets done
+/// still fails the test's own checks after the last attempt.
+DumpedPage dump_dom_until(const std::string& chromium, const std::string& url, const std::filesystem::path& work,
+                          const std::string& extra_flags, const std::function<bool(const std::string&)>& done,
+                          int attempts = 3);
 
 } // namespace sodaevo::test

@@ -163,7 +163,9 @@ SodaEngine.create(createSodaEngine).then(function (engine) {
 }).catch(function (e) { document.getElementById('result').textContent = 'failed: ' + e; });
 )js";
   soda::write_file_atomically(work / "engine.html", engine_page(script));
-  const DumpedPage page = dump_dom(chromium, "file://" + (work / "engine.html").string(), work, "--virtual-time-budget=60000");
+  const DumpedPage page =
+      dump_dom_until(chromium, "file://" + (work / "engine.html").string(), work, "--virtual-time-budget=60000",
+                     [](const std::string& dom) { return pre_text(dom, "result").size() > 4; });
   require_no_console(page);
   const std::string result = pre_text(page.dom, "result");
   INFO(result.substr(0, 400));
@@ -324,18 +326,21 @@ TEST_CASE("designer: a creature built with the mouse saves, reads back natively,
   REQUIRE(hash.rfind("#model=", 0) == 0);
   soda::write_file_atomically(work / "designer.html", sodaevo::app::designer_page(dainty, "dainty_walker.xml"));
   const std::string url = "file://" + (work / "designer.html").string();
-  const DumpedPage shared = dump_dom(chromium, url + hash, work, "--virtual-time-budget=20000");
+  const DumpedPage shared = dump_dom_until(chromium, url + hash, work, "--virtual-time-budget=20000",
+                                           [](const std::string& dom) { return shown_design(dom) != "–"; });
   require_no_console(shared);
   CHECK(shown_design(shared.dom) == "3 masses, 0 fixed, 2 springs, 1 muscles, 0 bars");
 
   // A report's plain link; a broken link keeps the page's own design and says why.
   const std::string plain = "#" + sodaevo::app::designer_model_fragment(dainty);
   soda::write_file_atomically(work / "empty.html", sodaevo::app::designer_page());
-  const DumpedPage linked = dump_dom(chromium, "file://" + (work / "empty.html").string() + plain, work, "--virtual-time-budget=20000");
+  const auto shown = [](const std::string& dom) { return shown_design(dom) != "–"; };
+  const DumpedPage linked =
+      dump_dom_until(chromium, "file://" + (work / "empty.html").string() + plain, work, "--virtual-time-budget=20000", shown);
   require_no_console(linked);
   CHECK(shown_design(linked.dom) == "10 masses, 0 fixed, 14 springs, 8 muscles, 0 bars");
   const std::string broken = "#" + sodaevo::app::designer_model_fragment("<model><node id=\"m0\"");
-  const DumpedPage refused = dump_dom(chromium, url + broken, work, "--virtual-time-budget=20000");
+  const DumpedPage refused = dump_dom_until(chromium, url + broken, work, "--virtual-time-budget=20000", shown);
   require_no_console(refused);
   CHECK(shown_design(refused.dom) == "10 masses, 0 fixed, 14 springs, 8 muscles, 0 bars");
   CHECK(refused.dom.find("cannot open the model in this page's address: the shared link:1:") != std::string::npos);
