@@ -6,6 +6,7 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <string>
 
 #include "detail/bits.hpp"
 #include "fused/fused_scene.hpp"
@@ -34,10 +35,15 @@ double shared_sine_fraction(const std::vector<const Model*>& models, const std::
   return within == 0 ? 0.0 : 1.0 - static_cast<double>(between.size()) / static_cast<double>(within);
 }
 
-BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options)
+BatchStepper::BatchStepper(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options,
+                           const std::vector<bool>& jittered)
     : count_(static_cast<int>(models.size())), models_(models), frame_budget_(frame_budget), options_(options) {
   for (const Model* m : models) point_count_.push_back(m->point_count);
-  plan(std::vector<bool>(static_cast<std::size_t>(count_), false));
+  if (!jittered.empty() && jittered.size() != models.size()) {
+    throw std::invalid_argument("BatchStepper: " + std::to_string(jittered.size()) + " jitter flags for " +
+                                std::to_string(models.size()) + " models");
+  }
+  plan(jittered.empty() ? std::vector<bool>(static_cast<std::size_t>(count_), false) : jittered);
 }
 
 void BatchStepper::plan(const std::vector<bool>& jittered) {

@@ -94,8 +94,10 @@ std::vector<std::size_t> fused_batch_ends(const std::vector<int>& links, std::si
 class BatchStepper {
  public:
   /// `models[i]` may repeat (each entry has its own state). `frame_budget` as for
-  /// FastStepper.
-  BatchStepper(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options = {});
+  /// FastStepper. `jittered[i]`: whether state i will carry sine jitter (empty: none),
+  /// so that the plan fits the first run; run() plans again if that turns out wrong.
+  BatchStepper(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options = {},
+               const std::vector<bool>& jittered = {});
   ~BatchStepper();
   BatchStepper(BatchStepper&&) noexcept;
   BatchStepper& operator=(BatchStepper&&) noexcept;

@@ -60,8 +60,9 @@ struct LockstepBatch::Data {
   bool inline_sines = false;     ///< the CPU has the vector sine (exact_sines.hpp)
   std::vector<std::uint8_t> autoreverse; ///< [groups * 8]
   std::vector<State*> lane_state;        ///< [groups * 8] the state each lane loads from
-  std::vector<PreparedJitter> lane_jitter; ///< [groups * 8] each lane's sine jitter (seed 0: exact)
-  std::vector<std::uint64_t> lane_seed_mix, lane_threshold; ///< [groups * 8] the same, as rows for jitter_sines
+  /// [groups * 8] each lane's sine jitter as PreparedJitter holds it (threshold 0:
+  /// exact), in rows that jitter_sines loads 8 lanes at a time.
+  std::vector<std::uint64_t> lane_seed_mix, lane_threshold;
   std::vector<std::uint8_t> group_jittered; ///< [groups] some lane of the group has jitter
 
   double* point_row(int g, int k, int p) { return point_rows + ((static_cast<std::size_t>(g) * 4 + k) * points + p) * kW; }
@@ -246,7 +247,10 @@ void LockstepBatch::Data::jitter_sines(int g) {
     double* sine = sines_row(g, q);
     for (; hits != 0; hits &= hits - 1) {
       const int l = __builtin_ctz(hits);
-      sine[l] = lane_jitter[first + static_cast<std::size_t>(l)].apply(sine[l], argument[l]);
+      PreparedJitter jitter;
+      jitter.seed_mix = lane_seed_mix[first + static_cast<std::size_t>(l)];
+      jitter.threshold = lane_threshold[first + static_cast<std::size_t>(l)];
+      sine[l] = jitter.apply(sine[l], argument[l]);
     }
   }
 }
@@ -377,15 +381,13 @@ void LockstepBatch::run(State* const* states, long long frames) {
   std::vector<State> padding;
   padding.reserve(static_cast<std::size_t>(d.groups) * kW - d.count);
   d.lane_state.resize(static_cast<std::size_t>(d.groups) * kW);
-  d.lane_jitter.assign(static_cast<std::size_t>(d.groups) * kW, PreparedJitter{}); // padding lanes: exact, unread
-  d.lane_seed_mix.assign(d.lane_jitter.size(), 0);
-  d.lane_threshold.assign(d.lane_jitter.size(), 0);
+  d.lane_seed_mix.assign(static_cast<std::size_t>(d.groups) * kW, 0); // padding lanes: exact, unread
+  d.lane_threshold.assign(d.lane_seed_mix.size(), 0);
   d.group_jittered.assign(static_cast<std::size_t>(d.groups), 0);
   for (int lane = 0; lane < d.groups * kW; ++lane) {
     if (lane < d.count) {
       d.lane_state[lane] = states[lane];
       const PreparedJitter jitter(states[lane]->jitter);
-      d.lane_jitter[lane] = jitter;
       d.lane_seed_mix[lane] = jitter.seed_mix;
       d.lane_threshold[lane] = jitter.threshold;
       if (jitter.threshold != 0) d.group_jittered[lane / kW] = 1;

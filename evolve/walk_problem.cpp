@@ -228,7 +228,9 @@ std::vector<Evaluation> WalkProblem::rollouts(const std::vector<Rollout>& runs) 
   std::vector<soda::State*> pointers;
   for (soda::State& s : states) pointers.push_back(&s);
   const long long total = static_cast<long long>(fitness_.settle_frames) + fitness_.frames;
-  soda::BatchStepper stepper(model_ptrs, total);
+  std::vector<bool> jittered;
+  for (const soda::State& s : states) jittered.push_back(s.jitter.seed != 0);
+  soda::BatchStepper stepper(model_ptrs, total, {}, jittered); // planned once, for these states
   auto run_all = [&](long long frames) { stepper.run(pointers, frames); };
   run_all(fitness_.settle_frames);
   std::vector<soda::Point2> start;

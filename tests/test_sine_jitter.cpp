@@ -245,5 +245,12 @@ TEST_CASE("the batch steppers name an invalid sine jitter with its state", "[sin
     for (soda::State& s : states) pointers.push_back(&s);
     soda::LockstepBatch lockstep(models);
     CHECK(message([&] { lockstep.run(pointers.data(), 10); }).find("LockstepBatch::run: state 5: sine jitter probability") == 0);
+    // Told which states carry jitter, BatchStepper plans the replicas in lockstep
+    // before its first run; without it, the same identical Models share their sines fused.
+    std::vector<bool> jitter_flags(8, true);
+    jitter_flags[0] = false;
+    CHECK(soda::BatchStepper(models, 10, {}, jitter_flags).lockstep_count() == 8);
+    CHECK(soda::BatchStepper(models, 10).lockstep_count() == 0);
   }
+  CHECK(message([&] { soda::BatchStepper({&m, &m}, 10, {}, {true}); }) == "BatchStepper: 1 jitter flags for 2 models");
 }
