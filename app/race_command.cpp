@@ -115,7 +115,13 @@ SampleSummary race_replicas(const soda::RaceLane& lane, const soda::Model& model
     state.jitter = {replica_seed(1, ReplicaPurpose::Check, key, static_cast<int>(r)), opt.jitter};
     results[r] = soda::run_race_fast(lane, model, timeout, state).result;
   });
-  return summarize_sample(results);
+  // A race result is a frame count, never below 0: the interval, mean -+ t sd, is
+  // clipped there, where a contender that sometimes finishes and sometimes times
+  // out stretches it below 0. (No upper clip: a timeout scores timeout + its
+  // share of the course left, which exceeds 1 for a contender behind its start.)
+  SampleSummary s = summarize_sample(results);
+  s.interval95_low = std::max(s.interval95_low, 0.0);
+  return s;
 }
 
 std::string distribution_text(const SampleSummary& s) {

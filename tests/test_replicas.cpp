@@ -108,3 +108,26 @@ TEST_CASE("simulate --replicas reports the distribution and the horizon", "[repl
     CHECK(r.output.find(option) != std::string::npos);
   }
 }
+
+TEST_CASE("race --replicas gives each contender's distribution, its interval never below 0 frames", "[replicas][cli]") {
+  // Contenders 2-4 of this race sometimes finish and sometimes time out under
+  // jitter: a spread of thousands of frames, which mean -+ t sd takes below 0.
+  const std::string race = (sodaevo::test::data_dir() / "terrain" / "race_hist_32_166.xml").string();
+  ShellResult r = run_sodaevo("race " + race + " --replicas 4 --json");
+  INFO(r.output.substr(0, 2000));
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.output);
+  REQUIRE(j["contenders"].size() == 6);
+  bool wide = false;
+  for (const auto& c : j["contenders"]) {
+    const auto& d = c["replicas"];
+    CHECK(d["n"] == 4);
+    const double lo = d["interval95"][0].get<double>(), hi = d["interval95"][1].get<double>();
+    CHECK(lo >= 0.0);
+    CHECK(lo <= d["median"].get<double>());
+    CHECK(d["median"].get<double>() <= hi);
+    CHECK(d["min"].get<double>() <= d["median"].get<double>());
+    wide = wide || hi - lo > 1000.0;
+  }
+  CHECK(wide); // the race has the spread that made intervals negative
+}
