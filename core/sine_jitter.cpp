@@ -17,7 +17,7 @@ std::uint64_t jitter_threshold(double probability) {
 } // namespace
 
 PreparedJitter::PreparedJitter(const SineJitter& jitter)
-    : seed_mix(jitter_mix64(jitter.seed)), threshold(jitter.seed == 0 ? 0 : jitter_threshold(jitter.probability)) {}
+    : seed_mix(mix64(jitter.seed)), threshold(jitter.seed == 0 ? 0 : jitter_threshold(jitter.probability)) {}
 
 int jitter_steps(double argument, const SineJitter& jitter) { return PreparedJitter(jitter).steps(argument); }
 

@@ -16,6 +16,8 @@
 #include <cstdint>
 #include <cstring>
 
+#include "mix64.hpp"
+
 namespace soda {
 
 /// A replica's other libm: sine results moved by +-1 ulp for a share `probability` of
@@ -26,18 +28,11 @@ struct SineJitter {
   bool operator==(const SineJitter&) const = default;
 };
 
-/// splitmix64's finaliser: every input bit reaches every output bit.
-constexpr std::uint64_t jitter_mix64(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
-
 /// A SineJitter made ready for many arguments: the seed's mix and the threshold
 /// formed once, so that the steppers' loops hash each argument with one mix64
 /// (the lockstep lanes do it for 8 lanes at once from these two numbers).
 struct PreparedJitter {
-  std::uint64_t seed_mix = 0;  ///< jitter_mix64(seed)
+  std::uint64_t seed_mix = 0;  ///< mix64(seed)
   std::uint64_t threshold = 0; ///< floor(probability * 2^53); 0 for seed 0: nothing moves
   PreparedJitter() = default;
   explicit PreparedJitter(const SineJitter& jitter);
@@ -46,7 +41,7 @@ struct PreparedJitter {
     if (threshold == 0) return 0;
     std::uint64_t bits = 0;
     std::memcpy(&bits, &argument, sizeof bits);
-    const std::uint64_t h = jitter_mix64(bits ^ seed_mix);
+    const std::uint64_t h = mix64(bits ^ seed_mix);
     if ((h >> 11) >= threshold) return 0;
     return (h & 1) != 0 ? 1 : -1;
   }

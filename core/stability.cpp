@@ -10,6 +10,7 @@
 #include <Eigen/Dense>
 
 #include "divergence.hpp"
+#include "mix64.hpp"
 #include "stiffness.hpp"
 
 namespace soda {
@@ -46,10 +47,7 @@ Eigen::VectorXd start_vector(int n) {
   Eigen::VectorXd v(n);
   std::uint64_t state = 0x5eed5eedULL;
   for (int i = 0; i < n; ++i) {
-    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    z ^= z >> 31;
+    const std::uint64_t z = mix64(state += 0x9e3779b97f4a7c15ULL);
     v[i] = static_cast<double>(z >> 11) / 9007199254740992.0 - 0.5;
   }
   return v.normalized();

@@ -5,19 +5,13 @@
 #include <exception>
 #include <string>
 
+#include "evolve/rng.hpp"
 #include "evolve/sample_summary.hpp"
 #include "evolve/wire_format.hpp"
 
 namespace sodaevo {
 
 namespace {
-
-/// splitmix64's finaliser: every input bit moves every output bit.
-std::uint64_t mix64(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-  return z ^ (z >> 31);
-}
 
 /// The mean of each descriptor over runs[first, first + count), summed in replica
 /// order (empty unless every run has the same number of them).

@@ -9,6 +9,8 @@
 
 #include <cstdint>
 
+#include "core/mix64.hpp"
+
 namespace sodaevo {
 
 class Rng {
@@ -38,7 +40,7 @@ class Rng {
   std::uint64_t state_;
 };
 
-/// The SplitMix64 output function: a strong 64-bit mixer.
-std::uint64_t mix64(std::uint64_t z);
+/// The SplitMix64 output function (core/mix64.hpp).
+using soda::mix64;
 
 } // namespace sodaevo
