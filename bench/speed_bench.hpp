@@ -68,6 +68,9 @@ struct SpeedRow {
   double link_updates_per_second = 0.0;
   double speedup_vs_seed = 0.0;  ///< this engine / seed, same creature, same invocation
   double speedup_vs_plain = 0.0; ///< this engine / plain
+  /// fast-replicas' replica-frames/s / fast-batch's creature-frames/s, the median
+  /// over the rounds of the ratio within each round (ga section; 0: not measured)
+  double speedup_vs_batch = 0.0;
 };
 
 /// A divider-bound control item's 2-thread speed-up below this: the two virtual

@@ -50,7 +50,8 @@ void BatchStepper::plan(const std::vector<bool>& jittered) {
   const std::vector<const Model*>& models = models_;
   const FastStepOptions& options = options_;
   planned_jitter_ = jittered;
-  locksteps_.clear();
+  lockstep_.reset();
+  lockstep_index_.clear();
   scenes_.clear();
   alone_.clear();
   alone_index_.clear();
@@ -67,6 +68,7 @@ void BatchStepper::plan(const std::vector<bool>& jittered) {
   // Models of one shape, enough of them, in lockstep; which ones is decided here,
   // from the models alone and which states carry jitter.
   std::vector<bool> in_lockstep(static_cast<std::size_t>(count_), false);
+  std::vector<std::vector<const Model*>> lockstep_shapes;
   const bool lockstep = options.lockstep && LockstepBatch::usable() && !options.force_ordered && options.vector_sines &&
                         (options.simd == SimdLevel::Auto || options.simd == SimdLevel::Avx512);
   auto take_lockstep = [&](std::vector<int> members, bool any_sines) {
@@ -77,7 +79,8 @@ void BatchStepper::plan(const std::vector<bool>& jittered) {
       lanes.push_back(models[i]);
       in_lockstep[static_cast<std::size_t>(i)] = true;
     }
-    locksteps_.push_back({LockstepBatch(lanes), members});
+    lockstep_shapes.push_back(std::move(lanes));
+    lockstep_index_.insert(lockstep_index_.end(), members.begin(), members.end());
   };
   if (lockstep) {
     std::map<const Model*, int> uses; // how many states each Model has
@@ -113,6 +116,7 @@ void BatchStepper::plan(const std::vector<bool>& jittered) {
       std::sort(others.begin(), others.end());
       take_lockstep(others, false);
     }
+    if (!lockstep_shapes.empty()) lockstep_.emplace(LockstepBatch::of_shapes(lockstep_shapes));
   }
   for (int i = 0; i < count_; ++i) {
     if (in_lockstep[static_cast<std::size_t>(i)]) continue;
@@ -154,11 +158,7 @@ int BatchStepper::fused_count() const {
   return count_ - static_cast<int>(alone_index_.size());
 }
 
-int BatchStepper::lockstep_count() const {
-  int n = 0;
-  for (const Lockstep& l : locksteps_) n += static_cast<int>(l.index.size());
-  return n;
-}
+int BatchStepper::lockstep_count() const { return static_cast<int>(lockstep_index_.size()); }
 
 void BatchStepper::run(const std::vector<State*>& states, long long frames) {
   if (static_cast<int>(states.size()) != count_) throw std::invalid_argument("BatchStepper::run: one state per model");
@@ -171,10 +171,10 @@ void BatchStepper::run(const std::vector<State*>& states, long long frames) {
     jittered[static_cast<std::size_t>(c)] = states[c]->jitter.seed != 0;
   }
   if (jittered != planned_jitter_) plan(jittered);
-  for (Lockstep& l : locksteps_) {
+  if (lockstep_) {
     scratch_.clear();
-    for (int i : l.index) scratch_.push_back(states[i]);
-    l.batch.run(scratch_.data(), frames);
+    for (int i : lockstep_index_) scratch_.push_back(states[i]);
+    lockstep_->run(scratch_.data(), frames);
   }
   for (Scene& s : scenes_) {
     scratch_.clear();

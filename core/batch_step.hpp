@@ -28,6 +28,8 @@
 // sines (shared_sine_fraction), run instead in a LockstepBatch
 // (lockstep_batch.hpp), one creature per SIMD lane, where the CPU has AVX-512:
 // measured faster than fusing them (bench speed, fast-batch). Exact either way.
+// All shapes' groups go in one LockstepBatch, which steps them frame by frame
+// together (a group of a small creature alone leaves the core mostly idle).
 //
 // Sine jitter (sine_jitter.hpp): replicas of one creature are the same Model given
 // several times, each state with its own jitter seed. Such replicas (kMinLockstep
@@ -40,6 +42,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "fast_step.hpp"
@@ -124,11 +127,10 @@ class BatchStepper {
     std::vector<int> index; ///< index in the batch of scene model c
   };
   int count_ = 0;
-  struct Lockstep {
-    LockstepBatch batch;
-    std::vector<int> index; ///< index in the batch of lane c
-  };
-  std::vector<Lockstep> locksteps_;   ///< groups of one shape
+  /// The models in lockstep, every shape's groups in one batch (they step frame by
+  /// frame together: lockstep_batch.hpp).
+  std::optional<LockstepBatch> lockstep_;
+  std::vector<int> lockstep_index_;   ///< index in the batch of lockstep state c
   std::vector<Scene> scenes_;         ///< the other fusable models, packed by kMaxFusedLinks
   std::vector<FastStepper> alone_;    ///< models with fixed bars
   std::vector<int> alone_index_;

@@ -30,54 +30,85 @@ constexpr int kW = LockstepBatch::kLanes;
 static_assert(O::W == kW);
 } // namespace
 
-// Lane l of group g is creature 8g + l (padding lanes repeat the last creature;
-// their results are never read). Every per-lane value is a row of 8 doubles.
+// Lane l of group g is state groups[g].first + l (padding lanes past a group's
+// own repeat its last state; their results are never read). Every per-lane value
+// is a row of 8 doubles.
 struct LockstepBatch::Data {
-  int count = 0, groups = 0;
-  int points = 0, masses = 0, links = 0;
-  std::vector<int> link_a, link_b;     ///< point indices, file order (one shape)
-  std::vector<int> wave_links;         ///< links with a moving target in some lane
-  std::vector<int> column_of;          ///< [wave_links] its sine column
-  int columns = 0;
+  struct Group {
+    int first = 0, lanes = 0;            ///< its states: [first, first + lanes)
+    int points = 0, masses = 0, links = 0;
+    std::vector<int> link_a, link_b;     ///< point indices, file order (the group's shape)
+    std::vector<int> wave_links;         ///< links with a moving target in some lane
+    std::vector<int> column_of;          ///< [wave_links] its sine column
+    int columns = 0;
+    int packed_rows = 0;                 ///< rows of one sine per column: ceil(columns / 8)
+    bool uniform = false;                ///< every lane has the same phase in each column
+    bool jittered = false;               ///< some lane's state carries sine jitter (run)
+    /// Where its rows start: a block of points x, y, vx, vy [4][points], links
+    /// rest, power, target [3][links], column phases [columns] and the world
+    /// [kWorldRows]; sine arguments and sines [columns]; packed ones [packed_rows].
+    std::size_t block = 0, sine_at = 0, packed_at = 0;
+  };
+  int count = 0;
+  std::vector<Group> groups;
+  std::vector<std::pair<int, int>> schedule; ///< (first group, groups stepped side by side: same links)
   SinFn sine_fn = nullptr;
   const glibc_sine::GlibcTable* sine_table = nullptr; ///< for the sines inlined into the link pass
 
-  // Rows per group: points: x, y, vx, vy [4][points]; links: rest, power, target
-  // [3][links]; columns: muscle phase [columns]; world: kWorldRows.
   enum World { kSpringyness, kGravityStep, kKeep, kWidth, kHeight, kFs, kRs, kSpeed, kMode, kPhase, kWorldRows };
   // One allocation: the distances between the rows, hence which loads and stores
   // share their low 12 address bits (a false dependency), are then the same in
   // every run; with four allocations the speed changed from process to process
   // (bench/README.md, "Design figures").
   AVec<double> rows;
-  double *point_rows = nullptr, *link_rows = nullptr, *column_rows = nullptr, *world_rows = nullptr;
   // Sines of the next frame: computed during this frame's links (where the
   // square-root/divide unit is the bottleneck and the other units idle), for the
   // phase each wave will have if no lane's direction turns; a group whose phase
-  // came out otherwise gets them again after its frame (sines_now).
-  AVec<double> arguments, sines; ///< [groups * columns] rows
+  // came out otherwise gets them again after its frame (sines_now). A group whose
+  // lanes share them (packed) has one per column, 8 columns to a row, and its
+  // muscle phases in that layout (packed_phase).
+  AVec<double> arguments, sines;                              ///< rows at sine_at
+  AVec<double> packed_phase, packed_arguments, packed_sines;  ///< rows at packed_at
   AVec<double> predicted;        ///< [groups] rows: the phase the sines are for
+  std::vector<std::uint8_t> packed; ///< [groups] the group's sines are the packed ones
   bool inline_sines = false;     ///< the CPU has the vector sine (exact_sines.hpp)
   std::vector<std::uint8_t> autoreverse; ///< [groups * 8]
   std::vector<State*> lane_state;        ///< [groups * 8] the state each lane loads from
   /// [groups * 8] each lane's sine jitter as PreparedJitter holds it (threshold 0:
   /// exact), in rows that jitter_sines loads 8 lanes at a time.
   std::vector<std::uint64_t> lane_seed_mix, lane_threshold;
-  std::vector<std::uint8_t> group_jittered; ///< [groups] some lane of the group has jitter
+  std::vector<std::pair<const double*, double*>> sine_work; ///< (arguments, sines) rows of a step
+  // Until lay_out: each group's lane models [groups * 8] and the link of each of its columns.
+  std::vector<const Model*> lane_models;
+  std::vector<std::vector<int>> group_column_links;
 
-  double* point_row(int g, int k, int p) { return point_rows + ((static_cast<std::size_t>(g) * 4 + k) * points + p) * kW; }
-  double* link_row(int g, int k, int j) { return link_rows + ((static_cast<std::size_t>(g) * 3 + k) * links + j) * kW; }
-  double* column_row(int g, int q) { return column_rows + (static_cast<std::size_t>(g) * columns + q) * kW; }
-  double* world_row(int g, int k) { return world_rows + (static_cast<std::size_t>(g) * kWorldRows + k) * kW; }
+  double* block_row(int g, std::size_t row) { return rows.data() + (groups[static_cast<std::size_t>(g)].block + row) * kW; }
+  double* point_row(int g, int k, int p) {
+    return block_row(g, static_cast<std::size_t>(k) * groups[static_cast<std::size_t>(g)].points + p);
+  }
+  double* link_row(int g, int k, int j) {
+    const Group& G = groups[static_cast<std::size_t>(g)];
+    return block_row(g, 4 * static_cast<std::size_t>(G.points) + static_cast<std::size_t>(k) * G.links + j);
+  }
+  double* column_row(int g, int q) {
+    const Group& G = groups[static_cast<std::size_t>(g)];
+    return block_row(g, 4 * static_cast<std::size_t>(G.points) + 3 * static_cast<std::size_t>(G.links) + q);
+  }
+  double* world_row(int g, int k) { return column_row(g, groups[static_cast<std::size_t>(g)].columns + k); }
+  double* arguments_row(int g, int q) { return arguments.data() + (groups[static_cast<std::size_t>(g)].sine_at + q) * kW; }
+  double* sines_row(int g, int q) { return sines.data() + (groups[static_cast<std::size_t>(g)].sine_at + q) * kW; }
+  double* packed_row(AVec<double>& v, int g, int r) { return v.data() + (groups[static_cast<std::size_t>(g)].packed_at + r) * kW; }
 
+  void add_group(const std::vector<const Model*>& models, int first, int lanes);
+  void lay_out();
   void load(State* const* st);
   void store(State* const* st);
-  double* arguments_row(int g, int q) { return arguments.data() + (static_cast<std::size_t>(g) * columns + q) * kW; }
-  double* sines_row(int g, int q) { return sines.data() + (static_cast<std::size_t>(g) * columns + q) * kW; }
   void arguments_for(int g, O::V phase);
   void sines_now(int g);
+  void unpack_sines(int g);
   void targets_from_sines(int g);
   void jitter_sines(int g);
+  void queue_sines(int g);
   template <int N>
   void step_groups(int g0);
 };
@@ -94,81 +125,137 @@ bool LockstepBatch::same_shape(const Model& a, const Model& b) {
          a.link_a == b.link_a && a.link_b == b.link_b;
 }
 
-LockstepBatch::LockstepBatch(const std::vector<const Model*>& models) : d_(std::make_unique<Data>()) {
-  if (models.empty()) throw std::invalid_argument("LockstepBatch: no models");
-  for (const Model* m : models) {
-    assert(constants_current(*m));
-    if (!same_shape(*models[0], *m)) throw std::invalid_argument("LockstepBatch: models of different shapes, or with fixed bars");
+LockstepBatch::LockstepBatch(std::unique_ptr<Data> d, int) : d_(std::move(d)) {}
+
+LockstepBatch::LockstepBatch(const std::vector<const Model*>& models) : LockstepBatch(of_shapes({models})) {}
+
+LockstepBatch LockstepBatch::of_shapes(const std::vector<std::vector<const Model*>>& shapes) {
+  if (shapes.empty()) throw std::invalid_argument("LockstepBatch: no models");
+  for (const std::vector<const Model*>& models : shapes) {
+    if (models.empty()) throw std::invalid_argument("LockstepBatch: no models");
+    for (const Model* m : models) {
+      assert(constants_current(*m));
+      if (!same_shape(*models[0], *m)) throw std::invalid_argument("LockstepBatch: models of different shapes, or with fixed bars");
+    }
   }
   if (!usable()) throw std::runtime_error("LockstepBatch: this CPU has no AVX-512 (F and DQ)");
-  Data& d = *d_;
-  const Model& shape = *models[0];
-  d.count = static_cast<int>(models.size());
-  d.groups = (d.count + kW - 1) / kW;
-  d.points = shape.point_count;
-  d.masses = shape.mass_count;
-  d.links = shape.link_count();
-  d.link_a = shape.link_a;
-  d.link_b = shape.link_b;
-  const int lanes = d.groups * kW;
-  auto model_of = [&](int lane) -> const Model& { return *models[std::min(lane, d.count - 1)]; };
+  auto data = std::make_unique<Data>();
+  Data& d = *data;
+  for (const std::vector<const Model*>& models : shapes) {
+    const int n = static_cast<int>(models.size());
+    for (int first = 0; first < n; first += kW) {
+      const std::vector<const Model*> lanes(models.begin() + first, models.begin() + std::min(n, first + kW));
+      d.add_group(lanes, d.count + first, static_cast<int>(lanes.size()));
+    }
+    d.count += n;
+  }
+  d.lay_out();
+  const int groups = static_cast<int>(d.groups.size());
+  return LockstepBatch(std::move(data), groups);
+}
 
-  // A link whose power is 0 in every lane has target rest * (1 + 0 * sine) = rest
-  // exactly, as a spring: only the others need sines. Wave links whose muscle
-  // phases agree in every lane share a column of sines.
+// Group of `lanes` models (one shape), states [first, first + lanes): its shape
+// and sine columns. A link whose power is 0 in every lane has target
+// rest * (1 + 0 * sine) = rest exactly, as a spring: only the others need sines.
+// Wave links whose muscle phases agree in every lane share a column of sines.
+void LockstepBatch::Data::add_group(const std::vector<const Model*>& models, int first, int lanes) {
+  Group G;
+  G.first = first;
+  G.lanes = lanes;
+  const Model& shape = *models[0];
+  G.points = shape.point_count;
+  G.masses = shape.mass_count;
+  G.links = shape.link_count();
+  G.link_a = shape.link_a;
+  G.link_b = shape.link_b;
   std::vector<int> column_link;
-  for (int j = 0; j < d.links; ++j) {
+  for (int j = 0; j < G.links; ++j) {
     bool moves = false;
-    for (int l = 0; l < lanes; ++l) moves = moves || is_wave_muscle(model_of(l), j);
+    for (const Model* m : models) moves = moves || is_wave_muscle(*m, j);
     if (!moves) continue;
     int column = 0;
     for (; column < static_cast<int>(column_link.size()); ++column) {
       bool same = true;
-      for (int l = 0; l < lanes && same; ++l) {
-        same = bits_of(model_of(l).link_phase[j]) == bits_of(model_of(l).link_phase[column_link[column]]);
-      }
+      for (const Model* m : models) same = same && bits_of(m->link_phase[j]) == bits_of(m->link_phase[column_link[column]]);
       if (same) break;
     }
     if (column == static_cast<int>(column_link.size())) column_link.push_back(j);
-    d.wave_links.push_back(j);
-    d.column_of.push_back(column);
+    G.wave_links.push_back(j);
+    G.column_of.push_back(column);
   }
-  d.columns = static_cast<int>(column_link.size());
-  d.sine_fn = exact_sin_fn(SimdLevel::Avx512);
+  G.columns = static_cast<int>(column_link.size());
+  G.packed_rows = (G.columns + kW - 1) / kW;
+  G.uniform = true;
+  for (const Model* m : models) {
+    for (int q = 0; q < G.columns; ++q) G.uniform = G.uniform && bits_of(m->link_phase[column_link[q]]) == bits_of(shape.link_phase[column_link[q]]);
+  }
+  groups.push_back(std::move(G));
+  for (int l = 0; l < kW; ++l) lane_models.push_back(models[static_cast<std::size_t>(std::min(l, lanes - 1))]);
+  group_column_links.push_back(std::move(column_link));
+}
 
-  const std::size_t point_size = static_cast<std::size_t>(d.groups) * 4 * d.points * kW;
-  const std::size_t link_size = static_cast<std::size_t>(d.groups) * 3 * d.links * kW;
-  const std::size_t column_size = static_cast<std::size_t>(d.groups) * d.columns * kW;
-  const std::size_t world_size = static_cast<std::size_t>(d.groups) * Data::kWorldRows * kW;
-  d.rows.assign(point_size + link_size + column_size + world_size, 0.0);
-  d.point_rows = d.rows.data();
-  d.link_rows = d.point_rows + point_size;
-  d.column_rows = d.link_rows + link_size;
-  d.world_rows = d.column_rows + column_size;
-  d.arguments.assign(static_cast<std::size_t>(d.groups) * d.columns * kW, 0.0);
-  d.sines.assign(d.arguments.size(), 0.0);
-  d.predicted.assign(static_cast<std::size_t>(d.groups) * kW, 0.0);
-  d.inline_sines = vector_sines_usable(SimdLevel::Avx512);
-  d.sine_table = &glibc_sine::glibc_table();
-  d.autoreverse.assign(lanes, 0);
-  for (int lane = 0; lane < lanes; ++lane) {
-    const Model& m = model_of(lane);
-    const int g = lane / kW, l = lane % kW;
-    for (int j = 0; j < d.links; ++j) {
-      d.link_row(g, 0, j)[l] = m.link_rest[j];
-      d.link_row(g, 1, j)[l] = m.link_power[j];
-      d.link_row(g, 2, j)[l] = m.link_rest[j]; // springs' target, for good
+// The rows of every group, filled from each lane's model; the order in which the
+// groups step (side by side where consecutive groups have the same links).
+void LockstepBatch::Data::lay_out() {
+  std::size_t block_rows = 0, sine_rows = 0, packed_rows = 0;
+  for (Group& G : groups) {
+    G.block = block_rows;
+    G.sine_at = sine_rows;
+    G.packed_at = packed_rows;
+    block_rows += 4 * static_cast<std::size_t>(G.points) + 3 * static_cast<std::size_t>(G.links) + G.columns + kWorldRows;
+    sine_rows += static_cast<std::size_t>(G.columns);
+    packed_rows += static_cast<std::size_t>(G.uniform ? G.packed_rows : 0);
+  }
+  const int group_total = static_cast<int>(groups.size());
+  rows.assign(block_rows * kW, 0.0);
+  arguments.assign(sine_rows * kW, 0.0);
+  sines.assign(arguments.size(), 0.0);
+  packed_phase.assign(packed_rows * kW, 0.0);
+  packed_arguments.assign(packed_phase.size(), 0.0);
+  packed_sines.assign(packed_phase.size(), 0.0);
+  predicted.assign(static_cast<std::size_t>(group_total) * kW, 0.0);
+  packed.assign(static_cast<std::size_t>(group_total), 0);
+  sine_fn = exact_sin_fn(SimdLevel::Avx512);
+  inline_sines = vector_sines_usable(SimdLevel::Avx512);
+  sine_table = &glibc_sine::glibc_table();
+  autoreverse.assign(static_cast<std::size_t>(group_total) * kW, 0);
+  std::size_t most_work = 0;
+  for (int g = 0; g < group_total; ++g) {
+    const Group& G = groups[static_cast<std::size_t>(g)];
+    const std::vector<int>& column_link = group_column_links[static_cast<std::size_t>(g)];
+    for (int l = 0; l < kW; ++l) {
+      const Model& m = *lane_models[static_cast<std::size_t>(g) * kW + l];
+      for (int j = 0; j < G.links; ++j) {
+        link_row(g, 0, j)[l] = m.link_rest[j];
+        link_row(g, 1, j)[l] = m.link_power[j];
+        link_row(g, 2, j)[l] = m.link_rest[j]; // springs' target, for good
+      }
+      for (int q = 0; q < G.columns; ++q) column_row(g, q)[l] = m.link_phase[column_link[q]];
+      world_row(g, kSpringyness)[l] = m.springyness;
+      world_row(g, kGravityStep)[l] = m.gravity_step;
+      world_row(g, kKeep)[l] = m.air_keep;
+      world_row(g, kWidth)[l] = m.width;
+      world_row(g, kHeight)[l] = m.height;
+      world_row(g, kFs)[l] = m.surface_friction;
+      world_row(g, kRs)[l] = m.surface_reflection;
+      world_row(g, kSpeed)[l] = m.wave_speed;
+      autoreverse[static_cast<std::size_t>(g) * kW + l] = m.autoreverse ? 1 : 0;
     }
-    for (int q = 0; q < d.columns; ++q) d.column_row(g, q)[l] = m.link_phase[column_link[q]];
-    d.world_row(g, Data::kSpringyness)[l] = m.springyness;
-    d.world_row(g, Data::kGravityStep)[l] = m.gravity_step;
-    d.world_row(g, Data::kKeep)[l] = m.air_keep;
-    d.world_row(g, Data::kWidth)[l] = m.width;
-    d.world_row(g, Data::kHeight)[l] = m.height;
-    d.world_row(g, Data::kFs)[l] = m.surface_friction;
-    d.world_row(g, Data::kRs)[l] = m.surface_reflection;
-    d.world_row(g, Data::kSpeed)[l] = m.wave_speed;
-    d.autoreverse[lane] = m.autoreverse ? 1 : 0;
+    if (G.uniform) {
+      for (int q = 0; q < G.columns; ++q) packed_row(packed_phase, g, 0)[q] = column_row(g, q)[0];
+    }
+    most_work = std::max(most_work, static_cast<std::size_t>(G.columns));
+  }
+  sine_work.reserve(2 * most_work);
+  lane_models.clear();
+  group_column_links.clear();
+  for (int g = 0; g < group_total;) {
+    const Group& G = groups[static_cast<std::size_t>(g)];
+    const bool pair = g + 1 < group_total && groups[static_cast<std::size_t>(g) + 1].masses == G.masses &&
+                      groups[static_cast<std::size_t>(g) + 1].link_a == G.link_a &&
+                      groups[static_cast<std::size_t>(g) + 1].link_b == G.link_b;
+    schedule.emplace_back(g, pair ? 2 : 1);
+    g += pair ? 2 : 1;
   }
 }
 
@@ -177,35 +264,41 @@ LockstepBatch::LockstepBatch(LockstepBatch&&) noexcept = default;
 LockstepBatch& LockstepBatch::operator=(LockstepBatch&&) noexcept = default;
 
 int LockstepBatch::size() const { return d_->count; }
-int LockstepBatch::sine_columns() const { return d_->columns; }
+int LockstepBatch::group_count() const { return static_cast<int>(d_->groups.size()); }
+int LockstepBatch::sine_columns(int g) const { return d_->groups.at(static_cast<std::size_t>(g)).columns; }
+bool LockstepBatch::shares_sines(int g) const { return d_->groups.at(static_cast<std::size_t>(g)).uniform; }
 
 void LockstepBatch::Data::load(State* const* st) {
-  for (int lane = 0; lane < groups * kW; ++lane) {
-    const State& s = *st[std::min(lane, count - 1)];
-    const int g = lane / kW, l = lane % kW;
-    for (int p = 0; p < points; ++p) {
-      point_row(g, 0, p)[l] = s.x[p];
-      point_row(g, 1, p)[l] = s.y[p];
-      point_row(g, 2, p)[l] = s.vx[p];
-      point_row(g, 3, p)[l] = s.vy[p];
+  for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
+    const Group& G = groups[static_cast<std::size_t>(g)];
+    for (int l = 0; l < kW; ++l) {
+      const State& s = *st[G.first + std::min(l, G.lanes - 1)];
+      for (int p = 0; p < G.points; ++p) {
+        point_row(g, 0, p)[l] = s.x[p];
+        point_row(g, 1, p)[l] = s.y[p];
+        point_row(g, 2, p)[l] = s.vx[p];
+        point_row(g, 3, p)[l] = s.vy[p];
+      }
+      world_row(g, kPhase)[l] = s.wave_phase;
+      world_row(g, kMode)[l] = static_cast<double>(static_cast<int>(s.wave_mode));
     }
-    world_row(g, kPhase)[l] = s.wave_phase;
-    world_row(g, kMode)[l] = static_cast<double>(static_cast<int>(s.wave_mode));
   }
 }
 
 void LockstepBatch::Data::store(State* const* st) {
-  for (int c = 0; c < count; ++c) {
-    State& s = *st[c];
-    const int g = c / kW, l = c % kW;
-    for (int p = 0; p < masses; ++p) {
-      s.x[p] = point_row(g, 0, p)[l];
-      s.y[p] = point_row(g, 1, p)[l];
-      s.vx[p] = point_row(g, 2, p)[l];
-      s.vy[p] = point_row(g, 3, p)[l];
+  for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
+    const Group& G = groups[static_cast<std::size_t>(g)];
+    for (int l = 0; l < G.lanes; ++l) {
+      State& s = *st[G.first + l];
+      for (int p = 0; p < G.masses; ++p) {
+        s.x[p] = point_row(g, 0, p)[l];
+        s.y[p] = point_row(g, 1, p)[l];
+        s.vx[p] = point_row(g, 2, p)[l];
+        s.vy[p] = point_row(g, 3, p)[l];
+      }
+      s.wave_phase = world_row(g, kPhase)[l];
+      s.wave_mode = static_cast<WaveDirection>(static_cast<int>(world_row(g, kMode)[l]));
     }
-    s.wave_phase = world_row(g, kPhase)[l];
-    s.wave_mode = static_cast<WaveDirection>(static_cast<int>(world_row(g, kMode)[l]));
   }
 }
 
@@ -213,16 +306,54 @@ void LockstepBatch::Data::store(State* const* st) {
 #pragma GCC push_options
 #pragma GCC target("avx512f,avx512dq")
 
-// Group g's sine arguments for wave phase `phase`, noted in `predicted`.
+// Group g's sine arguments for wave phase `phase`, noted in `predicted`: packed
+// (one per column) where the lanes share their column phases and their wave phase.
 [[gnu::always_inline]] inline void LockstepBatch::Data::arguments_for(int g, O::V phase) {
   O::store(predicted.data() + static_cast<std::size_t>(g) * kW, phase);
-  for (int q = 0; q < columns; ++q) O::store(arguments_row(g, q), simd_rules::sine_argument<O>(O::load(column_row(g, q)), phase));
+  const Group& G = groups[static_cast<std::size_t>(g)];
+  const O::V first = _mm512_broadcastsd_pd(_mm512_castpd512_pd128(phase));
+  const bool share = G.uniform && _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(phase), _mm512_castpd_si512(first)) == 0;
+  packed[static_cast<std::size_t>(g)] = share ? 1 : 0;
+  if (share) {
+    for (int r = 0; r < G.packed_rows; ++r) {
+      O::store(packed_row(packed_arguments, g, r), simd_rules::sine_argument<O>(O::load(packed_row(packed_phase, g, r)), first));
+    }
+    return;
+  }
+  for (int q = 0; q < G.columns; ++q) O::store(arguments_row(g, q), simd_rules::sine_argument<O>(O::load(column_row(g, q)), phase));
 }
 
 // Group g's sines for the phase it has now.
 void LockstepBatch::Data::sines_now(int g) {
+  const Group& G = groups[static_cast<std::size_t>(g)];
   arguments_for(g, O::load(world_row(g, kPhase)));
-  sine_fn(arguments_row(g, 0), sines_row(g, 0), columns * kW);
+  if (packed[static_cast<std::size_t>(g)] != 0) {
+    sine_fn(packed_row(packed_arguments, g, 0), packed_row(packed_sines, g, 0), G.packed_rows * kW);
+  } else {
+    sine_fn(arguments_row(g, 0), sines_row(g, 0), G.columns * kW);
+  }
+}
+
+// Packed sines (and, for the jitter, their arguments) into group g's rows, one
+// column's value in each of its lanes.
+[[gnu::always_inline]] inline void LockstepBatch::Data::unpack_sines(int g) {
+  const Group& G = groups[static_cast<std::size_t>(g)];
+  const double* argument = packed_row(packed_arguments, g, 0);
+  const double* sine = packed_row(packed_sines, g, 0);
+  for (int q = 0; q < G.columns; ++q) {
+    O::store(sines_row(g, q), O::set1(sine[q]));
+    if (G.jittered) O::store(arguments_row(g, q), O::set1(argument[q]));
+  }
+}
+
+// Group g's (arguments, sines) rows to compute during the link pass.
+[[gnu::always_inline]] inline void LockstepBatch::Data::queue_sines(int g) {
+  const Group& G = groups[static_cast<std::size_t>(g)];
+  if (packed[static_cast<std::size_t>(g)] != 0) {
+    for (int r = 0; r < G.packed_rows; ++r) sine_work.emplace_back(packed_row(packed_arguments, g, r), packed_row(packed_sines, g, r));
+  } else {
+    for (int q = 0; q < G.columns; ++q) sine_work.emplace_back(arguments_row(g, q), sines_row(g, q));
+  }
 }
 
 // Group g's sines moved by each lane's jitter, as rules::muscle_sine moves them:
@@ -236,7 +367,7 @@ void LockstepBatch::Data::jitter_sines(int g) {
   const __m512i threshold = _mm512_loadu_si512(lane_threshold.data() + first);
   const __m512i m1 = _mm512_set1_epi64(static_cast<long long>(0xbf58476d1ce4e5b9ULL));
   const __m512i m2 = _mm512_set1_epi64(static_cast<long long>(0x94d049bb133111ebULL));
-  for (int q = 0; q < columns; ++q) {
+  for (int q = 0; q < groups[static_cast<std::size_t>(g)].columns; ++q) {
     const double* argument = arguments_row(g, q);
     __m512i z = _mm512_xor_si512(_mm512_castpd_si512(_mm512_loadu_pd(argument)), seed_mix);
     z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 30)), m1);
@@ -257,15 +388,16 @@ void LockstepBatch::Data::jitter_sines(int g) {
 
 // Group g's wave links' targets from its sines: rest * (1 + power * sine).
 [[gnu::always_inline]] inline void LockstepBatch::Data::targets_from_sines(int g) {
-  for (std::size_t w = 0; w < wave_links.size(); ++w) {
-    const int j = wave_links[w];
+  const Group& G = groups[static_cast<std::size_t>(g)];
+  for (std::size_t w = 0; w < G.wave_links.size(); ++w) {
+    const int j = G.wave_links[w];
     O::store(link_row(g, 2, j), simd_rules::muscle_target<O>(O::load(link_row(g, 0, j)), O::load(link_row(g, 1, j)),
-                                                             O::load(sines_row(g, column_of[w]))));
+                                                             O::load(sines_row(g, G.column_of[w]))));
   }
 }
 
-// One frame's physics and wave advance of groups [g0, g0 + N), side by side: N
-// independent chains for the processor to overlap.
+// One frame's physics and wave advance of groups [g0, g0 + N) (the same links),
+// side by side: N independent chains for the processor to overlap.
 template <int N>
 [[gnu::always_inline]] inline void LockstepBatch::Data::step_groups(int g0) {
   using V = O::V;
@@ -284,31 +416,35 @@ template <int N>
   const V zero = O::set1(0.0);
   // This frame's targets from the sines computed for it, then the arguments of
   // the next frame's at the phase the waves will have if no direction turns.
-  const int sine_rows = inline_sines ? N * columns : 0;
-  if (columns > 0) {
-    for (int n = 0; n < N; ++n) {
-      const int g = g0 + n;
-      if (group_jittered[g] != 0) [[unlikely]] jitter_sines(g);
-      targets_from_sines(g);
-      arguments_for(g, simd_rules::advance_wave_phase<O>(O::load(world_row(g, kPhase)), O::load(world_row(g, kSpeed)),
-                                                         O::load(world_row(g, kMode))));
-    }
+  sine_work.clear();
+  for (int n = 0; n < N; ++n) {
+    const int g = g0 + n;
+    const Group& G = groups[static_cast<std::size_t>(g)];
+    if (G.columns == 0) continue;
+    if (packed[static_cast<std::size_t>(g)] != 0) unpack_sines(g);
+    if (G.jittered) [[unlikely]] jitter_sines(g);
+    targets_from_sines(g);
+    arguments_for(g, simd_rules::advance_wave_phase<O>(O::load(world_row(g, kPhase)), O::load(world_row(g, kSpeed)),
+                                                       O::load(world_row(g, kMode))));
+    if (inline_sines) queue_sines(g);
   }
+  const Group& shape = groups[static_cast<std::size_t>(g0)];
+  const int links = shape.links, masses = shape.masses;
+  const int sine_rows = static_cast<int>(sine_work.size());
   const glibc_sine::GlibcTable& table = *sine_table;
-  double* const args = arguments_row(g0, 0); // the N groups' rows are consecutive
-  double* const out = sines_row(g0, 0);
   unsigned far_lanes = 0; // lanes glibc's sin takes elsewhere (|x| >= 105414336, NaN): none from phases in [0, 1)
   int sines_done = 0, sine_credit = 0; // sines due after link j: (j + 1) * sine_rows / links, by steps
   // Links in file order (step.cpp apply_links): each impulse goes into both
   // ends' velocities at once; a zero-length link adds nothing (masked).
-  const int* la = link_a.data();
-  const int* lb = link_b.data();
+  const int* la = shape.link_a.data();
+  const int* lb = shape.link_b.data();
   for (int j = 0; j < links; ++j) {
     const int a = la[j], b = lb[j];
     // The next frame's sines, spread over the links.
     for (sine_credit += sine_rows; sine_credit >= links; sine_credit -= links, ++sines_done) {
       unsigned far = 0;
-      glibc_sine::glibc_sin<O, 1>(table, args + sines_done * kW, out + sines_done * kW, &far);
+      const auto& [in, out] = sine_work[static_cast<std::size_t>(sines_done)];
+      glibc_sine::glibc_sin<O, 1>(table, in, out, &far);
       far_lanes |= far;
     }
 #pragma GCC unroll 4
@@ -362,7 +498,7 @@ template <int N>
     const V phase = simd_rules::advance_wave_phase<O>(O::load(world_row(g, kPhase)), O::load(world_row(g, kSpeed)),
                                                       O::load(world_row(g, kMode)));
     O::store(world_row(g, kPhase), phase);
-    if (columns == 0) continue;
+    if (groups[static_cast<std::size_t>(g)].columns == 0) continue;
     const double* expected = predicted.data() + static_cast<std::size_t>(g) * kW;
     if (sine_rows == 0 || far_lanes != 0 ||
         _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(phase), _mm512_load_si512(expected)) != 0) {
@@ -373,36 +509,49 @@ template <int N>
 
 void LockstepBatch::run(State* const* states, long long frames) {
   Data& d = *d_;
-  require_batch_states(states, d.count, [&](int) { return d.points; }, "LockstepBatch::run");
+  require_batch_states(states, d.count, [&](int c) {
+    const auto in = std::upper_bound(d.groups.begin(), d.groups.end(), c, [](int i, const Data::Group& G) { return i < G.first; });
+    return std::prev(in)->points;
+  }, "LockstepBatch::run");
   for (int c = 0; c < d.count; ++c) require_valid_jitter_of(states[c]->jitter, "LockstepBatch::run", c);
   if (frames <= 0) return;
   d.load(states);
-  // Padding lanes autoreverse into a scratch copy of the last state, not into it.
+  const std::size_t lanes = d.groups.size() * kW;
+  // Padding lanes autoreverse into a scratch copy of their group's last state, not into it.
   std::vector<State> padding;
-  padding.reserve(static_cast<std::size_t>(d.groups) * kW - d.count);
-  d.lane_state.resize(static_cast<std::size_t>(d.groups) * kW);
-  d.lane_seed_mix.assign(static_cast<std::size_t>(d.groups) * kW, 0); // padding lanes: exact, unread
-  d.lane_threshold.assign(d.lane_seed_mix.size(), 0);
-  d.group_jittered.assign(static_cast<std::size_t>(d.groups), 0);
-  for (int lane = 0; lane < d.groups * kW; ++lane) {
-    if (lane < d.count) {
-      d.lane_state[lane] = states[lane];
-      const PreparedJitter jitter(states[lane]->jitter);
-      d.lane_seed_mix[lane] = jitter.seed_mix;
-      d.lane_threshold[lane] = jitter.threshold;
-      if (jitter.threshold != 0) d.group_jittered[lane / kW] = 1;
-    } else {
-      padding.push_back(*states[d.count - 1]);
-      d.lane_state[lane] = &padding.back();
+  padding.reserve(lanes - static_cast<std::size_t>(d.count));
+  d.lane_state.resize(lanes);
+  d.lane_seed_mix.assign(lanes, 0); // padding lanes: exact, unread
+  d.lane_threshold.assign(lanes, 0);
+  for (std::size_t g = 0; g < d.groups.size(); ++g) {
+    Data::Group& G = d.groups[g];
+    G.jittered = false;
+    for (int l = 0; l < kW; ++l) {
+      const std::size_t lane = g * kW + static_cast<std::size_t>(l);
+      if (l < G.lanes) {
+        State* s = states[G.first + l];
+        d.lane_state[lane] = s;
+        const PreparedJitter jitter(s->jitter);
+        d.lane_seed_mix[lane] = jitter.seed_mix;
+        d.lane_threshold[lane] = jitter.threshold;
+        if (jitter.threshold != 0) G.jittered = true;
+      } else {
+        padding.push_back(*states[G.first + G.lanes - 1]);
+        d.lane_state[lane] = &padding.back();
+      }
     }
   }
-  if (d.columns > 0) {
-    for (int g = 0; g < d.groups; ++g) d.sines_now(g);
+  for (int g = 0; g < static_cast<int>(d.groups.size()); ++g) {
+    if (d.groups[static_cast<std::size_t>(g)].columns > 0) d.sines_now(g);
   }
   for (long long f = 0; f < frames; ++f) {
-    int g = 0;
-    for (; g + 1 < d.groups; g += 2) d.step_groups<2>(g);
-    if (g < d.groups) d.step_groups<1>(g);
+    for (const auto& [g, n] : d.schedule) {
+      if (n == 2) {
+        d.step_groups<2>(g);
+      } else {
+        d.step_groups<1>(g);
+      }
+    }
   }
   d.store(states);
   for (int c = 0; c < d.count; ++c) states[c]->frame += frames;

@@ -1,4 +1,5 @@
-// LockstepBatch: creatures of one shape, one per SIMD lane.
+// LockstepBatch: creatures of one shape, one per SIMD lane; several such groups
+// stepped frame by frame together.
 //
 // Why: a fused scene (fused_scene.hpp) takes any mix of creatures, at the price of
 // moving every impulse to its mass by permutes or index loads; and a small
@@ -17,14 +18,25 @@
 // algorithm's population holds: most children are their parent's shape with
 // other numbers (BatchStepper, batch_step.cpp, groups them by shape).
 //
+// Groups: a batch holds groups of at most 8 lanes, each group of one shape, the
+// groups of any shapes (of_shapes). All groups step frame by frame together: a
+// small creature's frame is a short dependency chain, and the chains of other
+// groups fill the core while one waits (the GA's creatures average 6 links, and
+// its evaluation batches hold 16 creatures x 8 replicas: 16 groups). Consecutive
+// groups with the same links share one pass over them.
+//
 // Muscle sines: one per frame per distinct muscle phase of a lane (a column of
-// links whose phases agree in every lane shares it), glibc's sin in SIMD
-// (exact_sines.hpp), for all lanes at once. Walls are tested every frame (a max
-// and a min per coordinate: cheaper than knowing which are out of reach).
-// A lane whose state carries sine jitter (sine_jitter.hpp: replicas of one
-// creature, each its own seed) gets its sines moved before they are used, lane
-// by lane from the same arguments as the reference's; groups with no jittered
-// lane skip that work.
+// links whose phases agree in every lane of the group shares it), glibc's sin in
+// SIMD (exact_sines.hpp), for all lanes at once. Where every lane of a group has
+// the same phase in each column and the same wave phase (replicas of one
+// creature, until a wall turns one lane's wave), the lanes' arguments are equal:
+// the sines are computed once per column, 8 columns to a vector, and broadcast
+// to the lanes (the same bits: the same operations on the same operands). Walls
+// are tested every frame (a max and a min per coordinate: cheaper than knowing
+// which are out of reach). A lane whose state carries sine jitter
+// (sine_jitter.hpp: replicas of one creature, each its own seed) gets its sines
+// moved before they are used, lane by lane from the same arguments as the
+// reference's; groups with no jittered lane skip that work.
 //
 // AVX-512 only (usable()); models with fixed bars are not taken (a bar test needs
 // each mass against the others' new positions, fast_step's ordered kernel).
@@ -56,6 +68,11 @@ class LockstepBatch {
   /// Throws std::invalid_argument when `models` is empty, a model has fixed bars,
   /// or two models differ in shape, and std::runtime_error when !usable().
   explicit LockstepBatch(const std::vector<const Model*>& models);
+  /// Several shapes in one batch: shapes[s] are models of one shape (as for the
+  /// constructor), cut into groups of kLanes; run() takes their states in this
+  /// order (shapes[0]'s, then shapes[1]'s, ...). Throws as the constructor, also
+  /// when `shapes` or one of them is empty.
+  static LockstepBatch of_shapes(const std::vector<std::vector<const Model*>>& shapes);
   ~LockstepBatch();
   LockstepBatch(LockstepBatch&&) noexcept;
   LockstepBatch& operator=(LockstepBatch&&) noexcept;
@@ -68,12 +85,18 @@ class LockstepBatch {
   void run(State* const* states, long long frames);
 
   [[nodiscard]] int size() const;
-  /// Sine columns per lane and frame (distinct muscle phases with a moving wave).
-  [[nodiscard]] int sine_columns() const;
+  /// Groups of at most kLanes lanes.
+  [[nodiscard]] int group_count() const;
+  /// Sine columns per lane and frame of group g (distinct muscle phases with a moving wave).
+  [[nodiscard]] int sine_columns(int g = 0) const;
+  /// Whether group g's lanes share their muscle phases, column by column (replicas
+  /// of one creature): their sines are computed once per column while their waves agree.
+  [[nodiscard]] bool shares_sines(int g) const;
 
   struct Data;
 
  private:
+  LockstepBatch(std::unique_ptr<Data> d, int groups); // of_shapes' (two arguments: LockstepBatch({}) stays unambiguous)
   std::unique_ptr<Data> d_;
 };
 

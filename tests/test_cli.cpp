@@ -244,13 +244,14 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
   std::map<std::string, int> ga_engines; // engine -> creatures stepped
   for (const std::string& line : csv.rows) {
     const std::vector<std::string> f = csv_cells(line);
-    REQUIRE(f.size() == 14);
+    REQUIRE(f.size() == 15);
     rows_per_section[f[0]]++;
     CHECK(std::stod(f[9]) > 0.0); // frames per second
     if (f[0] == "ga") {
       ga_engines[f[2]] = std::stoi(f[13]);
       if (f[2] == "seed") CHECK(f[11] == "1.00");
       if (f[2] == "plain") CHECK(f[12] == "1.00");
+      CHECK((std::stod(f[14]) > 0.0) == (f[2] == "fast-replicas")); // replicas against fast-batch, in the same rounds
     }
     if (f[0] != "creature") continue;
     creature_engines[f[2]]++;

@@ -332,3 +332,133 @@ TEST_CASE("jittered replicas of each bundled model: lockstep lanes and BatchStep
   }
   CHECK(moved); // the jitter changed some trajectory: the comparisons above could fail
 }
+
+namespace {
+
+/// A lane of a batch of several shapes: its model and its sine jitter.
+struct Lane {
+  const soda::Model* model;
+  std::uint64_t seed;
+  double probability;
+};
+
+/// `k` replicas of `model` (replica r with seed first_seed + r, seed 0 exact).
+std::vector<Lane> replicas_of(const soda::Model& model, int k, std::uint64_t first_seed, double probability) {
+  std::vector<Lane> lanes;
+  for (int r = 0; r < k; ++r) lanes.push_back({&model, first_seed + static_cast<std::uint64_t>(r), probability});
+  return lanes;
+}
+
+/// The states of `shapes`' lanes, flattened, with their jitter.
+std::vector<soda::State> states_of(const std::vector<std::vector<Lane>>& shapes) {
+  std::vector<soda::State> states;
+  for (const std::vector<Lane>& lanes : shapes) {
+    for (const Lane& l : lanes) {
+      states.push_back(soda::make_state(*l.model));
+      states.back().jitter = {l.seed, l.probability};
+    }
+  }
+  return states;
+}
+
+} // namespace
+
+TEST_CASE("lockstep batch of several shapes: replicas sharing their sines, mixed shapes, partial groups, a batch "
+          "reused, every lane equals the reference",
+          "[lockstep][sine_jitter]") {
+  if (skip_without_avx512()) return;
+  const soda::Model walker = load_scene(models_dir() / "dainty_walker.xml").model;
+  const soda::Model slug = load_scene(models_dir() / "carefulslug.xml").model;
+  const std::vector<soda::Model> variants = variants_of(walker);
+  const soda::Model& boxed = variants[7]; // a tight box with autoreverse: the replicas' waves turn apart
+  REQUIRE(boxed.autoreverse);
+  std::vector<Lane> mixed; // walker's shape, 9 different models: 8 + 1 lanes, no sine shared
+  for (std::size_t k = 0; k < 9; ++k) mixed.push_back({&variants[k % variants.size()], k % 2, 0.05});
+  const std::vector<std::vector<Lane>> shapes = {
+      replicas_of(walker, 8, 0, 0.01),  // one creature's replicas: sines shared, jittered lanes
+      mixed,                            // the same links: stepped side by side with the group before
+      replicas_of(slug, 3, 5, 0.01),    // another shape, a partial group
+      replicas_of(boxed, 8, 0, 0.05),   // waves that part: the shared sines fall back to each lane's
+      replicas_of(walker, 6, 0, 0.0),   // exact lanes only: sines shared, no jitter
+  };
+  std::vector<std::vector<const soda::Model*>> models;
+  std::vector<const soda::Model*> flat;
+  for (const std::vector<Lane>& lanes : shapes) {
+    models.emplace_back();
+    for (const Lane& l : lanes) {
+      models.back().push_back(l.model);
+      flat.push_back(l.model);
+    }
+  }
+  soda::LockstepBatch batch = soda::LockstepBatch::of_shapes(models);
+  REQUIRE(batch.size() == 34);
+  REQUIRE(batch.group_count() == 6);
+  CHECK(batch.shares_sines(0));
+  CHECK_FALSE(batch.shares_sines(1));
+  CHECK(batch.shares_sines(3));
+  CHECK(batch.shares_sines(4));
+  CHECK(batch.shares_sines(5));
+  std::vector<soda::State> states = states_of(shapes);
+  std::vector<soda::State*> pointers;
+  for (soda::State& s : states) pointers.push_back(&s);
+  const std::string diff = compare_in_pieces(flat, states, 3000, [&](long long n) { batch.run(pointers.data(), n); });
+  INFO(diff);
+  CHECK(diff.empty());
+  // The test could fail: jittered replicas left their exact replica 0, and the
+  // boxed replicas' waves parted (their sines were no longer shared).
+  CHECK_FALSE(compare_states(walker, states[0], states[1]).empty());
+  bool waves_parted = false;
+  for (int r = 1; r < 8; ++r) waves_parted = waves_parted || states[20].wave_phase != states[20 + static_cast<std::size_t>(r)].wave_phase;
+  CHECK(waves_parted);
+  // The same batch on other states: other seeds, from another start.
+  std::vector<std::vector<Lane>> again = shapes;
+  for (std::vector<Lane>& lanes : again) {
+    for (Lane& l : lanes) l.seed = l.seed == 0 ? 0 : l.seed + 100;
+  }
+  std::vector<soda::State> other = states_of(again);
+  for (soda::State& s : other) s.x[0] += 1.5;
+  pointers.clear();
+  for (soda::State& s : other) pointers.push_back(&s);
+  const std::string diff_again = compare_in_pieces(flat, other, 1000, [&](long long n) { batch.run(pointers.data(), n); });
+  INFO(diff_again);
+  CHECK(diff_again.empty());
+  CHECK_THROWS_AS(soda::LockstepBatch::of_shapes({}), std::invalid_argument);
+  CHECK_THROWS_AS(soda::LockstepBatch::of_shapes({{&walker}, {}}), std::invalid_argument);
+  CHECK_THROWS_AS(soda::LockstepBatch::of_shapes({{&walker, &slug}}), std::invalid_argument);
+}
+
+TEST_CASE("BatchStepper: the GA's batch of replicas (creatures of several shapes x 8) in one lockstep batch, "
+          "exact, and again on other states",
+          "[lockstep][sine_jitter]") {
+  const soda::Model walker = load_scene(models_dir() / "dainty_walker.xml").model;
+  const soda::Model slug = load_scene(models_dir() / "carefulslug.xml").model;
+  const soda::Model wheel = load_scene(models_dir() / "wheel.xml").model;
+  const std::vector<soda::Model> variants = variants_of(walker);
+  // As the replica estimator orders its rollouts: each creature's replicas in a
+  // row, replica 0 exact; one creature scored once, exact.
+  std::vector<std::vector<Lane>> runs = {replicas_of(walker, 8, 0, 0.01), replicas_of(slug, 8, 0, 0.01),
+                                         replicas_of(variants[7], 8, 0, 0.05), {{&wheel, 0, 0.0}},
+                                         replicas_of(variants[2], 8, 0, 0.01)};
+  std::vector<const soda::Model*> models;
+  std::vector<bool> jittered;
+  for (const std::vector<Lane>& lanes : runs) {
+    for (const Lane& l : lanes) {
+      models.push_back(l.model);
+      jittered.push_back(l.seed != 0);
+    }
+  }
+  soda::BatchStepper stepper(models, 3000, {}, jittered);
+  if (soda::LockstepBatch::usable()) CHECK(stepper.lockstep_count() == 32);
+  for (int round = 0; round < 2; ++round) {
+    std::vector<std::vector<Lane>> these = runs;
+    for (std::vector<Lane>& lanes : these) {
+      for (Lane& l : lanes) l.seed = l.seed == 0 ? 0 : l.seed + 50 * static_cast<std::uint64_t>(round);
+    }
+    std::vector<soda::State> states = states_of(these);
+    std::vector<soda::State*> pointers;
+    for (soda::State& s : states) pointers.push_back(&s);
+    const std::string diff = compare_in_pieces(models, states, 2000, [&](long long n) { stepper.run(pointers, n); });
+    INFO("round " << round << ": " << diff);
+    CHECK(diff.empty());
+  }
+}
