@@ -115,8 +115,10 @@ void add_export_command(CLI::App& app) {
   auto opt = std::make_shared<ExportOptions>();
   CLI::App* cmd = app.add_subcommand(
       "export",
-      "Write the best creatures of a run as SodaConstructor v1 XML, prepared exactly as they\n"
-      "were evaluated (world, Sodarace scaling, wide container, wave forward, autoreverse off),\n"
+      "Write the best creatures of a run (of its last saved generation, the one it ended with;\n"
+      "its best are confirmed on /fitness/replicas_max replicas) as SodaConstructor v1 XML,\n"
+      "prepared exactly as they were evaluated (world, Sodarace scaling, wide container, wave\n"
+      "forward, autoreverse off),\n"
       "so SodaConstructor and `sodaevo simulate` run them the same way, and DIR/champions.json:\n"
       "each creature's claim (its estimate in the run) against a check on fresh replicas\n"
       "(n, mean, median, sd, min, max, 95 % prediction interval) and the winner's curse.");

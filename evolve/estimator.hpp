@@ -37,6 +37,10 @@ class Estimator {
   /// Adaptive resampling: how many rollouts a creature that survives with
   /// evaluation `kept` should be estimated on now, or 0 to keep `kept` as it is.
   [[nodiscard]] virtual int resample_to(const Evaluation& /*kept*/) const { return 0; }
+  /// Confirmation at the end of a run: how many rollouts a creature with
+  /// evaluation `kept` should be estimated on before it is handed over as one of
+  /// the best, or 0 when `kept` is as sharp as this estimator makes it.
+  [[nodiscard]] virtual int confirm_to(const Evaluation& /*kept*/) const { return 0; }
   /// This estimator with `rollouts` rollouts per creature (asked only where
   /// resample_to gave that count; estimators that never resample give null).
   [[nodiscard]] virtual std::unique_ptr<Estimator> with_rollouts(int /*rollouts*/) const { return nullptr; }

@@ -42,6 +42,35 @@ long long evaluate_generation(Evaluator& evaluator, Generation& g, const Problem
   return static_cast<long long>(todo.size() + resampled.size());
 }
 
+long long confirm_best(Evaluator& evaluator, Generation& g, const Problem& problem, const Estimator& estimator,
+                       int count, long long max_evaluations) {
+  long long done = 0;
+  for (;;) {
+    std::map<int, std::vector<std::size_t>> todo; // by the rollout count wanted
+    int seen = 0;
+    long long wanted = 0;
+    for (std::size_t i : ranked_best_first(g)) {
+      const Individual& ind = g.individuals[i];
+      if (seen >= count || !ind.evaluated || !ind.evaluation.ok()) break;
+      if (max_evaluations >= 0 && done + wanted >= max_evaluations) break;
+      ++seen;
+      if (const int n = estimator.confirm_to(ind.evaluation); n > 0) {
+        todo[n].push_back(i);
+        ++wanted;
+      }
+    }
+    if (todo.empty()) return done;
+    for (const auto& [rollouts, who] : todo) {
+      std::vector<const soda::ModelDef*> creatures;
+      for (std::size_t i : who) creatures.push_back(&g.individuals[i].creature);
+      const std::unique_ptr<Estimator> more = estimator.with_rollouts(rollouts);
+      std::vector<Evaluation> results = evaluator.evaluate(creatures, problem, *more);
+      for (std::size_t k = 0; k < who.size(); ++k) g.individuals[who[k]].evaluation = std::move(results[k]);
+      done += static_cast<long long>(who.size());
+    }
+  }
+}
+
 std::size_t evaluation_batch_size(std::size_t count, int threads) {
   const std::size_t per_thread = 2 * static_cast<std::size_t>(std::max(1, threads));
   return std::clamp<std::size_t>((count + per_thread - 1) / per_thread, 1, kMaxEvaluationBatch);

@@ -30,6 +30,18 @@ class Evaluator {
 long long evaluate_generation(Evaluator& evaluator, Generation& generation, const Problem& problem,
                               const Estimator& estimator);
 
+/// Confirmation at the end of a run (/fitness/confirm): the best `count` valid
+/// individuals of an evaluated generation whose estimate the estimator would
+/// sharpen (Estimator::confirm_to) are estimated again, the generation is ranked
+/// again, and so on until its best `count` are all confirmed (or none is left to
+/// confirm). Why: the best of a generation are its luckiest draws too; estimated
+/// again on more replicas, a lucky one falls back and the next is confirmed, so
+/// what the run hands over claims what it walks. Returns the evaluations made.
+/// At most `max_evaluations` evaluations (< 0: no limit), the best first.
+/// Deterministic: the order is ranked_best_first's, the rollouts are seeded.
+long long confirm_best(Evaluator& evaluator, Generation& generation, const Problem& problem,
+                       const Estimator& estimator, int count, long long max_evaluations = -1);
+
 /// Largest number of creatures a thread estimates in one batch (stepped together
 /// on one core: small creatures alone leave most of the core idle, fused they
 /// share its SIMD batches; core/batch_step.hpp).

@@ -1,5 +1,6 @@
 #include "evolution_run.hpp"
 
+#include <algorithm>
 #include <chrono>
 
 #include "core/input_error.hpp"
@@ -50,11 +51,22 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
   for (;;) {
     if (need_evaluation) {
       const auto t0 = Clock::now();
-      const long long done = evaluate_generation(evaluator, current, *roles.problem, *roles.estimator);
+      long long done = evaluate_generation(evaluator, current, *roles.problem, *roles.estimator);
+      // The generation the run ends with (by its budget of generations or of
+      // evaluations: known now, so that a resumed run does the same) hands over its
+      // best: they are confirmed on more replicas first, within the budget (the
+      // last generation leaves room for the confirmation's first round).
+      const long long limit = config.budget.max_evaluations;
+      const bool last = current.index + 1 >= config.budget.generations ||
+                        (limit > 0 && evaluations + done + roles.algorithm->evaluations_per_generation() +
+                                              config.fitness.confirm > limit);
+      if (last) {
+        done += confirm_best(evaluator, current, *roles.problem, *roles.estimator, config.fitness.confirm,
+                             limit > 0 ? std::max(0LL, limit - evaluations - done) : -1);
+      }
       const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
       evaluations += done;
       const GenerationStats stats = summarize(current, evaluations);
-      const bool last = current.index + 1 >= config.budget.generations;
       const bool save_whole = last || (config.save.generation_every > 0 && current.index % config.save.generation_every == 0);
       std::optional<soda::ModelDef> best_file;
       if (stats.best_index >= 0) {
@@ -77,7 +89,10 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
     const long long next_cost = roles.algorithm->evaluations_per_generation();
     std::string stop;
     if (next_index >= config.budget.generations) stop = "completed";
-    else if (config.budget.max_evaluations > 0 && evaluations + next_cost > config.budget.max_evaluations) stop = "evaluation budget";
+    else if (config.budget.max_evaluations > 0 &&
+             evaluations + next_cost + config.fitness.confirm > config.budget.max_evaluations) {
+      stop = "evaluation budget"; // as `last` above foresaw
+    }
     else if (config.budget.max_wall_seconds > 0 && wall() >= config.budget.max_wall_seconds) stop = "wall-time budget";
     else if (options.stop_requested && options.stop_requested->load()) stop = "interrupted";
     if (!stop.empty()) {

@@ -1,7 +1,6 @@
 #include "genetic_algorithm.hpp"
 
 #include <algorithm>
-#include <numeric>
 #include <string>
 
 #include "evolve/rng.hpp"
@@ -15,20 +14,11 @@ std::string make_id(int generation, std::size_t index) {
   return "g" + std::to_string(generation) + "-" + std::to_string(index);
 }
 
-/// Better first: Ok before not Ok, then higher fitness, then lower index.
-bool better(const Generation& g, std::size_t a, std::size_t b) {
-  const Evaluation& ea = g.individuals[a].evaluation;
-  const Evaluation& eb = g.individuals[b].evaluation;
-  if (ea.ok() != eb.ok()) return ea.ok();
-  if (ea.ok() && ea.fitness != eb.fitness) return ea.fitness > eb.fitness;
-  return a < b;
-}
-
 std::size_t tournament(const Generation& g, int size, Rng& rng) {
   std::size_t winner = rng.below(g.individuals.size());
   for (int k = 1; k < size; ++k) {
     const std::size_t challenger = rng.below(g.individuals.size());
-    if (better(g, challenger, winner)) winner = challenger;
+    if (ranks_before(g, challenger, winner)) winner = challenger;
   }
   return winner;
 }
@@ -64,9 +54,7 @@ Generation next_generation(const RunConfig& config, const Generation& evaluated)
   Generation next;
   next.index = evaluated.index + 1;
   const std::size_t n = static_cast<std::size_t>(config.population.size);
-  std::vector<std::size_t> ranked(evaluated.individuals.size());
-  std::iota(ranked.begin(), ranked.end(), 0);
-  std::sort(ranked.begin(), ranked.end(), [&](std::size_t a, std::size_t b) { return better(evaluated, a, b); });
+  const std::vector<std::size_t> ranked = ranked_best_first(evaluated);
 
   const std::size_t elites = std::min<std::size_t>(static_cast<std::size_t>(config.selection.elites), ranked.size());
   for (std::size_t e = 0; e < elites; ++e) {

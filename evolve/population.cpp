@@ -1,6 +1,7 @@
 #include "population.hpp"
 
 #include <algorithm>
+#include <numeric>
 
 namespace sodaevo {
 
@@ -29,6 +30,21 @@ GenerationStats summarize(const Generation& g, long long evaluations) {
   s.median = n % 2 ? values[n / 2] : (values[n / 2 - 1] + values[n / 2]) / 2.0;
   s.worst = values.front();
   return s;
+}
+
+bool ranks_before(const Generation& g, std::size_t a, std::size_t b) {
+  const Evaluation& ea = g.individuals[a].evaluation;
+  const Evaluation& eb = g.individuals[b].evaluation;
+  if (ea.ok() != eb.ok()) return ea.ok();
+  if (ea.ok() && ea.fitness != eb.fitness) return ea.fitness > eb.fitness;
+  return a < b;
+}
+
+std::vector<std::size_t> ranked_best_first(const Generation& g) {
+  std::vector<std::size_t> ranked(g.individuals.size());
+  std::iota(ranked.begin(), ranked.end(), 0);
+  std::sort(ranked.begin(), ranked.end(), [&](std::size_t a, std::size_t b) { return ranks_before(g, a, b); });
+  return ranked;
 }
 
 } // namespace sodaevo

@@ -34,4 +34,10 @@ struct GenerationStats {
 
 GenerationStats summarize(const Generation& generation, long long evaluations);
 
+/// The GA's order of individuals: Ok before not Ok, then higher fitness, then
+/// lower index. Whether individual a ranks before b.
+bool ranks_before(const Generation& generation, std::size_t a, std::size_t b);
+/// Indices of the individuals, best first (ranks_before).
+std::vector<std::size_t> ranked_best_first(const Generation& generation);
+
 } // namespace sodaevo

@@ -132,6 +132,11 @@ int ReplicaEstimator::resample_to(const Evaluation& kept) const {
   return std::min(kept.estimate.rollouts + plan_.replicas, plan_.replicas_max);
 }
 
+int ReplicaEstimator::confirm_to(const Evaluation& kept) const {
+  if (!kept.ok() || kept.estimate.rollouts <= 0 || kept.estimate.rollouts >= plan_.replicas_max) return 0;
+  return plan_.replicas_max;
+}
+
 std::unique_ptr<Estimator> ReplicaEstimator::with_rollouts(int rollouts) const {
   ReplicaPlan p = plan_;
   p.replicas = rollouts;

@@ -80,6 +80,8 @@ class ReplicaEstimator final : public Estimator {
   [[nodiscard]] std::vector<Evaluation> estimate(const Problem& problem,
                                                  const std::vector<const soda::ModelDef*>& creatures) const override;
   [[nodiscard]] int resample_to(const Evaluation& kept) const override;
+  /// replicas_max for a valid creature estimated on fewer, else 0.
+  [[nodiscard]] int confirm_to(const Evaluation& kept) const override;
   [[nodiscard]] std::unique_ptr<Estimator> with_rollouts(int rollouts) const override;
   /// This estimator on replicas [first, first + count) (count >= 1).
   [[nodiscard]] ReplicaEstimator on_replicas(int first, int count) const;

@@ -144,6 +144,7 @@ const std::vector<Field>& fields() {
       integer("/fitness/honesty/substeps_factor", SODAEVO_FIELD(fitness.honesty_substeps_factor), 2, 64),
       integer("/fitness/replicas", SODAEVO_FIELD(fitness.replicas), 1, 256),
       integer("/fitness/replicas_max", SODAEVO_FIELD(fitness.replicas_max), 1, 1024),
+      integer("/fitness/confirm", SODAEVO_FIELD(fitness.confirm), 0, 100000),
       special("/fitness/statistic", Kind::Statistic),
       number("/fitness/jitter", SODAEVO_FIELD(fitness.jitter), 0, 1),
       special("/fitness/race", Kind::Race),

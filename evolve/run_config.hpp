@@ -63,6 +63,11 @@ struct FitnessConfig {
   /// gather /fitness/replicas more each generation up to this many,
   /// [replicas, 1024].
   int replicas_max = 32;
+  /// /fitness/confirm: when the run ends, its best this many creatures are
+  /// estimated again on replicas_max replicas each (ranked again until the best
+  /// this many all are), so that what the run hands over is not its luckiest
+  /// draws (evolve/evaluator.hpp, confirm_best). 0 = off. [0, 100000]
+  int confirm = 10;
   EstimateStatistic statistic = EstimateStatistic::Mean; ///< /fitness/statistic: "mean" | "median" | "lcb"
   double jitter = 0.002; ///< /fitness/jitter: share of sines a jittered replica moves by 1 ulp, [0, 1]
   /// /fitness/stability_margin_min: refuse (as invalid, with the reason) a creature

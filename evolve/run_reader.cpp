@@ -36,14 +36,16 @@ Generation read_saved_generation(const fs::path& run_dir, int generation) {
 }
 
 std::vector<Individual> best_individuals(const fs::path& run_dir, int count) {
+  const std::vector<int> saved = saved_generations(run_dir);
+  if (saved.empty()) throw soda::InputError(run_dir.string() + ": no saved generation (generations/gen_NNNNN.xml)");
   std::vector<Individual> all;
-  for (int g : saved_generations(run_dir)) {
-    Generation gen = read_saved_generation(run_dir, g);
-    for (Individual& ind : gen.individuals) {
-      if (ind.evaluation.ok()) all.push_back(std::move(ind));
-    }
+  for (Individual& ind : read_saved_generation(run_dir, saved.back()).individuals) {
+    if (ind.evaluation.ok()) all.push_back(std::move(ind));
   }
-  if (all.empty()) throw soda::InputError(run_dir.string() + ": no saved generation with a valid creature");
+  if (all.empty()) {
+    throw soda::InputError(run_dir.string() + ": generation " + std::to_string(saved.back()) +
+                           " (the last saved) has no valid creature");
+  }
   std::stable_sort(all.begin(), all.end(), [](const Individual& a, const Individual& b) {
     return a.evaluation.fitness > b.evaluation.fitness;
   });

@@ -16,8 +16,12 @@ std::vector<int> saved_generations(const std::filesystem::path& run_dir);
 /// generations that are available) if it was not saved.
 Generation read_saved_generation(const std::filesystem::path& run_dir, int generation);
 
-/// The `count` best distinct creatures over every saved generation and the
-/// checkpoint (elites copied between generations count once), best first.
+/// The `count` best distinct creatures of the last saved generation (the one the
+/// run ended with), best first. Why not every saved generation: an earlier
+/// generation's record of a creature is its claim before the run resampled it, and
+/// the creatures that fell out since are mostly those whose first replicas were
+/// lucky; the last generation keeps the elites (the best the run still believes
+/// in) and its best are confirmed on more replicas (/fitness/confirm).
 std::vector<Individual> best_individuals(const std::filesystem::path& run_dir, int count);
 
 } // namespace sodaevo

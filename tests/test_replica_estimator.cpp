@@ -5,6 +5,8 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <map>
+#include <stdexcept>
 #include <set>
 
 #include "core/model.hpp"
@@ -12,7 +14,9 @@
 #include "evolve/evaluator.hpp"
 #include "evolve/replica_check.hpp"
 #include "evolve/replica_estimator.hpp"
+#include "evolve/rng.hpp"
 #include "evolve/run_store.hpp"
+#include "evolve/variation.hpp"
 #include "evolve/walk_problem.hpp"
 #include "formats/model_file.hpp"
 #include "test_support.hpp"
@@ -139,6 +143,125 @@ TEST_CASE("adaptive resampling: survivors gather replicas up to the cap, whateve
   CHECK(evaluate_generation(one, g, problem, estimator) == 3);
   for (const Individual& ind : g.individuals) CHECK(ind.evaluation.estimate.rollouts == 5);
   CHECK(evaluate_generation(one, g, problem, estimator) == 0);
+}
+
+TEST_CASE("confirmation: the best end estimated on replicas_max, ranked again until they all are",
+          "[replicas]") {
+  RunConfig config = walker_config(2, 8);
+  config.fitness.frames = 2000; // past the mutants' predictability horizon: replicas differ
+  const WalkProblem problem(config);
+  const ReplicaEstimator estimator(replica_plan(config));
+  // Mutants of the Dainty Walker: a population whose best are partly lucky draws.
+  Generation g;
+  for (int i = 0; i < 12; ++i) {
+    Individual ind;
+    ind.id = "g0-" + std::to_string(i);
+    ind.creature = dainty();
+    Rng rng = Rng::stream(11, 0, static_cast<std::uint64_t>(i), 9);
+    mutate(ind.creature, config, rng);
+    g.individuals.push_back(ind);
+  }
+  ThreadEvaluator one(1), two(2);
+  evaluate_generation(one, g, problem, estimator);
+  Generation copy = g;
+  const int count = 3;
+  const long long done = confirm_best(one, g, problem, estimator, count);
+  CHECK(confirm_best(two, copy, problem, estimator, count) == done);
+  // Ranked by hand: the best `count` valid ones by fitness must all be on 8.
+  std::vector<const Individual*> valid;
+  for (const Individual& ind : g.individuals) {
+    if (ind.evaluation.ok()) valid.push_back(&ind);
+  }
+  REQUIRE(valid.size() > static_cast<std::size_t>(count));
+  std::stable_sort(valid.begin(), valid.end(), [](const Individual* a, const Individual* b) {
+    return a->evaluation.fitness > b->evaluation.fitness;
+  });
+  for (int k = 0; k < count; ++k) CHECK(valid[static_cast<std::size_t>(k)]->evaluation.estimate.rollouts == 8);
+  long long on_max = 0;
+  for (std::size_t i = 0; i < g.individuals.size(); ++i) {
+    const Evaluation& e = g.individuals[i].evaluation;
+    CHECK(test::same_bits(e.fitness, copy.individuals[i].evaluation.fitness));
+    if (!e.ok()) continue;
+    CHECK((e.estimate.rollouts == 2 || e.estimate.rollouts == 8));
+    if (e.estimate.rollouts != 8) continue;
+    ++on_max;
+    // A confirmed estimate is the estimate on 8 replicas from scratch.
+    const Evaluation fresh = estimator.with_rollouts(8)->estimate(problem, {&g.individuals[i].creature}).front();
+    CHECK(test::same_bits(fresh.fitness, e.fitness));
+  }
+  CHECK(on_max == done);
+  // Nothing left to confirm: a second call does nothing.
+  CHECK(confirm_best(one, g, problem, estimator, count) == 0);
+}
+
+namespace {
+
+/// An estimator with made-up scores: creature "A" scores 100 on its first
+/// replicas and 10 once confirmed (a lucky draw), and so on (see the test).
+class ScriptedEstimator final : public Estimator {
+ public:
+  explicit ScriptedEstimator(int rollouts = 2) : rollouts_(rollouts) {}
+  [[nodiscard]] std::string kind() const override { return "scripted"; }
+  [[nodiscard]] std::vector<Evaluation> estimate(const Problem&,
+                                                 const std::vector<const soda::ModelDef*>& creatures) const override {
+    std::vector<Evaluation> out;
+    for (const soda::ModelDef* c : creatures) {
+      Evaluation e;
+      if (c->name != "E") {
+        const std::map<std::string, std::pair<double, double>> scores = {
+            {"A", {100, 10}}, {"B", {90, 85}}, {"C", {80, 82}}, {"D", {70, 70}}};
+        const auto [first, confirmed] = scores.at(c->name);
+        e.status = EvaluationStatus::Ok;
+        e.fitness = rollouts_ >= 8 ? confirmed : first;
+        e.estimate = {rollouts_, e.fitness, 1.0, e.fitness};
+      }
+      out.push_back(e);
+    }
+    return out;
+  }
+  [[nodiscard]] int confirm_to(const Evaluation& kept) const override {
+    return kept.ok() && kept.estimate.rollouts < 8 ? 8 : 0;
+  }
+  [[nodiscard]] std::unique_ptr<Estimator> with_rollouts(int rollouts) const override {
+    return std::make_unique<ScriptedEstimator>(rollouts);
+  }
+  void write(WireWriter&) const override {}
+
+ private:
+  int rollouts_;
+};
+
+} // namespace
+
+TEST_CASE("confirmation ranks again: a lucky best falls back and the next is confirmed", "[replicas]") {
+  const WalkProblem problem(walker_config(2, 8));
+  const ScriptedEstimator estimator;
+  Generation g;
+  for (const char* name : {"E", "D", "C", "B", "A"}) {
+    Individual ind;
+    ind.id = name;
+    ind.creature = dainty();
+    ind.creature.name = name;
+    g.individuals.push_back(ind);
+  }
+  ThreadEvaluator one(1);
+  evaluate_generation(one, g, problem, estimator);
+  // Best 2 at first: A (100) and B (90). Confirmed, A falls to 10 and B to 85; then
+  // C (80) is among the best 2 and is confirmed (82); then B and C are both done.
+  CHECK(confirm_best(one, g, problem, estimator, 2) == 3);
+  const auto find = [&](const std::string& id) -> const Evaluation& {
+    for (const Individual& ind : g.individuals) {
+      if (ind.id == id) return ind.evaluation;
+    }
+    throw std::logic_error("no " + id);
+  };
+  CHECK(find("A").fitness == 10);
+  CHECK(find("B").fitness == 85);
+  CHECK(find("C").fitness == 82);
+  CHECK(find("C").estimate.rollouts == 8);
+  CHECK(find("D").estimate.rollouts == 2); // never among the best 2
+  CHECK(!find("E").ok());
+  CHECK(confirm_best(one, g, problem, estimator, 0) == 0);
 }
 
 TEST_CASE("a saved generation keeps each creature's estimate", "[replicas]") {

@@ -133,7 +133,8 @@ const std::vector<std::string> kAllKeys = {
     "/budget/evaluations", "/budget/wall_seconds", "/fitness/frames", "/fitness/settle_frames",
     "/fitness/direction", "/fitness/scaling", "/fitness/drop_height", "/fitness/mode", "/fitness/integrator",
     "/fitness/substeps", "/fitness/divergence", "/fitness/honesty/max_change",
-    "/fitness/honesty/substeps_factor", "/fitness/replicas", "/fitness/replicas_max", "/fitness/statistic",
+    "/fitness/honesty/substeps_factor", "/fitness/replicas", "/fitness/replicas_max", "/fitness/confirm",
+    "/fitness/statistic",
     "/fitness/jitter", "/fitness/stability_margin_min", "/world/gravity",
     "/world/friction", "/world/springyness", "/world/surface_friction", "/world/surface_reflection",
     "/world/gravity_direction", "/world/evolve", "/save/generation_every", "/save/checkpoint_every"};
@@ -192,6 +193,7 @@ TEST_CASE("config: defaults of an (almost) empty config", "[config]") {
   CHECK(c.fitness.direction == sodaevo::WalkDirection::Right);
   CHECK(c.fitness.scaling == sodaevo::FitnessScaling::Sodarace);
   CHECK(c.fitness.drop_height == 5.0);
+  CHECK(c.fitness.confirm == 10); // configs/README.md
   CHECK(c.fitness.mode == soda::PhysicsMode::Soda);
   CHECK(c.fitness.integrator == soda::Integrator::Euler);
   CHECK(c.fitness.substeps == 1);
@@ -434,6 +436,8 @@ TEST_CASE("config: one error per problem, each naming pointer, expectation and v
        "t.json: /fitness/frames: expected an integer in [1, 10000000], got 0"},
       {R"({"fitness": {"drop_height": -1}, )" + rf + "}",
        "t.json: /fitness/drop_height: expected a number in [0, 1000], got -1"},
+      {R"({"fitness": {"confirm": -1}, )" + rf + "}",
+       "t.json: /fitness/confirm: expected an integer in [0, 100000], got -1"},
       {R"({"seed": -1, )" + rf + "}", "t.json: /seed: expected an integer in [0, 9007199254740992], got -1"},
       {R"({"seed": 9007199254740993, )" + rf + "}",
        "t.json: /seed: expected an integer in [0, 9007199254740992], got 9007199254740993"},
