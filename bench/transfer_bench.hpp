@@ -60,6 +60,8 @@ struct TransferSummary {
   int champions = 0;
   double mean_curse_percent = 0.0;   ///< mean over champions of curse / check mean
   double pooled_curse_percent = 0.0; ///< sum of curses / sum of check means
+  double median_curse_percent = 0.0; ///< median over champions of curse / check mean
+  int near_zero = 0;                 ///< champions whose check mean is within one check sd of 0
   double mean_checked = 0.0;         ///< mean checked distance (real ability), px
   double coverage = 0.0;             ///< held-out runs inside the interval, share
 };
