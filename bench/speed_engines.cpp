@@ -59,17 +59,29 @@ std::vector<Engine> sequential_baselines(std::shared_ptr<const std::vector<soda:
   return engines;
 }
 
-/// Frames for one run of about `target` seconds (at least 1).
+/// Frames for one run of about `target` seconds (at least 1). The time per frame
+/// is the slope between the last two trial runs (4x the frames), not the last
+/// run's time over its frames: a run also has a fixed cost (making its states,
+/// loading them into the stepper) that would otherwise count as frames, and an
+/// engine with many states per frame (fast-replicas) got a handful of frames, its
+/// timed runs mostly that fixed cost. At most 20x the frames of the plain quotient.
 long long calibrate(const Engine& e, double target) {
-  long long frames = 1;
+  long long frames = 1, last_frames = 0;
+  double last = 0.0;
   for (;;) {
+    if (e.prepare) e.prepare();
     const auto t0 = Clock::now();
     e.run(frames);
     const double t = seconds_since(t0);
-    if (t >= target * 0.25 || frames >= (1LL << 40)) {
-      const double per_frame = t / static_cast<double>(frames);
+    if ((t >= target * 0.25 && last_frames > 0) || frames >= (1LL << 40)) {
+      const double quotient = t / static_cast<double>(frames);
+      double per_frame = quotient;
+      if (last_frames > 0 && t > last) per_frame = (t - last) / static_cast<double>(frames - last_frames);
+      per_frame = std::clamp(per_frame, quotient / 20.0, quotient);
       return std::max<long long>(1, static_cast<long long>(target / std::max(per_frame, 1e-12)));
     }
+    last = t;
+    last_frames = frames;
     frames *= 4;
   }
 }
@@ -190,16 +202,16 @@ std::vector<Engine> make_ga_engines(std::shared_ptr<const std::vector<soda::Mode
     batches->emplace_back(first, std::make_unique<soda::BatchStepper>(ptrs, 1'000'000));
   }
   // fast-batch and fast-replicas start each run from copies of the initial
-  // states made once (copied into the same buffers): the GA makes a state once
-  // per rollout of thousands of frames, and a timed run here is tens of frames
-  // (fast-replicas steps 8 times as many states), so making them in the run
-  // would weigh on fast-replicas 8 times as much as on fast-batch.
+  // states made once, copied before the run and not timed (Engine::prepare): the
+  // GA makes a state once per rollout of thousands of frames, and a timed run
+  // here is tens to hundreds of frames (fast-replicas steps 8 times as many
+  // states), so making them in the run would weigh on fast-replicas 8 times as
+  // much as on fast-batch. Loading the states into the steppers is timed.
   auto start = std::make_shared<std::vector<soda::State>>();
   for (const soda::Model& m : *models) start->push_back(soda::make_state(m));
   auto work = std::make_shared<std::vector<soda::State>>();
   engines.push_back({"fast-batch",
-                     [batches, start, work, ends](long long frames) {
-                       *work = *start;
+                     [batches, work, ends](long long frames) {
                        for (std::size_t b = 0; b < batches->size(); ++b) {
                          std::vector<soda::State*> sp;
                          for (std::size_t k = (*batches)[b].first; k < ends[b]; ++k) sp.push_back(&(*work)[k]);
@@ -207,7 +219,7 @@ std::vector<Engine> make_ga_engines(std::shared_ptr<const std::vector<soda::Mode
                        }
                        g_sink = g_sink + work->back().x[0];
                      },
-                     count});
+                     count, [start, work] { *work = *start; }});
   // "fast-replicas": each creature as the GA's estimator sees it, kReplicas
   // states of its one Model (replica 0 exact, r jittered with seed r), in the
   // batches the GA's evaluation cuts (the fast-batch batches, each creature's
@@ -237,8 +249,7 @@ std::vector<Engine> make_ga_engines(std::shared_ptr<const std::vector<soda::Mode
   }
   auto replica_work = std::make_shared<std::vector<soda::State>>();
   engines.push_back({"fast-replicas",
-                     [replicas, replica_start, replica_work, ends](long long frames) {
-                       *replica_work = *replica_start;
+                     [replicas, replica_work, ends](long long frames) {
                        std::vector<soda::State*> sp;
                        for (std::size_t b = 0, first = 0; b < ends.size(); first = ends[b], ++b) {
                          sp.clear();
@@ -247,7 +258,7 @@ std::vector<Engine> make_ga_engines(std::shared_ptr<const std::vector<soda::Mode
                        }
                        g_sink = g_sink + replica_work->back().x[0];
                      },
-                     count * kReplicas});
+                     count * kReplicas, [replica_start, replica_work] { *replica_work = *replica_start; }});
   return engines;
 }
 
@@ -257,12 +268,15 @@ std::vector<SpeedRow> time_engines(const std::string& section, const std::string
                                    std::vector<Engine> engines, int runs, double target) {
   std::vector<long long> frames;
   for (const Engine& e : engines) {
-    e.run(std::max<long long>(1, calibrate(e, target / 8))); // warm-up
+    const long long warm_up = std::max<long long>(1, calibrate(e, target / 8));
+    if (e.prepare) e.prepare();
+    e.run(warm_up);
     frames.push_back(calibrate(e, target));
   }
   std::vector<std::vector<double>> times(engines.size());
   for (int r = 0; r < runs; ++r) {
     for (std::size_t i = 0; i < engines.size(); ++i) {
+      if (engines[i].prepare) engines[i].prepare();
       const auto t0 = Clock::now();
       engines[i].run(frames[i]);
       times[i].push_back(seconds_since(t0));

@@ -32,6 +32,9 @@ struct Engine {
   std::string name;
   std::function<void(long long)> run;
   int creatures = 1; ///< creatures one run steps (each by `frames`)
+  /// Called before each run, untimed (none: nothing): fast-batch and fast-replicas
+  /// of the ga section copy their initial states here.
+  std::function<void()> prepare = nullptr;
 };
 
 /// Which engines besides seed, plain, fast-sse2 and fast.

@@ -18,6 +18,7 @@
 #include "exact_sines.hpp"
 #include "detail/glibc_sine.hpp"
 #include "physics_rules.hpp"
+#include "scene_analysis.hpp"
 #include "simd_level.hpp"
 #include "detail/simd_ops.hpp"
 #include "detail/simd_rules.hpp"
@@ -27,6 +28,9 @@ namespace soda {
 namespace {
 using O = simd::Avx512Ops;
 constexpr int kW = LockstepBatch::kLanes;
+/// Groups stepped side by side in one pass over their links and masses (two,
+/// three and four measured alike on the GA's creatures; one alone ~25 % slower).
+constexpr int kSideBySide = 2;
 static_assert(O::W == kW);
 } // namespace
 
@@ -51,11 +55,14 @@ struct LockstepBatch::Data {
   };
   int count = 0;
   std::vector<Group> groups;
+  std::vector<int> state_points; ///< [count] points of state c's model
   std::vector<std::pair<int, int>> schedule; ///< (first group, groups stepped side by side: same links)
   SinFn sine_fn = nullptr;
   const glibc_sine::GlibcTable* sine_table = nullptr; ///< for the sines inlined into the link pass
 
-  enum World { kSpringyness, kGravityStep, kKeep, kWidth, kHeight, kFs, kRs, kSpeed, kMode, kPhase, kWorldRows };
+  // kLeft, kRight, kTop: the walls are out of reach this frame where every mass
+  // is right of kLeft, left of kRight and below kTop (walls_far).
+  enum World { kSpringyness, kGravityStep, kKeep, kWidth, kHeight, kFs, kRs, kSpeed, kMode, kPhase, kLeft, kRight, kTop, kWorldRows };
   // One allocation: the distances between the rows, hence which loads and stores
   // share their low 12 address bits (a false dependency), are then the same in
   // every run; with four allocations the speed changed from process to process
@@ -71,6 +78,9 @@ struct LockstepBatch::Data {
   AVec<double> packed_phase, packed_arguments, packed_sines;  ///< rows at packed_at
   AVec<double> predicted;        ///< [groups] rows: the phase the sines are for
   std::vector<std::uint8_t> packed; ///< [groups] the group's sines are the packed ones
+  /// [groups] no mass of any lane can reach the ceiling or a side wall this frame
+  /// (the floor is tested always: walkers touch it every frame).
+  std::vector<std::uint8_t> walls_far;
   bool inline_sines = false;     ///< the CPU has the vector sine (exact_sines.hpp)
   std::vector<std::uint8_t> autoreverse; ///< [groups * 8]
   std::vector<State*> lane_state;        ///< [groups * 8] the state each lane loads from
@@ -107,6 +117,8 @@ struct LockstepBatch::Data {
   void sines_now(int g);
   void unpack_sines(int g);
   void targets_from_sines(int g);
+  bool packed_jitter_hits(int g);
+  void targets_from_packed(int g);
   void jitter_sines(int g);
   void queue_sines(int g);
   template <int N>
@@ -189,6 +201,7 @@ void LockstepBatch::Data::add_group(const std::vector<const Model*>& models, int
   for (const Model* m : models) {
     for (int q = 0; q < G.columns; ++q) G.uniform = G.uniform && bits_of(m->link_phase[column_link[q]]) == bits_of(shape.link_phase[column_link[q]]);
   }
+  state_points.insert(state_points.end(), static_cast<std::size_t>(lanes), G.points);
   groups.push_back(std::move(G));
   for (int l = 0; l < kW; ++l) lane_models.push_back(models[static_cast<std::size_t>(std::min(l, lanes - 1))]);
   group_column_links.push_back(std::move(column_link));
@@ -215,6 +228,7 @@ void LockstepBatch::Data::lay_out() {
   packed_sines.assign(packed_phase.size(), 0.0);
   predicted.assign(static_cast<std::size_t>(group_total) * kW, 0.0);
   packed.assign(static_cast<std::size_t>(group_total), 0);
+  walls_far.assign(static_cast<std::size_t>(group_total), 0);
   sine_fn = exact_sin_fn(SimdLevel::Avx512);
   inline_sines = vector_sines_usable(SimdLevel::Avx512);
   sine_table = &glibc_sine::glibc_table();
@@ -239,6 +253,13 @@ void LockstepBatch::Data::lay_out() {
       world_row(g, kFs)[l] = m.surface_friction;
       world_row(g, kRs)[l] = m.surface_reflection;
       world_row(g, kSpeed)[l] = m.wave_speed;
+      // A free mass moves at most kMaxMovePerFrame (x max(1, keep)) px a frame
+      // (scene_analysis.hpp); out to kWallAnalysisMaxCoordinate. NaN limits
+      // (a world without walls is +inf wide) keep every wall tested.
+      const double reach = kMaxMovePerFrame * std::max(1.0, m.air_keep);
+      world_row(g, kLeft)[l] = reach;
+      world_row(g, kRight)[l] = std::min(m.width - reach, kWallAnalysisMaxCoordinate);
+      world_row(g, kTop)[l] = std::min(m.height - reach, kWallAnalysisMaxCoordinate);
       autoreverse[static_cast<std::size_t>(g) * kW + l] = m.autoreverse ? 1 : 0;
     }
     if (G.uniform) {
@@ -249,14 +270,7 @@ void LockstepBatch::Data::lay_out() {
   sine_work.reserve(2 * most_work);
   lane_models.clear();
   group_column_links.clear();
-  for (int g = 0; g < group_total;) {
-    const Group& G = groups[static_cast<std::size_t>(g)];
-    const bool pair = g + 1 < group_total && groups[static_cast<std::size_t>(g) + 1].masses == G.masses &&
-                      groups[static_cast<std::size_t>(g) + 1].link_a == G.link_a &&
-                      groups[static_cast<std::size_t>(g) + 1].link_b == G.link_b;
-    schedule.emplace_back(g, pair ? 2 : 1);
-    g += pair ? 2 : 1;
-  }
+  for (int g = 0; g < group_total; g += kSideBySide) schedule.emplace_back(g, std::min(kSideBySide, group_total - g));
 }
 
 LockstepBatch::~LockstepBatch() = default;
@@ -342,7 +356,7 @@ void LockstepBatch::Data::sines_now(int g) {
   const double* sine = packed_row(packed_sines, g, 0);
   for (int q = 0; q < G.columns; ++q) {
     O::store(sines_row(g, q), O::set1(sine[q]));
-    if (G.jittered) O::store(arguments_row(g, q), O::set1(argument[q]));
+    O::store(arguments_row(g, q), O::set1(argument[q]));
   }
 }
 
@@ -386,6 +400,37 @@ void LockstepBatch::Data::jitter_sines(int g) {
   }
 }
 
+// Whether the jitter of some lane of packed group g moves one of its sines this
+// frame (the hash of jitter_sines, each column's argument in every lane).
+[[gnu::always_inline]] inline bool LockstepBatch::Data::packed_jitter_hits(int g) {
+  const std::size_t first = static_cast<std::size_t>(g) * kW;
+  const __m512i seed_mix = _mm512_loadu_si512(lane_seed_mix.data() + first);
+  const __m512i threshold = _mm512_loadu_si512(lane_threshold.data() + first);
+  const __m512i m1 = _mm512_set1_epi64(static_cast<long long>(0xbf58476d1ce4e5b9ULL));
+  const __m512i m2 = _mm512_set1_epi64(static_cast<long long>(0x94d049bb133111ebULL));
+  const double* argument = packed_row(packed_arguments, g, 0);
+  unsigned hits = 0;
+  for (int q = 0; q < groups[static_cast<std::size_t>(g)].columns; ++q) {
+    __m512i z = _mm512_xor_si512(_mm512_castpd_si512(_mm512_set1_pd(argument[q])), seed_mix);
+    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 30)), m1);
+    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 27)), m2);
+    z = _mm512_xor_si512(z, _mm512_srli_epi64(z, 31));
+    hits |= _mm512_cmplt_epu64_mask(_mm512_srli_epi64(z, 11), threshold);
+  }
+  return hits != 0;
+}
+
+// Packed group g's wave links' targets: each column's one sine in every lane.
+[[gnu::always_inline]] inline void LockstepBatch::Data::targets_from_packed(int g) {
+  const Group& G = groups[static_cast<std::size_t>(g)];
+  const double* sine = packed_row(packed_sines, g, 0);
+  for (std::size_t w = 0; w < G.wave_links.size(); ++w) {
+    const int j = G.wave_links[w];
+    O::store(link_row(g, 2, j), simd_rules::muscle_target<O>(O::load(link_row(g, 0, j)), O::load(link_row(g, 1, j)),
+                                                             O::set1(sine[G.column_of[w]])));
+  }
+}
+
 // Group g's wave links' targets from its sines: rest * (1 + power * sine).
 [[gnu::always_inline]] inline void LockstepBatch::Data::targets_from_sines(int g) {
   const Group& G = groups[static_cast<std::size_t>(g)];
@@ -421,25 +466,38 @@ template <int N>
     const int g = g0 + n;
     const Group& G = groups[static_cast<std::size_t>(g)];
     if (G.columns == 0) continue;
-    if (packed[static_cast<std::size_t>(g)] != 0) unpack_sines(g);
-    if (G.jittered) [[unlikely]] jitter_sines(g);
-    targets_from_sines(g);
+    if (packed[static_cast<std::size_t>(g)] != 0 && !(G.jittered && packed_jitter_hits(g))) {
+      targets_from_packed(g); // the lanes' sines as computed: each column's in every lane
+    } else {
+      if (packed[static_cast<std::size_t>(g)] != 0) unpack_sines(g);
+      if (G.jittered) [[unlikely]] jitter_sines(g);
+      targets_from_sines(g);
+    }
     arguments_for(g, simd_rules::advance_wave_phase<O>(O::load(world_row(g, kPhase)), O::load(world_row(g, kSpeed)),
                                                        O::load(world_row(g, kMode))));
     if (inline_sines) queue_sines(g);
   }
-  const Group& shape = groups[static_cast<std::size_t>(g0)];
-  const int links = shape.links, masses = shape.masses;
+  // The groups' links and masses side by side, each group's in its own order.
+  const int* la[N];
+  const int* lb[N];
+  int group_links[N], group_masses[N];
+  int links = 0, masses = 0;
+  for (int n = 0; n < N; ++n) {
+    const Group& G = groups[static_cast<std::size_t>(g0 + n)];
+    la[n] = G.link_a.data();
+    lb[n] = G.link_b.data();
+    group_links[n] = G.links;
+    group_masses[n] = G.masses;
+    links = std::max(links, G.links);
+    masses = std::max(masses, G.masses);
+  }
   const int sine_rows = static_cast<int>(sine_work.size());
   const glibc_sine::GlibcTable& table = *sine_table;
   unsigned far_lanes = 0; // lanes glibc's sin takes elsewhere (|x| >= 105414336, NaN): none from phases in [0, 1)
   int sines_done = 0, sine_credit = 0; // sines due after link j: (j + 1) * sine_rows / links, by steps
   // Links in file order (step.cpp apply_links): each impulse goes into both
   // ends' velocities at once; a zero-length link adds nothing (masked).
-  const int* la = shape.link_a.data();
-  const int* lb = shape.link_b.data();
   for (int j = 0; j < links; ++j) {
-    const int a = la[j], b = lb[j];
     // The next frame's sines, spread over the links.
     for (sine_credit += sine_rows; sine_credit >= links; sine_credit -= links, ++sines_done) {
       unsigned far = 0;
@@ -449,17 +507,19 @@ template <int N>
     }
 #pragma GCC unroll 4
     for (int n = 0; n < N; ++n) {
+      if (j >= group_links[n]) continue;
+      const int a = la[n][j], b = lb[n][j];
       const V dx = O::sub(x[n][b], x[n][a]);
       const V dy = O::sub(y[n][b], y[n][a]);
       const V length = simd_rules::length<O>(dx, dy);
       const M acts = O::ne(length, zero);
       const V c = simd_rules::impulse_factor<O>(springyness[n], length, O::load(target[n] + static_cast<std::size_t>(j) * kW));
       const V px = O::mul(c, dx), py = O::mul(c, dy);
-      if (a < masses) {
+      if (a < group_masses[n]) {
         vx[n][a] = O::add_where(acts, vx[n][a], px);
         vy[n][a] = O::add_where(acts, vy[n][a], py);
       }
-      if (b < masses) {
+      if (b < group_masses[n]) {
         vx[n][b] = O::sub_where(acts, vx[n][b], px);
         vy[n][b] = O::sub_where(acts, vy[n][b], py);
       }
@@ -467,17 +527,39 @@ template <int N>
   }
   // Masses in order (step.cpp move_masses); autoreverse lane by lane in mass order.
   simd_rules::MassParams<O> params[N];
+  bool hit_wall[N] = {};
   for (int n = 0; n < N; ++n) {
     const int g = g0 + n;
     params[n] = {O::load(world_row(g, kGravityStep)), O::load(world_row(g, kKeep)), O::load(world_row(g, kWidth)),
                  O::load(world_row(g, kHeight)),      O::load(world_row(g, kFs)),   O::load(world_row(g, kRs))};
   }
+  // Where this frame's walls were out of reach, the ceiling and side tests
+  // would change nothing (the same bits without them); whether they are next
+  // frame, from the new positions.
+  bool far[N];
+  M inside[N];
+  V left[N], right[N], top[N];
+  for (int n = 0; n < N; ++n) {
+    const int g = g0 + n;
+    far[n] = walls_far[static_cast<std::size_t>(g)] != 0;
+    inside[n] = static_cast<M>(0xff);
+    left[n] = O::load(world_row(g, kLeft));
+    right[n] = O::load(world_row(g, kRight));
+    top[n] = O::load(world_row(g, kTop));
+  }
   for (int i = 0; i < masses; ++i) {
 #pragma GCC unroll 4
     for (int n = 0; n < N; ++n) {
+      if (i >= group_masses[n]) continue;
+      if (far[n]) {
+        simd_rules::move_mass<O, true, true, false, false>(params[n], x[n][i], y[n][i], vx[n][i], vy[n][i]);
+      }
       const simd_rules::SideHits<O> hits =
-          simd_rules::move_mass<O, true, true, true, true>(params[n], x[n][i], y[n][i], vx[n][i], vy[n][i]);
+          far[n] ? simd_rules::SideHits<O>{O::m_none(), O::m_none()}
+                 : simd_rules::move_mass<O, true, true, true, true>(params[n], x[n][i], y[n][i], vx[n][i], vy[n][i]);
+      inside[n] = O::m_and(inside[n], O::m_and(O::gt(x[n][i], left[n]), O::m_and(O::lt(x[n][i], right[n]), O::lt(y[n][i], top[n]))));
       if (O::any(hits.hit)) [[unlikely]] {
+        hit_wall[n] = true;
         const int g = g0 + n;
         double* mode = world_row(g, kMode);
         for (int l = 0; l < kW; ++l) {
@@ -491,15 +573,23 @@ template <int N>
       }
     }
   }
-  // The wave advance after the physics (docs/physics.md, "The wave"). Where a direction turned
-  // (or the sines were not computed above), the next frame's sines again.
+  for (int n = 0; n < N; ++n) walls_far[static_cast<std::size_t>(g0 + n)] = inside[n] == static_cast<M>(0xff) ? 1 : 0;
+  // The wave advance after the physics (docs/physics.md, "The wave"): the
+  // predicted phase where no lane hit a side wall (the same operations on the
+  // same operands). Where a direction turned (or the sines were not computed
+  // above), the next frame's sines again.
   for (int n = 0; n < N; ++n) {
     const int g = g0 + n;
+    const double* expected = predicted.data() + static_cast<std::size_t>(g) * kW;
+    if (groups[static_cast<std::size_t>(g)].columns > 0 && !hit_wall[n]) {
+      O::store(world_row(g, kPhase), O::load(expected));
+      if (sine_rows == 0 || far_lanes != 0) sines_now(g);
+      continue;
+    }
     const V phase = simd_rules::advance_wave_phase<O>(O::load(world_row(g, kPhase)), O::load(world_row(g, kSpeed)),
                                                       O::load(world_row(g, kMode)));
     O::store(world_row(g, kPhase), phase);
     if (groups[static_cast<std::size_t>(g)].columns == 0) continue;
-    const double* expected = predicted.data() + static_cast<std::size_t>(g) * kW;
     if (sine_rows == 0 || far_lanes != 0 ||
         _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(phase), _mm512_load_si512(expected)) != 0) {
       sines_now(g);
@@ -509,13 +599,11 @@ template <int N>
 
 void LockstepBatch::run(State* const* states, long long frames) {
   Data& d = *d_;
-  require_batch_states(states, d.count, [&](int c) {
-    const auto in = std::upper_bound(d.groups.begin(), d.groups.end(), c, [](int i, const Data::Group& G) { return i < G.first; });
-    return std::prev(in)->points;
-  }, "LockstepBatch::run");
+  require_batch_states(states, d.count, [&](int c) { return d.state_points[static_cast<std::size_t>(c)]; }, "LockstepBatch::run");
   for (int c = 0; c < d.count; ++c) require_valid_jitter_of(states[c]->jitter, "LockstepBatch::run", c);
   if (frames <= 0) return;
   d.load(states);
+  std::fill(d.walls_far.begin(), d.walls_far.end(), 0); // tested in the first frame, known after it
   const std::size_t lanes = d.groups.size() * kW;
   // Padding lanes autoreverse into a scratch copy of their group's last state, not into it.
   std::vector<State> padding;
@@ -546,6 +634,7 @@ void LockstepBatch::run(State* const* states, long long frames) {
   }
   for (long long f = 0; f < frames; ++f) {
     for (const auto& [g, n] : d.schedule) {
+      static_assert(kSideBySide == 2);
       if (n == 2) {
         d.step_groups<2>(g);
       } else {

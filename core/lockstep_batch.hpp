@@ -22,8 +22,9 @@
 // groups of any shapes (of_shapes). All groups step frame by frame together: a
 // small creature's frame is a short dependency chain, and the chains of other
 // groups fill the core while one waits (the GA's creatures average 6 links, and
-// its evaluation batches hold 16 creatures x 8 replicas: 16 groups). Consecutive
-// groups with the same links share one pass over them.
+// its evaluation batches hold 16 creatures x 8 replicas: 16 groups). Two groups
+// at a time share one pass over their links and masses, each in its own order,
+// so that their chains interleave (measured ~25 % faster than one at a time).
 //
 // Muscle sines: one per frame per distinct muscle phase of a lane (a column of
 // links whose phases agree in every lane of the group shares it), glibc's sin in
@@ -31,12 +32,18 @@
 // the same phase in each column and the same wave phase (replicas of one
 // creature, until a wall turns one lane's wave), the lanes' arguments are equal:
 // the sines are computed once per column, 8 columns to a vector, and broadcast
-// to the lanes (the same bits: the same operations on the same operands). Walls
-// are tested every frame (a max and a min per coordinate: cheaper than knowing
-// which are out of reach). A lane whose state carries sine jitter
-// (sine_jitter.hpp: replicas of one creature, each its own seed) gets its sines
-// moved before they are used, lane by lane from the same arguments as the
-// reference's; groups with no jittered lane skip that work.
+// to the lanes (the same bits: the same operations on the same operands). A lane
+// whose state carries sine jitter (sine_jitter.hpp: replicas of one creature,
+// each its own seed) gets its sines moved before they are used, lane by lane
+// from the same arguments as the reference's; groups with no jittered lane skip
+// that work, and shared sines are copied to the lanes only in a frame where the
+// hash moves one of them.
+//
+// Walls: the floor is tested every frame (a max per coordinate); the ceiling
+// and the side walls too, except in a frame where every mass of the group is
+// further from them than a mass can move in a frame (known from the previous
+// frame's positions for a few compares per mass; there the tests would change
+// nothing).
 //
 // AVX-512 only (usable()); models with fixed bars are not taken (a bar test needs
 // each mass against the others' new positions, fast_step's ordered kernel).
