@@ -1,6 +1,9 @@
 #include "rng.hpp"
 
 #include <cmath>
+#include <limits>
+
+#include "core/sine.hpp"
 
 namespace sodaevo {
 
@@ -35,10 +38,33 @@ int Rng::between(int lo, int hi) {
 }
 
 double Rng::normal() {
-  // 1 - uniform() is in (0, 1], so the log is finite.
+  // 1 - uniform() is in (0, 1], so the log is finite. The sine of a uniform angle
+  // is as good as the cosine, and the engine has its own.
   const double u1 = 1.0 - uniform();
   const double u2 = uniform();
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(6.283185307179586 * u2);
+  return std::sqrt(-2.0 * portable_log(u1)) * soda::sine(6.283185307179586 * u2);
+}
+
+double portable_log(double x) {
+  if (!(x > 0.0) || !std::isfinite(x)) return std::numeric_limits<double>::quiet_NaN();
+  int e = 0;
+  double m = std::frexp(x, &e); // exact: x = m 2^e, m in [0.5, 1)
+  if (m < 0.70710678118654752) {
+    m *= 2.0; // exact
+    --e;
+  }
+  // |s| <= 0.1716, s^2 <= 0.0295: the series' terms after s^23 / 23 are below
+  // 2^-53 of the sum.
+  const double s = (m - 1.0) / (m + 1.0);
+  const double s2 = s * s;
+  double tail = 1.0 / 23.0;
+  for (int k = 21; k >= 3; k -= 2) tail = 1.0 / k + s2 * tail;
+  const double log_m = 2.0 * s + 2.0 * s * (s2 * tail);
+  // ln 2 in two parts; e * kLn2High is exact for |e| < 2^11.
+  constexpr double kLn2High = 0x1.62e42fee00000p-1;
+  constexpr double kLn2Low = 0x1.a39ef35793c76p-33;
+  const double fe = static_cast<double>(e);
+  return fe * kLn2High + (log_m + fe * kLn2Low);
 }
 
 } // namespace sodaevo

@@ -5,6 +5,13 @@
 // uniform, integer and normal draws. Streams are derived from (seed, generation,
 // individual, purpose) by hashing, so every child's randomness depends only on
 // those numbers, never on thread scheduling or on how many draws others made.
+//
+// No C library function with a rounding of its own: the C library's log, cos and
+// hypot differ between libraries and, on x86-64 glibc, between CPUs (FMA or not),
+// so a mutation drawn with them, and the whole run after it, would differ from
+// machine to machine. normal() uses portable_log (below) and the engine's own
+// sine (core/sine.hpp); everything else is +, -, *, / and sqrt, which IEEE 754
+// rounds the same everywhere.
 #pragma once
 
 #include <cstdint>
@@ -31,7 +38,7 @@ class Rng {
   int between(int lo, int hi);
   /// True with probability p.
   bool chance(double p) { return uniform() < p; }
-  /// Standard normal (Box-Muller, one value per call).
+  /// Standard normal (Box-Muller, one value per call): sqrt(-2 log u1) sin(2 pi u2).
   double normal();
 
   [[nodiscard]] std::uint64_t state() const { return state_; }
@@ -39,6 +46,12 @@ class Rng {
  private:
   std::uint64_t state_;
 };
+
+/// The natural log of a positive finite x, within 2 units in the last place, the
+/// same bits on every machine: x = m 2^e with m in [sqrt(1/2), sqrt(2)), and
+/// log m = 2 atanh(s), s = (m - 1) / (m + 1), by its series. NaN for x <= 0, NaN
+/// or infinity.
+double portable_log(double x);
 
 /// The SplitMix64 output function (core/mix64.hpp).
 using soda::mix64;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/input_error.hpp"
+#include "core/sine.hpp"
 #include "evolve/creature_graph.hpp"
 #include "evolve/creature_limits.hpp"
 
@@ -16,7 +17,12 @@ namespace {
 
 constexpr double kMinRestLength = 1.0; // px; keeps mutated links from collapsing
 
-double distance(const soda::NodeDef& a, const soda::NodeDef& b) { return std::hypot(b.x - a.x, b.y - a.y); }
+/// sqrt(dx^2 + dy^2): rounded the same everywhere, unlike the C library's hypot
+/// (evolve/rng.hpp says why that matters).
+double distance(const soda::NodeDef& a, const soda::NodeDef& b) {
+  const double dx = b.x - a.x, dy = b.y - a.y;
+  return std::sqrt(dx * dx + dy * dy);
+}
 
 soda::LinkDef new_link(const soda::ModelDef& c, int a, int b, bool muscle, Rng& rng) {
   soda::LinkDef l;
@@ -177,8 +183,9 @@ bool mutate_add_mass(soda::ModelDef& c, const RunConfig& cfg, Rng& rng) {
   const double angle = rng.uniform(0.0, 6.283185307179586);
   const double radius = rng.uniform(0.3, 1.0) * std::max(20.0, cfg.population.random.size / 3.0);
   soda::NodeDef added;
-  added.x = p.x + radius * std::cos(angle);
-  added.y = std::max(0.0, p.y + radius * std::sin(angle));
+  // The engine's own sine (the C library's differs between machines): cos a = sin(a + pi/2).
+  added.x = p.x + radius * soda::sine(angle + 1.5707963267948966);
+  added.y = std::max(0.0, p.y + radius * soda::sine(angle));
   // Join it to its two nearest masses (three when allowed and available).
   std::vector<std::pair<double, int>> by_distance;
   for (int i = 0; i < n; ++i) by_distance.emplace_back(distance(added, c.nodes[i]), i);
