@@ -14,7 +14,8 @@
 namespace sodaevo::app {
 
 bool claim_flagged(const ClaimRow& row) {
-  return row.claim - row.check_mean > 0.05 * std::fabs(row.check_mean);
+  const double better_by = row.race ? row.check_mean - row.claim : row.claim - row.check_mean;
+  return better_by > 0.05 * std::fabs(row.check_mean);
 }
 
 namespace {
@@ -45,6 +46,8 @@ std::string render_claims_chart(const std::vector<ClaimRow>& rows) {
   hi += 0.05 * span;
   const double plot = width - left - right;
   auto x_of = [&](double v) { return left + (v - lo) / (hi - lo) * plot; };
+  const bool race = std::any_of(rows.begin(), rows.end(), [](const ClaimRow& r) { return r.race; });
+  const char* unit = race ? "frames" : "px";
 
   std::ostringstream o;
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
@@ -63,23 +66,26 @@ std::string render_claims_chart(const std::vector<ClaimRow>& rows) {
       << "\" text-anchor=\"middle\">" << number(v) << "</text>\n";
   }
   o << "<text x=\"" << left + plot / 2 << "\" y=\"" << axis_y + 36
-    << "\" text-anchor=\"middle\">distance walked over the scored frames, px</text>\n";
+    << "\" text-anchor=\"middle\">"
+    << (race ? "race result, frames to the finish (fewer is better)" : "distance walked over the scored frames, px")
+    << "</text>\n";
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const ClaimRow& r = rows[i];
     const double y = top + row_height * (static_cast<double>(i) + 0.5);
     const bool flag = claim_flagged(r);
     o << "<text x=\"" << left - 8 << "\" y=\"" << number(y + 4) << "\" text-anchor=\"end\""
-      << (flag ? " fill=\"#b00\"" : "") << ">" << charts::svg_escape(r.id) << (flag ? " (claim > check + 5 %)" : "")
+      << (flag ? " fill=\"#b00\"" : "") << ">" << charts::svg_escape(r.id)
+      << (!flag ? "" : r.race ? " (claim < check - 5 %)" : " (claim > check + 5 %)")
       << "</text>\n";
     o << "<line x1=\"" << number(x_of(r.check_lo)) << "\" y1=\"" << number(y) << "\" x2=\"" << number(x_of(r.check_hi))
       << "\" y2=\"" << number(y) << "\" stroke=\"#1f77b4\" stroke-width=\"2\"/>\n";
     o << "<circle cx=\"" << number(x_of(r.check_median)) << "\" cy=\"" << number(y)
-      << "\" r=\"4\" fill=\"#1f77b4\"><title>checked median " << number(r.check_median) << " px, interval ["
-      << number(r.check_lo) << ", " << number(r.check_hi) << "]</title></circle>\n";
+      << "\" r=\"4\" fill=\"#1f77b4\"><title>checked median " << number(r.check_median) << " "
+      << unit << ", interval [" << number(r.check_lo) << ", " << number(r.check_hi) << "]</title></circle>\n";
     const double cx = x_of(r.claim);
     o << "<path d=\"M" << number(cx) << ' ' << number(y - 6) << " L" << number(cx + 6) << ' ' << number(y) << " L"
       << number(cx) << ' ' << number(y + 6) << " L" << number(cx - 6) << ' ' << number(y) << " Z\" fill=\""
-      << (flag ? "#d62728" : "#ff7f0e") << "\"><title>claim " << number(r.claim) << " px (" << r.claim_n
+      << (flag ? "#d62728" : "#ff7f0e") << "\"><title>claim " << number(r.claim) << " " << unit << " (" << r.claim_n
       << " replicas)</title></path>\n";
   }
   o << "</svg>\n";
@@ -94,7 +100,9 @@ std::vector<ClaimRow> read_claim_rows(const std::filesystem::path& path) {
       if (!e.contains("check")) continue; // the check failed; its entry says why
       ClaimRow r;
       r.id = e.at("id").get<std::string>();
-      r.claim = e.at("selection").at("mean").get<double>();
+      // A race's fitness is minus its frames; its check is in frames.
+      r.race = e.value("unit", std::string("px")) == "frames";
+      r.claim = e.at("selection").at("mean").get<double>() * (r.race ? -1.0 : 1.0);
       r.claim_n = e.at("selection").at("n").get<int>();
       const nlohmann::json& c = e.at("check");
       r.check_median = c.at("median").get<double>();
@@ -121,9 +129,13 @@ std::string claims_section_html(const std::filesystem::path& run_dir) {
   const std::vector<ClaimRow> rows = read_claim_rows(file);
   const auto flagged = std::count_if(rows.begin(), rows.end(), claim_flagged);
   o << "<p class=\"note\">Each creature's claim (its estimate in the run, over the replicas it gathered) against a "
-       "check on replicas that selection never saw. A walker is chaotic: the original program's run is one more "
+       "check on replicas that selection never saw. A creature is chaotic: the original program's run is one more "
        "draw, which the interval should contain 95 % of the time. "
-    << flagged << " of " << rows.size() << " claims are more than 5 % above their check.</p>\n"
+    << flagged << " of " << rows.size() << " claims are more than 5 % better than their check"
+    << (std::any_of(rows.begin(), rows.end(), [](const ClaimRow& r) { return r.race; })
+            ? " (race results in frames: fewer is better)"
+            : "")
+    << ".</p>\n"
     << render_claims_chart(rows);
   return o.str();
 }

@@ -81,4 +81,41 @@ Motion record_motion(const soda::ModelDef& def, long long frames, int every, con
   return m;
 }
 
+Motion record_race_motion(const soda::RaceLane& lane, const soda::Model& model, int timeout, const std::string& name,
+                          int max_samples) {
+  Motion m = motion_of_model(model, name);
+  std::vector<std::vector<double>> xy;
+  std::vector<double> cx;
+  const auto keep = [&](const soda::State& s) {
+    std::vector<double> row;
+    double sum = 0.0;
+    for (int i = 0; i < model.mass_count; ++i) {
+      row.push_back(tenth(s.x[static_cast<std::size_t>(i)]));
+      row.push_back(tenth(s.y[static_cast<std::size_t>(i)]));
+      sum += s.x[static_cast<std::size_t>(i)];
+    }
+    xy.push_back(std::move(row));
+    cx.push_back(sum / model.mass_count);
+  };
+  keep(soda::make_state(model));
+  const soda::RaceOutcome o = soda::run_race(lane, model, timeout, keep);
+  m.frames = o.updates;
+  m.every = sample_interval(o.updates, max_samples);
+  for (std::size_t f = 0; f < xy.size(); ++f) {
+    if (f % static_cast<std::size_t>(m.every) != 0 && f + 1 != xy.size()) continue;
+    m.sample_frames.push_back(static_cast<long long>(f));
+    m.mass_xy.push_back(xy[f]);
+    m.centroid_x.push_back(cx[f]);
+  }
+  m.marks.push_back({lane.start_x, "start"});
+  m.marks.push_back({lane.finish_x + 6.0, "finish"});
+  return m;
+}
+
+Motion record_race_motion(const soda::RaceDef& race, int timeout, const soda::ModelDef& contender,
+                          const std::string& name, int max_samples) {
+  const soda::RaceLane lane = soda::build_lane(race.terrain, race.constraints, contender, name);
+  return record_race_motion(lane, soda::build_lane_model(lane), timeout, name, max_samples);
+}
+
 } // namespace sodaevo::app

@@ -12,6 +12,7 @@
 
 #include "core/model.hpp"
 #include "core/model_def.hpp"
+#include "core/race_lane.hpp"
 #include "core/stepping.hpp"
 
 namespace sodaevo::app {
@@ -58,5 +59,17 @@ Motion motion_of_model(const soda::Model& model, const std::string& name);
 /// keeps frame 0, every `every`-th frame and the last. Throws soda::InputError if
 /// the model is not valid.
 Motion record_motion(const soda::ModelDef& def, long long frames, int every, const soda::Stepping& stepping = {});
+
+/// A race in its lane (core/race_lane.hpp) to its finish or `timeout`, with the
+/// reference runner, at most `max_samples` samples; the start and finish lines as
+/// marks. The frame count is the race's, known only once it is run, so the whole
+/// race is recorded and then sampled.
+Motion record_race_motion(const soda::RaceLane& lane, const soda::Model& model, int timeout, const std::string& name,
+                          int max_samples = 2000);
+
+/// record_race_motion of `contender` (as the racer reads a contender file) in its
+/// lane on `race`'s terrain. Throws soda::InputError for a contender the lane refuses.
+Motion record_race_motion(const soda::RaceDef& race, int timeout, const soda::ModelDef& contender,
+                          const std::string& name, int max_samples = 2000);
 
 } // namespace sodaevo::app

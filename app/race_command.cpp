@@ -138,38 +138,6 @@ void assign_places(std::vector<Entry>& entries) {
   }
 }
 
-Motion lane_motion(const soda::RaceLane& lane, const soda::Model& model, int timeout, const std::string& name) {
-  constexpr int kMaxSamples = 2000;
-  Motion m = motion_of_model(model, name);
-  // The whole race is recorded once to know its length, then sampled.
-  std::vector<std::vector<double>> xy;
-  std::vector<double> cx;
-  const auto keep = [&](const soda::State& s) {
-    std::vector<double> row;
-    double sum = 0.0;
-    for (int i = 0; i < model.mass_count; ++i) {
-      row.push_back(std::round(s.x[static_cast<std::size_t>(i)] * 10.0) / 10.0);
-      row.push_back(std::round(s.y[static_cast<std::size_t>(i)] * 10.0) / 10.0);
-      sum += s.x[static_cast<std::size_t>(i)];
-    }
-    xy.push_back(std::move(row));
-    cx.push_back(sum / model.mass_count);
-  };
-  keep(soda::make_state(model));
-  const soda::RaceOutcome o = soda::run_race(lane, model, timeout, keep);
-  m.frames = o.updates;
-  m.every = sample_interval(o.updates, kMaxSamples);
-  for (std::size_t f = 0; f < xy.size(); ++f) {
-    if (f % static_cast<std::size_t>(m.every) != 0 && f + 1 != xy.size()) continue;
-    m.sample_frames.push_back(static_cast<long long>(f));
-    m.mass_xy.push_back(xy[f]);
-    m.centroid_x.push_back(cx[f]);
-  }
-  m.marks.push_back({lane.start_x, "start"});
-  m.marks.push_back({lane.finish_x + 6.0, "finish"});
-  return m;
-}
-
 void run_race_command(const RaceOptions& opt) {
   const soda::RaceDef race = soda::read_race_file(opt.race);
   const int timeout = opt.timeout >= 0 ? opt.timeout : race.timeout;
@@ -202,7 +170,7 @@ void run_race_command(const RaceOptions& opt) {
       if (!trace_file) throw soda::InputError(opt.trace + ": writing the trace failed (disk full?)");
     }
     if (!opt.render.empty()) {
-      const Motion motion = lane_motion(lane, model, timeout, e.name);
+      const Motion motion = record_race_motion(lane, model, timeout, e.name);
       std::ofstream out(opt.render, std::ios::binary | std::ios::trunc);
       out << render_player_page(motion, "Race: " + e.name,
                                 race.source + ": " + result_text(e.outcome) + " frames (fixed bars: " +

@@ -21,6 +21,7 @@
 #include "charts/svg_chart.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
+#include "evolve/race_problem.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_roles.hpp"
 #include "evolve/run_store.hpp"
@@ -109,6 +110,21 @@ std::string table_number(double v, int digits) { return std::isfinite(v) ? fixed
 
 std::string esc(const std::string& s) { return html_escape(s); }
 
+/// How the run's scores read. A walk's fitness is px walked (more is better); a
+/// race's is minus its result, shown as frames to the finish (fewer is better).
+struct ScoreUnit {
+  bool race = false;
+  [[nodiscard]] double shown(double fitness) const { return race ? -fitness : fitness; }
+  [[nodiscard]] std::string unit() const { return race ? "frames" : "px"; }
+};
+
+/// "TerrainFlat, TerrainHilly" for the run's race files.
+std::string terrain_names(const RaceFitnessConfig& race) {
+  std::string out;
+  for (const std::string& t : race.terrains) out += (out.empty() ? "" : ", ") + fs::path(t).stem().string();
+  return out;
+}
+
 /// A creature to animate: a prepared model, scored as in the run.
 struct Shown {
   std::string caption;
@@ -132,9 +148,18 @@ void config_table(std::ostringstream& o, const RunConfig& c, const nlohmann::jso
   row("seed models", seeds.empty() ? "none" : seeds);
   row("selection", "tournament of " + std::to_string(c.selection.tournament_size) + ", " + std::to_string(c.selection.elites) + " elites");
   row("crossover rate", format_double_plain(c.crossover_rate));
-  row("fitness", "centroid x moved " + direction_name(c.fitness.direction) + " in " + std::to_string(c.fitness.frames) +
-                     " frames after " + std::to_string(c.fitness.settle_frames) + " settle frames; scaling " +
-                     scaling_name(c.fitness.scaling) + "; dropped from " + format_double_plain(c.fitness.drop_height) + " px");
+  if (c.fitness.kind == FitnessKind::Race) {
+    const RaceFitnessConfig& r = c.fitness.race;
+    row("fitness", "race: frames to the finish on " + terrain_names(r) +
+                       (r.terrains.size() > 1 ? " (the " + race_combine_name(r.combine) + ")" : std::string()) +
+                       ", fewer is better (fitness = minus frames); timeout " +
+                       (r.timeout > 0 ? std::to_string(r.timeout) + " frames" : std::string("of each race file")) +
+                       "; raced as the original racer races a contender (2004 bar rule)");
+  } else {
+    row("fitness", "centroid x moved " + direction_name(c.fitness.direction) + " in " + std::to_string(c.fitness.frames) +
+                       " frames after " + std::to_string(c.fitness.settle_frames) + " settle frames; scaling " +
+                       scaling_name(c.fitness.scaling) + "; dropped from " + format_double_plain(c.fitness.drop_height) + " px");
+  }
   row("world", "gravity " + format_double_plain(c.world.gravity) + " " + gravity_direction_name(c.world.gravity_direction) +
                    ", friction " + format_double_plain(c.world.friction) + ", springyness " + format_double_plain(c.world.springyness) +
                    ", surface friction " + format_double_plain(c.world.surface_friction) + ", reflection " +
@@ -158,6 +183,54 @@ std::string generation_ranges(std::vector<int> g) {
     i = j + 1;
   }
   return out;
+}
+
+/// The players of a walk run: each the fitness trial in the run's physics mode.
+void walk_players(std::ostringstream& o, const RunConfig& config, const std::vector<Shown>& shown,
+                  const std::string& classic_note, const ReportOptions& options) {
+  const soda::Stepping stepping = config.fitness.stepping();
+  const long long trial_frames = config.fitness.settle_frames + config.fitness.frames;
+  o << "<p class=\"note\">Each animation is the fitness trial, simulated again by the engine ("
+    << esc(stepping == soda::Stepping{} ? std::string("soda mode, as the original")
+                                        : "the run's physics mode: " + soda::stepping_label(stepping))
+    << "): " << config.fitness.settle_frames << " settle frames, then " << config.fitness.frames
+    << " scored frames (the dashed mark under the floor shows where scoring starts). Masses blue, springs grey, muscles red (dark and "
+       "thick when contracted); marks on the floor are px from the start. Add <code>#frame=N</code> to the address to "
+       "stop every player at frame N.</p>\n"
+    << classic_note;
+  const int every = sample_interval(trial_frames, options.max_samples);
+  int index = 0;
+  for (const Shown& s : shown) {
+    try {
+      const Motion motion = record_motion(s.prepared, trial_frames, every, stepping);
+      o << player_element(motion, {"player" + std::to_string(index++), s.caption, config.fitness.settle_frames, 640, 280});
+    } catch (const soda::InputError& e) {
+      o << "<p class=\"note\">" << esc(s.caption) << ": " << esc(e.what()) << "</p>\n";
+    }
+  }
+}
+
+/// The players of a race run: each creature's race on the run's first terrain,
+/// with the terrain, the start and the finish.
+void race_players(std::ostringstream& o, const Problem& problem, const std::vector<Shown>& shown,
+                  const std::string& classic_note, const ReportOptions& options) {
+  const auto* race = dynamic_cast<const RaceProblem*>(&problem);
+  if (race == nullptr) return;
+  const RaceTerrain& terrain = race->terrains().front();
+  o << "<p class=\"note\">Each animation is the creature's race on " << esc(fs::path(terrain.file).stem().string())
+    << ", raced again as the original racer races it (2004 bar rule) to the finish or the timeout ("
+    << race->timeout_of(0) << " frames). Fixed bars are the terrain; the lines are the start and the finish. Masses "
+       "blue, springs grey, muscles red. Add <code>#frame=N</code> to the address to stop every player at frame N.</p>\n"
+    << classic_note;
+  int index = 0;
+  for (const Shown& s : shown) {
+    try {
+      const Motion motion = record_race_motion(terrain.race, race->timeout_of(0), s.prepared, s.caption, options.max_samples);
+      o << player_element(motion, {"player" + std::to_string(index++), s.caption, -1, 640, 280});
+    } catch (const std::exception& e) {
+      o << "<p class=\"note\">" << esc(s.caption) << ": " << esc(e.what()) << "</p>\n";
+    }
+  }
 }
 
 constexpr const char* kPageStyle = R"css(
@@ -189,7 +262,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     }
   }
   const std::vector<GenerationRow> rows = read_generations_csv(run_dir / "generations.csv");
-  const long long trial_frames = config.fitness.settle_frames + config.fitness.frames;
+  const ScoreUnit score{config.fitness.kind == FitnessKind::Race};
 
   std::ostringstream o;
   o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>sodaevo run " << esc(config.name)
@@ -213,11 +286,13 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   for (const GenerationRow& r : rows) invalid_total += r.invalid, diverged_total += r.diverged;
   if (!rows.empty()) {
     LineChart fitness;
-    fitness.title = "Fitness: centroid distance " + direction_name(config.fitness.direction) + " in " +
-                    std::to_string(config.fitness.frames) + " frames";
+    fitness.title = score.race ? "Race result: frames to the finish on " + terrain_names(config.fitness.race) +
+                                     " (fewer is better)"
+                               : "Fitness: centroid distance " + direction_name(config.fitness.direction) + " in " +
+                                     std::to_string(config.fitness.frames) + " frames";
     fitness.x_axis.label = "generation";
     fitness.x_axis.integer = true;
-    fitness.y_axis = {"fitness (px)"};
+    fitness.y_axis = {score.race ? "frames (fewer is better)" : "fitness (px)"};
     auto named = [](const char* name) {
       LineSeries s;
       s.name = name;
@@ -230,9 +305,9 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     median.dashed = true;
     for (const GenerationRow& r : rows) {
       const double g = r.generation;
-      best.x.push_back(g), best.y.push_back(r.best);
-      mean.x.push_back(g), mean.y.push_back(r.mean);
-      median.x.push_back(g), median.y.push_back(r.median);
+      best.x.push_back(g), best.y.push_back(score.shown(r.best));
+      mean.x.push_back(g), mean.y.push_back(score.shown(r.mean));
+      median.x.push_back(g), median.y.push_back(score.shown(r.median));
       invalid.x.push_back(g), invalid.y.push_back(r.invalid);
       diverged.x.push_back(g), diverged.y.push_back(r.diverged);
     }
@@ -328,8 +403,10 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
         return std::string();
       }
     };
-    o << "<table class=\"best\">\n<tr><th>#</th><th>creature</th><th>best of generations</th><th>fitness (px)</th>"
-      << "<th>distance (px)</th><th>speed (px/frame)</th><th>file</th></tr>\n";
+    o << "<table class=\"best\">\n<tr><th>#</th><th>creature</th><th>best of generations</th>"
+      << (score.race ? "<th>race result (frames, fewer is better)</th><th>raced again (frames)</th>"
+                     : "<th>fitness (px)</th><th>distance (px)</th><th>speed (px/frame)</th>")
+      << "<th>file</th></tr>\n";
     int rank = 0;
     for (const Ranked& k : ranked) {
       const GenerationRow& r = k.row;
@@ -341,14 +418,15 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
         else distance = esc(e.reason);
       }
       o << "<tr><td class=\"n\">" << rank << "</td><td>" << esc(r.best_id) << "</td><td class=\"n\">" << generation_ranges(k.generations)
-        << "</td><td class=\"n\">" << table_number(r.best, 1) << "</td><td class=\"n\">" << distance << "</td><td class=\"n\">"
-        << speed << "</td><td><a href=\"best/" << generation_file_name(r.generation) << "\">best/"
+        << "</td><td class=\"n\">" << table_number(score.shown(r.best), 1) << "</td><td class=\"n\">" << distance << "</td>"
+        << (score.race ? "" : "<td class=\"n\">" + speed + "</td>") << "<td><a href=\"best/" << generation_file_name(r.generation) << "\">best/"
         << generation_file_name(r.generation) << "</a>" << designer_link(file_text(best_file(r.generation))) << "</td></tr>\n";
     }
     if (classic_evaluation && classic_evaluation->ok()) {
       o << "<tr class=\"classic\"><td></td><td>Dainty Walker (classic)</td><td></td><td class=\"n\">"
-        << table_number(classic_evaluation->fitness, 1) << "</td><td class=\"n\">" << table_number(classic_evaluation->distance, 1)
-        << "</td><td class=\"n\">" << table_number(classic_evaluation->px_per_frame, 3) << "</td><td>built in"
+        << table_number(score.shown(classic_evaluation->fitness), 1) << "</td><td class=\"n\">"
+        << table_number(classic_evaluation->distance, 1) << "</td>"
+        << (score.race ? "" : "<td class=\"n\">" + table_number(classic_evaluation->px_per_frame, 3) + "</td>") << "<td>built in"
         << designer_link(std::string(dainty_walker_xml())) << "</td></tr>\n";
     }
     o << "</table>\n";
@@ -361,7 +439,8 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   if (!ranked.empty() && ranked.front().problem.empty()) {
     const GenerationRow& champion = ranked.front().row;
     shown.push_back({"Champion " + champion.best_id + " (best of generation " + std::to_string(champion.generation) +
-                         ", fitness " + table_number(champion.best, 1) + " px)",
+                         ", " + (score.race ? "" : "fitness ") + table_number(score.shown(champion.best), 1) + " " +
+                         score.unit() + ")",
                      ranked.front().prepared});
     const int last = rows.back().generation, first = rows.front().generation;
     const int k = std::max(1, options.chosen_generations);
@@ -373,38 +452,19 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
         const soda::ModelDef def = soda::read_model_file(best_file(g)).def;
         const bool seen = std::any_of(shown.begin(), shown.end(), [&](const Shown& s) { return body(s.prepared) == body(def); });
         if (seen) continue;
-        shown.push_back({"Generation " + std::to_string(g) + ": " + row->best_id + " (its best, fitness " + table_number(row->best, 1) + " px)", def});
+        shown.push_back({"Generation " + std::to_string(g) + ": " + row->best_id + " (its best, " + (score.race ? "" : "fitness ") +
+                              table_number(score.shown(row->best), 1) + " " + score.unit() + ")",
+                          def});
       } catch (const soda::InputError& e) {
         o << "<p class=\"note\">" << esc(e.what()) << "</p>\n";
       }
     }
   }
   if (classic) shown.push_back(*classic);
-  const soda::Stepping stepping = config.fitness.stepping();
-  o << "<h2>Watch them</h2>\n<p class=\"note\">Each animation is the fitness trial, simulated again by the engine ("
-    << esc(stepping == soda::Stepping{} ? std::string("soda mode, as the original")
-                                        : "the run's physics mode: " + soda::stepping_label(stepping))
-    << "): " << config.fitness.settle_frames << " settle frames, then " << config.fitness.frames
-    << " scored frames (the dashed mark under the floor shows where scoring starts). Masses blue, springs grey, muscles red (dark and "
-       "thick when contracted); marks on the floor are px from the start. Add <code>#frame=N</code> to the address to "
-       "stop every player at frame N.</p>\n";
-  if (!classic_problem.empty()) o << "<p class=\"note\">Dainty Walker not shown: " << esc(classic_problem) << "</p>\n";
-  const int every = sample_interval(trial_frames, options.max_samples);
-  int index = 0;
-  for (const Shown& s : shown) {
-    try {
-      const Motion motion = record_motion(s.prepared, trial_frames, every, stepping);
-      PlayerView view;
-      view.id = "player" + std::to_string(index++);
-      view.caption = s.caption;
-      view.scored_from = config.fitness.settle_frames;
-      view.width = 640;
-      view.height = 280;
-      o << player_element(motion, view);
-    } catch (const soda::InputError& e) {
-      o << "<p class=\"note\">" << esc(s.caption) << ": " << esc(e.what()) << "</p>\n";
-    }
-  }
+  if (!classic_problem.empty()) classic_problem = "<p class=\"note\">Dainty Walker not shown: " + esc(classic_problem) + "</p>\n";
+  o << "<h2>Watch them</h2>\n";
+  if (score.race) race_players(o, *roles.problem, shown, classic_problem, options);
+  else walk_players(o, config, shown, classic_problem, options);
   o << player_script() << "</body>\n</html>\n";
   return o.str();
 }

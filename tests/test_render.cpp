@@ -25,6 +25,7 @@
 #include "core/step.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
+#include "evolve/replica_check.hpp"
 #include "evolve/run_roles.hpp"
 #include "evolve/run_store.hpp"
 #include "evolve/variation.hpp"
@@ -116,6 +117,32 @@ int count_of(const std::string& text, const std::string& needle) {
 }
 
 /// A run of `config` evolved to its end in a fresh folder named `name`.
+/// The highest "best" of a run's generations.csv.
+double best_of_generations_csv(const fs::path& dir) {
+  double best = -INFINITY;
+  std::istringstream in(soda::read_whole_file(dir / "generations.csv"));
+  std::string line;
+  std::getline(in, line);
+  while (std::getline(in, line)) {
+    std::vector<std::string> cells;
+    std::stringstream ls(line);
+    std::string cell;
+    while (std::getline(ls, cell, ',')) cells.push_back(cell);
+    best = std::max(best, std::stod(cells[2]));
+  }
+  return best;
+}
+
+/// Whether the first row of the report's table of best creatures shows `value` (to 0.1).
+bool first_table_row_holds(const std::string& html, double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.1f", value);
+  const std::size_t table = html.find("<table class=\"best\">");
+  const std::size_t first_row = html.find("<td class=\"n\">1</td>", table);
+  if (table == std::string::npos || first_row == std::string::npos) return false;
+  return html.find(std::string("<td class=\"n\">") + text + "</td>", first_row) < html.find("</tr>", first_row);
+}
+
 fs::path finished_run(const RunConfig& config, const std::string& name) {
   const fs::path dir = test::fresh_temp_dir(name);
   RunStore store = RunStore::create(dir, config, false, "test");
@@ -272,27 +299,7 @@ TEST_CASE("run report: config, charts, table and players for a finished run", "[
   CHECK(failures.select_node("//g[@class='series'][@data-name='diverged']"));
 
   // Table: the best fitness of generations.csv comes first.
-  double best = -INFINITY;
-  {
-    const std::string csv = soda::read_whole_file(dir / "generations.csv");
-    std::istringstream in(csv);
-    std::string line;
-    std::getline(in, line);
-    while (std::getline(in, line)) {
-      std::vector<std::string> cells;
-      std::stringstream ls(line);
-      std::string cell;
-      while (std::getline(ls, cell, ',')) cells.push_back(cell);
-      best = std::max(best, std::stod(cells[2]));
-    }
-  }
-  char best_text[32];
-  std::snprintf(best_text, sizeof best_text, "%.1f", best);
-  const std::size_t table = html.find("<table class=\"best\">");
-  REQUIRE(table != std::string::npos);
-  const std::size_t first_row = html.find("<td class=\"n\">1</td>", table);
-  REQUIRE(first_row != std::string::npos);
-  CHECK(html.find(std::string("<td class=\"n\">") + best_text + "</td>", first_row) < html.find("</tr>", first_row));
+  CHECK(first_table_row_holds(html, best_of_generations_csv(dir)));
 
   // The Dainty Walker, scored as the run scores, in the table and as a player.
   const Evaluation classic = evaluate_creature(creature_from_seed(dainty(), c), c);
@@ -314,6 +321,52 @@ TEST_CASE("run report: config, charts, table and players for a finished run", "[
   CHECK(html.find("Champion") < html.find("Dainty Walker (classic, same fitness settings)"));
   CHECK(html.find("src=") == std::string::npos);
   CHECK(html.find("https://") == std::string::npos);
+}
+
+TEST_CASE("run report: a race run reads in frames, fewer is better, and its players race on the terrain",
+          "[render][report][race]") {
+  RunConfig c = test::walker_run_config("race-report-test", 1, 8, 2, 100, 0);
+  c.fitness.kind = FitnessKind::Race;
+  c.fitness.race.terrains = {(test::models_dir() / "terrains" / "TerrainFlat.xml").string()};
+  c.fitness.race.timeout = 400;
+  c.fitness.replicas = c.fitness.replicas_max = 2;
+  c.world.evolve = world_parameter_names(); // the racer's CONTENDER rules
+  const fs::path dir = finished_run(c, "race_report_run");
+  write_run_champions(dir, 2, 3, 1);
+  const std::string html = run_report_html(dir);
+  CHECK(unbalanced_html(html) == "");
+  // A race's fitness is minus its frames: the page shows frames, never px.
+  CHECK(html.find("fitness (px)") == std::string::npos);
+  const std::size_t table = html.find("<table class=\"best\">");
+  REQUIRE(table != std::string::npos);
+  CHECK(html.substr(table, html.find("</table>", table) - table).find("px") == std::string::npos);
+  const std::size_t champion = html.find("Champion ");
+  REQUIRE(champion != std::string::npos);
+  CHECK(html.substr(champion, html.find(')', champion) - champion).find(" frames") != std::string::npos);
+  CHECK(html.find("distance walked") == std::string::npos);
+  const std::vector<std::string> svgs = svg_fragments(html);
+  REQUIRE(svgs.size() >= 3);
+  CHECK_THAT(svgs[0], Catch::Contains("frames to the finish on TerrainFlat") && Catch::Contains("frames (fewer is better)"));
+  CHECK_THAT(html, Catch::Contains("<th>race result (frames, fewer is better)</th>"));
+  // The best row holds the fewest frames of generations.csv: minus its best fitness.
+  const double best = best_of_generations_csv(dir);
+  REQUIRE(best < 0.0);
+  CHECK(first_table_row_holds(html, -best));
+  // Claims: champions.json holds the selection's fitness (minus frames) and the
+  // check in frames; the chart draws both in frames.
+  const nlohmann::json champions = nlohmann::json::parse(soda::read_whole_file(dir / "champions.json"));
+  REQUIRE(champions.size() >= 1);
+  REQUIRE(champions[0].contains("check"));
+  char claim[64];
+  std::snprintf(claim, sizeof claim, "claim %.1f frames", -champions[0]["selection"]["mean"].get<double>());
+  CHECK_THAT(svgs[2], Catch::Contains(claim) && Catch::Contains("race result, frames to the finish"));
+  // Players: the race on the terrain, to its start and finish lines.
+  const nlohmann::json player = embedded_json(html, "player0-motion");
+  REQUIRE(player["marks"].size() == 2);
+  CHECK(player["marks"][0]["label"] == "start");
+  CHECK(player["marks"][1]["label"] == "finish");
+  CHECK(html.find("race on TerrainFlat") != std::string::npos);
+  fs::remove_all(dir);
 }
 
 TEST_CASE("run report: the players run in the run's physics mode", "[render][report]") {
