@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <memory>
 #include <utility>
 #include <sstream>
 #include <vector>
@@ -18,7 +19,9 @@
 #include "core/input_error.hpp"
 #include "formats/model_file.hpp"
 #include "core/number_text.hpp"
+#include "evolve/race_problem.hpp"
 #include "evolve/run_config.hpp"
+#include "evolve/run_roles.hpp"
 
 namespace sodaevo::app {
 
@@ -168,6 +171,10 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   }
   const json& metrics = archive.at("metrics");
   const json& cells = archive.at("cells");
+  // A race's fitness is minus its frames: shown as frames, fewer is better.
+  const bool race = config.fitness.kind == FitnessKind::Race;
+  const auto shown = [race](double fitness) { return number(race ? -fitness : fitness); };
+  const std::string unit = race ? " frames" : " px";
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const json& c : cells) {
     lo = std::min(lo, c.at("fitness").at("mean").get<double>());
@@ -186,15 +193,17 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
     << " (sum over elites of fitness - " << number(archive.at("qd_offset").get<double>())
     << ", terms below 0 as 0)</td></tr><tr><td>normalised QD-score</td><td>"
     << number(metrics.at("normalized_qd_score").get<double>()) << " (QD-score / cells)</td></tr><tr><td>best</td><td>"
-    << number(metrics.at("best").get<double>()) << " px</td></tr><tr><td>mean elite fitness</td><td>"
-    << number(metrics.at("mean_fitness").get<double>()) << " px</td></tr></table>\n";
+    << shown(metrics.at("best").get<double>()) << unit << "</td></tr><tr><td>mean elite"
+    << (race ? " race result" : " fitness") << "</td><td>" << shown(metrics.at("mean_fitness").get<double>()) << unit
+    << "</td></tr></table>\n"
+    << (race ? "<p class=\"note\">A race: fitness is minus the frames to the finish (fewer is better).</p>\n" : "");
   if (!checked.is_null()) {
     const json& m = checked.at("metrics").at("checked");
     o << "<p>Checked on " << checked.at("check_replicas").get<int>() << " fresh replicas (seeds never used in "
       << "selection; archive_checked.json): QD-score " << number(m.at("qd_score").get<double>()) << ", best "
-      << number(m.at("best").get<double>()) << " px, mean elite " << number(m.at("mean_fitness").get<double>())
-      << " px; the elites' estimates exceed their checks by " << number(checked.at("mean_winners_curse").get<double>())
-      << " px on average (the winner's curse).</p>\n";
+      << shown(m.at("best").get<double>()) << unit << ", mean elite " << shown(m.at("mean_fitness").get<double>())
+      << unit << "; the elites' estimates are better than their checks by "
+      << number(checked.at("mean_winners_curse").get<double>()) << unit << " on average (the winner's curse).</p>\n";
   }
   if (fs::exists(run_dir / "qd.csv")) charts(o, read_qd_csv(run_dir / "qd.csv"));
 
@@ -205,9 +214,9 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   const int panels = axes.size() == 3 ? axes[2].bins : 1;
   constexpr int kSide = 14;
   o << "<h2>The archive</h2>\n<p class=\"note\">" << esc(ax.name) << " across, " << esc(ay.name) << " up"
-    << (panels > 1 ? ", one map per bin of " + esc(axes[2].name) : std::string()) << "; colour: fitness "
-    << number(lo) << " <span class=\"legend\"></span> " << number(hi)
-    << " px. Click a cell to play its elite below.</p>\n";
+    << (panels > 1 ? ", one map per bin of " + esc(axes[2].name) : std::string()) << "; colour: "
+    << (race ? "race result " : "fitness ") << shown(lo) << " <span class=\"legend\"></span> " << shown(hi) << unit
+    << ". Click a cell to play its elite below.</p>\n";
   if (panels > 1) {
     o << "<p><label>" << esc(axes[2].name) << ": <select id=\"third\"><option value=\"all\">every bin (small "
       << "multiples)</option><option value=\"best\">the best over every " << esc(axes[2].name) << "</option>";
@@ -222,11 +231,12 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
     const double f = c.at("fitness").at("mean").get<double>();
     const std::string id = c.at("id").get<std::string>();
     std::ostringstream caption;
-    caption << "cell " << c.at("cell").get<long long>() << ": " << id << ", fitness " << number(f) << " px (n "
+    caption << "cell " << c.at("cell").get<long long>() << ": " << id << (race ? ", race result " : ", fitness ")
+            << shown(f) << unit << " (n "
             << c.at("fitness").at("n").get<long long>() << ", sd " << number(c.at("fitness").at("sd").get<double>())
             << ")";
     if (const auto k = checked_fitness.find(c.at("cell").get<long long>()); k != checked_fitness.end()) {
-      caption << ", checked " << number(k->second) << " px";
+      caption << ", checked " << shown(k->second) << unit;
     }
     const std::vector<double> d = c.at("descriptors").get<std::vector<double>>();
     for (std::size_t a = 0; a < axes.size() && a < d.size(); ++a) caption << ", " << axes[a].name << " " << number(d[a]);
@@ -258,20 +268,26 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   o << "</div>\n<h2>Elite</h2>\n<div id=\"player-slot\"><p class=\"note\">Click a cell.</p></div>\n";
 
   // Every elite's motion, and a player template the click fills in.
+  // A race's elite races on the first terrain (to its finish or the timeout).
   const long long frames = config.fitness.settle_frames + config.fitness.frames;
   const int every = sample_interval(frames, options.max_samples);
+  const std::unique_ptr<Problem> problem = race ? problem_of(config, false) : nullptr;
+  const auto* racing = dynamic_cast<const RaceProblem*>(problem.get());
   json motions = json::object();
   Motion example;
   for (const json& c : cells) {
     const fs::path file = run_dir / c.at("file").get<std::string>();
-    const Motion m = record_motion(soda::read_model_file(file).def, frames, every, config.fitness.stepping());
-    motions[c.at("id").get<std::string>()] = json::parse(motion_json(m, config.fitness.settle_frames));
+    const soda::ModelDef elite = soda::read_model_file(file).def;
+    const Motion m = racing != nullptr ? record_race_motion(racing->terrains().front().race, racing->timeout_of(0),
+                                                            elite, c.at("id").get<std::string>(), options.max_samples)
+                                       : record_motion(elite, frames, every, config.fitness.stepping());
+    motions[c.at("id").get<std::string>()] = json::parse(motion_json(m, race ? -1 : config.fitness.settle_frames));
     if (example.samples() == 0) example = m;
   }
   std::string elites = motions.dump();
   for (std::size_t at = 0; (at = elites.find("</", at)) != std::string::npos;) elites.replace(at, 2, "<\\/");
   o << "<script type=\"application/json\" id=\"elite-motions\">" << elites << "</script>\n"
-    << "<template id=\"player-template\">" << player_element(example, {"elite", "", config.fitness.settle_frames, 720, 300})
+    << "<template id=\"player-template\">" << player_element(example, {"elite", "", race ? -1 : config.fitness.settle_frames, 720, 300})
     << "</template>\n"
     << player_script() << R"js(<script>
 (function () {

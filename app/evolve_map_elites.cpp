@@ -34,15 +34,19 @@ void evolve_map_elites(const RunStore& store, Evaluator& evaluator, int threads,
       std::cerr << "\nsodaevo: warning: archive report not written: " << e.what() << '\n';
     }
   };
+  // A race's fitness is minus its frames: shown as frames.
+  const bool race = config.fitness.kind == FitnessKind::Race;
+  const auto shown = [race](double fitness) { return fixed(race ? -fitness : fitness, 2); };
+  const char* unit = race ? " frames" : " px";
   MapElitesOptions options;
   options.stop_requested = stop;
   options.on_iteration = [&](const MapElitesProgress& p) {
     if (quiet) return;
     char line[256];
     std::snprintf(line, sizeof line,
-                  "iteration %d/%d  %lld evaluations (%lld replicas)  filled %zu of %zu (%.1f %%)  QD-score %s  best %s",
+                  "iteration %d/%d  %lld evaluations (%lld replicas)  filled %zu of %zu (%.1f %%)  QD-score %s  best %s%s",
                   p.iteration, p.iterations, p.evaluations, p.rollouts, p.metrics.filled, p.metrics.cells,
-                  100.0 * p.metrics.coverage, fixed(p.metrics.qd_score, 0).c_str(), fixed(p.metrics.best, 2).c_str());
+                  100.0 * p.metrics.coverage, fixed(p.metrics.qd_score, 0).c_str(), shown(p.metrics.best).c_str(), unit);
     if (tty) std::cerr << "\r\033[K" << line << std::flush;
     else if (p.iteration % kReportEveryIterations == 0 || p.iteration == p.iterations) std::cerr << line << '\n';
   };
@@ -69,13 +73,13 @@ void evolve_map_elites(const RunStore& store, Evaluator& evaluator, int threads,
   const QdMetrics& m = outcome.metrics;
   std::cout << "run folder   " << store.dir().string() << "\n"
             << "archive      " << m.filled << " of " << m.cells << " cells (" << fixed(100.0 * m.coverage, 1)
-            << " %), QD-score " << fixed(m.qd_score, 1) << ", best " << fixed(m.best, 2) << " px, mean elite "
-            << fixed(m.mean, 2) << " px\n";
+            << " %), QD-score " << fixed(m.qd_score, 1) << ", best " << shown(m.best) << unit << ", mean elite "
+            << shown(m.mean) << unit << "\n";
   if (checked) {
     const QdMetrics& c = checked->checked;
     std::cout << "checked      on " << me.check_replicas << " fresh replicas: QD-score " << fixed(c.qd_score, 1)
-              << ", best " << fixed(c.best, 2) << " px, mean elite " << fixed(c.mean, 2)
-              << " px; winner's curse " << fixed(checked->mean_winners_curse, 2) << " px per elite\n";
+              << ", best " << shown(c.best) << unit << ", mean elite " << shown(c.mean) << unit << "; winner's curse "
+              << fixed(checked->mean_winners_curse, 2) << unit << " per elite\n";
   }
   std::cout << "report       " << default_archive_report_path(store.dir()).string() << "\n"
             << "export with  sodaevo export " << store.dir().string() << " --archive --out DIR\n";

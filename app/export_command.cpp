@@ -12,7 +12,6 @@
 #include "evolve/archive_check.hpp"
 #include "evolve/archive_store.hpp"
 #include "evolve/replica_check.hpp"
-#include "evolve/walk_problem.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_reader.hpp"
 #include "formats/atomic_file.hpp"
@@ -43,21 +42,24 @@ void export_archive(const std::filesystem::path& run, const ExportOptions& opt) 
   }
   const RunConfig config = read_run_config(run / "config.json");
   const GridArchive archive = read_run_archive(run, config);
-  const WalkProblem problem(config.fitness, config.world, config.limits);
-  const CheckedArchive checked = check_archive(archive, problem, replica_plan(config), opt.check_replicas,
+  const std::unique_ptr<Problem> problem = problem_of(config, false);
+  const CheckedArchive checked = check_archive(archive, *problem, replica_plan(config), opt.check_replicas,
                                                opt.threads, config.map_elites.qd_offset);
   const std::filesystem::path out(opt.out);
   nlohmann::json champions = nlohmann::json::array();
-  std::printf("cell    id            fitness (px)   replicas   checked median [95 %% interval] (px)   file\n");
+  // A race's fitness is minus its frames; its check is in frames.
+  const char* unit = config.fitness.kind == FitnessKind::Race ? "frames" : "px";
+  std::printf("cell    id            fitness (%s)   replicas   checked median [95 %% interval] (%s)   file\n",
+              config.fitness.kind == FitnessKind::Race ? "-frames" : "px", unit);
   for (std::size_t i = 0; i < checked.cells.size(); ++i) {
     const std::size_t cell = checked.cells[i];
     const ArchiveEntry& e = *archive.elite(cell);
     const ReplicaCheck& c = checked.checks[i];
     const std::string name = "cell" + std::to_string(cell) + "_" + e.id + ".xml";
     soda::ModelDef prepared = soda::read_model_file(run / elite_file(e.id)).def;
-    prepared.comment += "; " + check_comment(c);
+    prepared.comment += "; " + check_comment(c, unit);
     soda::write_model_file(out / name, prepared);
-    nlohmann::json j = champion_json(c, name, config.fitness.settle_frames, config.fitness.frames);
+    nlohmann::json j = champion_json(c, name, config);
     j["cell"] = cell;
     champions.push_back(std::move(j));
     std::printf("%6zu  %-12s  %12.3f   %8lld   %10.3f [%.3f, %.3f]%s   %s\n", cell, e.id.c_str(), e.fitness.mean,
@@ -67,9 +69,9 @@ void export_archive(const std::filesystem::path& run, const ExportOptions& opt) 
   soda::write_file_atomically(out / "archive.json", soda::read_whole_file(index));
   soda::write_file_atomically(out / "champions.json", champions.dump(2) + "\n");
   std::printf("champions.json: each elite's estimate against a check on %d fresh replicas; checked archive: "
-              "QD-score %.1f (run's %.1f), best %.2f px (run's %.2f)\n",
+              "QD-score %.1f (run's %.1f), best fitness %.2f (run's %.2f) %s\n",
               opt.check_replicas, checked.checked.qd_score, checked.selection.qd_score, checked.checked.best,
-              checked.selection.best);
+              checked.selection.best, config.fitness.kind == FitnessKind::Race ? "(minus frames)" : "px");
 }
 
 void run_export(const ExportOptions& opt) {
@@ -88,8 +90,8 @@ void run_export(const ExportOptions& opt) {
   // A race's score is its result in frames (fitness = -frames), a walk's a distance.
   const bool race = config.fitness.kind == FitnessKind::Race;
   const std::string unit = race ? "frames" : "px";
-  std::printf("rank  id            fitness (%s)   replicas   checked median [95 %% interval] (%s)   file\n", unit.c_str(),
-              unit.c_str());
+  std::printf("rank  id            fitness (%s)   replicas   checked median [95 %% interval] (%s)   file\n",
+              race ? "-frames" : "px", unit.c_str());
   nlohmann::json champions = nlohmann::json::array();
   for (std::size_t i = 0; i < best.size(); ++i) {
     const Individual& ind = best[i];

@@ -3,7 +3,7 @@
 #include "core/input_error.hpp"
 #include "evolve/archive_store.hpp"
 #include "evolve/run_reader.hpp"
-#include "evolve/walk_problem.hpp"
+#include "evolve/run_roles.hpp"
 #include "formats/atomic_file.hpp"
 
 namespace sodaevo {
@@ -65,13 +65,13 @@ CheckedArchive write_checked_archive(const std::filesystem::path& run_dir, int t
   const RunConfig config = read_run_config(run_dir / "config.json");
   const MapElitesConfig& me = config.map_elites;
   const GridArchive archive = read_run_archive(run_dir, config);
-  const WalkProblem problem(config.fitness, config.world, config.limits);
+  const std::unique_ptr<Problem> problem = problem_of(config, false);
   const CheckedArchive c =
-      check_archive(archive, problem, replica_plan(config), me.check_replicas, threads, me.qd_offset);
+      check_archive(archive, *problem, replica_plan(config), me.check_replicas, threads, me.qd_offset);
   nlohmann::json cells = nlohmann::json::array();
   for (std::size_t i = 0; i < c.cells.size(); ++i) {
     const ArchiveEntry& e = *archive.elite(c.cells[i]);
-    nlohmann::json j = champion_json(c.checks[i], elite_file(e.id), config.fitness.settle_frames, config.fitness.frames);
+    nlohmann::json j = champion_json(c.checks[i], elite_file(e.id), config);
     j["cell"] = c.cells[i];
     if (c.checks[i].ok) j["checked_fitness"] = e.fitness.mean - c.checks[i].winners_curse;
     cells.push_back(std::move(j));

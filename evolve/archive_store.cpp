@@ -7,7 +7,7 @@
 #include "core/input_error.hpp"
 #include "formats/model_file.hpp"
 #include "core/number_text.hpp"
-#include "evolve/walk_problem.hpp"
+#include "evolve/run_roles.hpp"
 #include "evolve/run_store.hpp"
 
 namespace sodaevo {
@@ -132,9 +132,9 @@ void ArchiveStore::write_archive(const GridArchive& archive, const RunConfig& co
   const fs::path elites = dir_ / "elites";
   fs::remove_all(elites);
   fs::create_directories(elites);
-  const WalkProblem problem(config);
+  const std::unique_ptr<Problem> problem = problem_of(config, false);
   for (const auto& [cell, e] : archive.elites()) {
-    const soda::ModelDef prepared = problem.export_form(e.creature, e.id, elite_evaluation(e, config));
+    const soda::ModelDef prepared = problem->export_form(e.creature, e.id, elite_evaluation(e, config));
     soda::write_model_file(dir_ / elite_file(e.id), prepared);
   }
   soda::write_file_atomically(dir_ / "archive.json", archive_to_json(archive, me, iteration).dump(1) + "\n");

@@ -8,6 +8,7 @@
 
 #include "evolve/evolution_run.hpp"
 #include "evolve/genetic_algorithm.hpp"
+#include "evolve/race_problem.hpp"
 
 namespace sodaevo {
 
@@ -15,11 +16,16 @@ WalkProblem map_elites_problem(const RunConfig& config, const MapElitesConfig& m
   return WalkProblem(config.fitness, config.world, config.limits, me.sample_every);
 }
 
+std::unique_ptr<Problem> map_elites_run_problem(const RunConfig& config, const MapElitesConfig& me) {
+  if (config.fitness.kind == FitnessKind::Race) return std::make_unique<RaceProblem>(config, me.sample_every);
+  return std::make_unique<WalkProblem>(map_elites_problem(config, me));
+}
+
 ResamplePlan map_elites_resample_plan(const RunConfig& config) {
   return {config.fitness.replicas_max, config.fitness.replicas};
 }
 
-ReplicaSampler replica_sampler(Evaluator& evaluator, const WalkProblem& problem, const ReplicaEstimator& estimator) {
+ReplicaSampler replica_sampler(Evaluator& evaluator, const Problem& problem, const ReplicaEstimator& estimator) {
   return [&evaluator, &problem, &estimator](const std::vector<SampleRequest>& requests) {
     // One Estimator per replica range: its creatures are evaluated together.
     std::map<std::pair<long long, long long>, std::vector<std::size_t>> groups;
@@ -40,7 +46,7 @@ ReplicaSampler replica_sampler(Evaluator& evaluator, const WalkProblem& problem,
 namespace {
 
 std::vector<Challenger> evaluate_children(std::vector<Individual> children, Evaluator& evaluator,
-                                          const WalkProblem& problem, const ReplicaEstimator& estimator) {
+                                          const Problem& problem, const ReplicaEstimator& estimator) {
   std::vector<const soda::ModelDef*> creatures;
   for (const Individual& c : children) creatures.push_back(&c.creature);
   std::vector<Evaluation> results = evaluator.evaluate(creatures, problem, estimator);
@@ -57,7 +63,8 @@ MapElitesOutcome run_map_elites(const std::filesystem::path& dir, const RunConfi
   const auto started = Clock::now();
   ArchiveStore store(dir);
   GridArchive archive(me.axes);
-  const WalkProblem problem = map_elites_problem(config, me);
+  const std::unique_ptr<Problem> scored = map_elites_run_problem(config, me);
+  const Problem& problem = *scored;
   const ReplicaEstimator estimator(replica_plan(config));
   const ResamplePlan resample = map_elites_resample_plan(config);
   const ReplicaSampler sample = replica_sampler(evaluator, problem, estimator);

@@ -1,7 +1,7 @@
 // run_map_elites: the MAP-Elites loop (evolve/map_elites.hpp) with its run folder
 // (evolve/archive_store.hpp), budgets, checkpoints, resume and a polite stop, as
 // run_evolution is for the GA. It evaluates through the roles: the run's
-// WalkProblem measuring descriptors, its ReplicaEstimator (/fitness/replicas for a
+// WalkProblem or RaceProblem measuring descriptors, its ReplicaEstimator (/fitness/replicas for a
 // new creature, more as the insertion rule asks, up to /fitness/replicas_max), and
 // the Evaluator it is given (threads, or MPI ranks).
 #pragma once
@@ -9,6 +9,7 @@
 #include <atomic>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,9 @@ namespace sodaevo {
 /// The problem MAP-Elites scores: the run's, measuring descriptors every
 /// /map_elites/sample_every scored frames.
 WalkProblem map_elites_problem(const RunConfig& config, const MapElitesConfig& me);
+/// map_elites_problem, or for /fitness/kind "race" the RaceProblem measuring
+/// descriptors every /map_elites/sample_every frames of its races.
+std::unique_ptr<Problem> map_elites_run_problem(const RunConfig& config, const MapElitesConfig& me);
 
 /// How insertion samples under the run's /fitness: new creatures on
 /// /fitness/replicas, at most /fitness/replicas_max a side, /fitness/replicas more
@@ -31,7 +35,7 @@ ResamplePlan map_elites_resample_plan(const RunConfig& config);
 
 /// The sampler insertion asks for further replicas: requests grouped by their
 /// replica range, each group one call of `evaluator`.
-ReplicaSampler replica_sampler(Evaluator& evaluator, const WalkProblem& problem, const ReplicaEstimator& estimator);
+ReplicaSampler replica_sampler(Evaluator& evaluator, const Problem& problem, const ReplicaEstimator& estimator);
 
 struct MapElitesProgress {
   int iteration = 0;

@@ -6,6 +6,7 @@
 #include <system_error>
 
 #include "core/race_def.hpp"
+#include "evolve/race_problem.hpp"
 #include "evolve/strict_json.hpp"
 #include "formats/race_file.hpp"
 
@@ -117,7 +118,7 @@ void read_race_fitness(const json& value, const fs::path& base_dir, RaceFitnessC
 }
 
 std::vector<ConfigProblem> race_fitness_conflicts(FitnessKind kind, const RaceFitnessConfig& race, bool race_given,
-                                                  bool genetic_algorithm, bool soda_mode) {
+                                                  const MapElitesConfig* map_elites, bool soda_mode) {
   std::vector<ConfigProblem> out;
   if (kind != FitnessKind::Race) {
     if (race_given) out.push_back({"/fitness/race", "expected only with /fitness/kind \"race\", got it with \"walk\""});
@@ -127,7 +128,13 @@ std::vector<ConfigProblem> race_fitness_conflicts(FitnessKind kind, const RaceFi
     out.push_back({"/fitness/race/terrains",
                    "expected at least one race file or bundled terrain with /fitness/kind \"race\", got none"});
   }
-  if (!genetic_algorithm) out.push_back({"/algorithm", "expected \"ga\" with /fitness/kind \"race\", got \"map-elites\""});
+  for (std::size_t i = 0; map_elites != nullptr && i < map_elites->axes.size(); ++i) {
+    const Descriptor d = map_elites->axes[i].descriptor;
+    if (race_describes(d)) continue;
+    out.push_back({"/map_elites/descriptors/" + std::to_string(i),
+                   "expected one of \"mass_count\", \"muscle_share\", \"width\", \"height\" with /fitness/kind \"race\" "
+                   "(a lane's ground is its terrain, not the floor), got \"" + descriptor_name(d) + "\""});
+  }
   if (!soda_mode) {
     out.push_back({"/fitness/kind", "expected \"walk\" with /fitness/mode \"continuous\", /fitness/divergence \"energy\" "
                                     "or /fitness/honesty (a race runs the racer's own step), got \"race\""});

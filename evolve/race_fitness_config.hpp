@@ -50,10 +50,11 @@ void read_race_fitness(const nlohmann::json& value, const std::filesystem::path&
                        std::vector<ConfigProblem>& problems);
 
 /// What a race config contradicts: no terrains, /fitness/race with a walk, a race
-/// with MAP-Elites (not yet) or with a step other than the original's (the racer
-/// runs its own: soda mode, no energy or honesty check).
+/// with a step other than the original's (the racer runs its own: soda mode, no
+/// energy or honesty check), or with MAP-Elites (`map_elites`, null for the GA)
+/// placing creatures by a descriptor a race does not measure (race_describes).
 std::vector<ConfigProblem> race_fitness_conflicts(FitnessKind kind, const RaceFitnessConfig& race, bool race_given,
-                                                  bool genetic_algorithm, bool soda_mode);
+                                                  const MapElitesConfig* map_elites, bool soda_mode);
 
 /// The resolved /fitness/race object (every key).
 nlohmann::json to_json(const RaceFitnessConfig& config);

@@ -5,9 +5,11 @@
 #include <cstdint>
 #include <exception>
 #include <filesystem>
+#include <optional>
 #include <utility>
 
 #include "core/divergence.hpp"
+#include "core/fast_step.hpp"
 #include "core/input_error.hpp"
 #include "core/model.hpp"
 #include "core/number_text.hpp"
@@ -29,9 +31,14 @@ RaceTerrain read_race_terrain(const std::string& file) {
 }
 
 RaceProblem::RaceProblem(const RaceFitnessConfig& race, std::vector<RaceTerrain> terrains, const WorldConfig& world,
-                         const LimitsConfig& limits)
-    : race_(race), terrains_(std::move(terrains)), world_(world), limits_(limits) {
+                         const LimitsConfig& limits, long long describe_every)
+    : race_(race), terrains_(std::move(terrains)), world_(world), limits_(limits), describe_every_(describe_every) {
   if (terrains_.empty()) throw soda::InputError("race problem: expected at least one terrain, got none");
+  if (describe_every_ < 0) throw soda::InputError("race problem: negative descriptor sample interval");
+}
+
+bool race_describes(Descriptor d) {
+  return d == Descriptor::MassCount || d == Descriptor::MuscleShare || d == Descriptor::Width || d == Descriptor::Height;
 }
 
 namespace {
@@ -46,10 +53,43 @@ bool evolves(const WorldConfig& world, const char* name) {
   return std::find(world.evolve.begin(), world.evolve.end(), name) != world.evolve.end();
 }
 
+/// run_race_fast in chunks of `every` frames, `meter` observing the state after
+/// each chunk and after the last frame. The finish is watched after every frame as
+/// in one run, and the chunks' ends are checked with the same rule, so the result
+/// and the final state are run_race_fast's.
+soda::RaceOutcome race_described(const soda::RaceLane& lane, const soda::Model& model, int timeout, long long every,
+                                 soda::State& state, DescriptorMeter& meter) {
+  constexpr long long kUpdateLimit = 50000; // the racer's (core/race_lane.cpp)
+  const long long last = std::min<long long>(kUpdateLimit, static_cast<long long>(timeout) + 3);
+  soda::FastStepper stepper(model, last);
+  const auto finished = [&](double min_x, double max_x) {
+    soda::RaceOutcome ignored;
+    return soda::race_ends(lane, timeout, 0, min_x, max_x, ignored) && ignored.finished;
+  };
+  long long u = 0;
+  for (;;) {
+    const long long chunk = std::min(every, last - u);
+    u += stepper.run_until(state, chunk, finished);
+    meter.observe(state);
+    double min_x = state.x[0], max_x = state.x[0];
+    for (int i = 1; i < model.mass_count; ++i) {
+      min_x = std::min(min_x, state.x[static_cast<std::size_t>(i)]);
+      max_x = std::max(max_x, state.x[static_cast<std::size_t>(i)]);
+    }
+    soda::RaceOutcome out;
+    if (soda::race_ends(lane, timeout, u, min_x, max_x, out)) return out;
+    if (u >= last) throw soda::InputError("race: still in progress after 50000 updates (the racer's limit)");
+  }
+}
+
 } // namespace
 
 RaceProblem::RaceProblem(const RunConfig& config)
-    : RaceProblem(config.fitness.race, read_terrains(config.fitness.race), config.world, config.limits) {}
+    : RaceProblem(config, config.algorithm == AlgorithmKind::MapElites ? config.map_elites.sample_every : 0) {}
+
+RaceProblem::RaceProblem(const RunConfig& config, long long describe_every)
+    : RaceProblem(config.fitness.race, read_terrains(config.fitness.race), config.world, config.limits,
+                  describe_every) {}
 
 int RaceProblem::timeout_of(std::size_t t) const {
   return race_.timeout > 0 ? race_.timeout : terrains_[t].race.timeout;
@@ -126,14 +166,18 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
       continue;
     }
     double sum = 0.0, worst = 0.0;
+    Behaviour described{};
     bool healthy = true;
     for (std::size_t t = 0; t < terrains_.size() && healthy; ++t) {
       const soda::Model& model = it->models[t];
       soda::State state = soda::make_state(model);
       state.jitter = runs[i].jitter;
       soda::RaceOutcome o;
+      std::optional<DescriptorMeter> meter;
+      if (describe_every_ > 0) meter.emplace(model);
       try {
-        o = soda::run_race_fast(it->lanes[t], model, timeout_of(t), state);
+        o = meter ? race_described(it->lanes[t], model, timeout_of(t), describe_every_, state, *meter)
+                  : soda::run_race_fast(it->lanes[t], model, timeout_of(t), state);
       } catch (const std::exception& ex) {
         e.status = EvaluationStatus::Diverged;
         e.reason = terrains_[t].file + ": " + ex.what();
@@ -149,8 +193,13 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
       }
       sum += o.result;
       worst = t == 0 ? o.result : std::max(worst, o.result);
+      if (meter) {
+        const Behaviour b = meter->behaviour();
+        for (std::size_t d = 0; d < kDescriptorCount; ++d) described[d] += b[d] / static_cast<double>(terrains_.size());
+      }
     }
     if (!healthy) continue;
+    if (describe_every_ > 0) e.descriptors = behaviour_values(described);
     const double frames = race_.combine == RaceCombine::Worst ? worst : sum / static_cast<double>(terrains_.size());
     e.status = EvaluationStatus::Ok;
     e.distance = frames;
@@ -183,6 +232,7 @@ void RaceProblem::write(WireWriter& out) const {
     out.text(t.text);
   }
   write_world_and_limits(out, world_, limits_);
+  out.u64(static_cast<std::uint64_t>(describe_every_));
 }
 
 RaceProblem RaceProblem::read_fields(WireReader& in) {
@@ -211,7 +261,10 @@ RaceProblem RaceProblem::read_fields(WireReader& in) {
   WorldConfig w;
   LimitsConfig l;
   read_world_and_limits(in, "race problem", w, l);
-  return RaceProblem(race, std::move(terrains), w, l);
+  const std::uint64_t describe_every = in.u64();
+  constexpr std::uint64_t kMaxDescribeEvery = 1000000;
+  if (describe_every > kMaxDescribeEvery) throw WireError("race problem: bad descriptor sample interval");
+  return RaceProblem(race, std::move(terrains), w, l, static_cast<long long>(describe_every));
 }
 
 } // namespace sodaevo

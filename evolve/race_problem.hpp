@@ -14,12 +14,21 @@
 // timeout + the fraction of the way left. Several terrains score their mean or the
 // worst. Fewer frames is better, so fitness = -frames; Evaluation::distance holds
 // the frames (the score in its natural unit), px_per_frame is 0.
+//
+// With a descriptor sample interval (MAP-Elites), the same race also measures the
+// descriptors of evolve/descriptors.hpp that mean the same in a lane as on the
+// floor (race_descriptor_names: mass count, muscle share, width, height; the
+// floor-relative ones do not, the terrain is the ground), every k frames of the
+// race and after its last, the mean over the terrains. The race is then stepped
+// in chunks of k frames with the finish watched after every frame: the same
+// bits as one run (tests/test_race_fitness.cpp).
 #pragma once
 
 #include <string>
 #include <vector>
 
 #include "core/race_def.hpp"
+#include "evolve/descriptors.hpp"
 #include "evolve/problem.hpp"
 #include "evolve/run_config.hpp"
 
@@ -38,10 +47,15 @@ RaceTerrain read_race_terrain(const std::string& file);
 
 class RaceProblem final : public Problem {
  public:
+  /// `describe_every` > 0: measure the descriptors every that many frames of a race.
   RaceProblem(const RaceFitnessConfig& race, std::vector<RaceTerrain> terrains, const WorldConfig& world,
-              const LimitsConfig& limits);
-  /// The run's problem: /fitness/race (its terrains read now), /world and /limits.
+              const LimitsConfig& limits, long long describe_every = 0);
+  /// The run's problem: /fitness/race (its terrains read now), /world and /limits;
+  /// with /algorithm "map-elites" it measures descriptors every
+  /// /map_elites/sample_every frames.
   explicit RaceProblem(const RunConfig& config);
+  /// The run's problem measuring descriptors every `describe_every` frames (0: none).
+  RaceProblem(const RunConfig& config, long long describe_every);
 
   [[nodiscard]] const std::vector<RaceTerrain>& terrains() const { return terrains_; }
 
@@ -66,6 +80,11 @@ class RaceProblem final : public Problem {
   std::vector<RaceTerrain> terrains_;
   WorldConfig world_;
   LimitsConfig limits_;
+  long long describe_every_ = 0;
 };
+
+/// The descriptors a race measures (descriptor_names order): mass_count,
+/// muscle_share, width, height.
+bool race_describes(Descriptor d);
 
 } // namespace sodaevo

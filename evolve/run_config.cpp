@@ -578,7 +578,7 @@ class ConfigReader {
       const bool soda_mode = c.fitness.mode == soda::PhysicsMode::Soda &&
                              c.fitness.divergence == DivergenceCheck::Finite && !(c.fitness.honesty_max_change > 0.0);
       for (const ConfigProblem& problem : race_fitness_conflicts(c.fitness.kind, c.fitness.race, given("/fitness/race"),
-                                                                 c.algorithm == AlgorithmKind::Genetic, soda_mode)) {
+                                                                 c.algorithm == AlgorithmKind::MapElites ? &c.map_elites : nullptr, soda_mode)) {
         error(problem.pointer, problem.message);
       }
     }

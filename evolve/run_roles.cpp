@@ -7,14 +7,13 @@
 
 namespace sodaevo {
 
-namespace {
-
-std::unique_ptr<Problem> problem_of(const RunConfig& config) {
-  if (config.fitness.kind == FitnessKind::Race) return std::make_unique<RaceProblem>(config);
-  return std::make_unique<WalkProblem>(config);
+std::unique_ptr<Problem> problem_of(const RunConfig& config, bool describe) {
+  if (config.fitness.kind == FitnessKind::Race) {
+    return describe ? std::make_unique<RaceProblem>(config) : std::make_unique<RaceProblem>(config, 0);
+  }
+  return describe ? std::make_unique<WalkProblem>(config)
+                  : std::make_unique<WalkProblem>(config.fitness, config.world, config.limits);
 }
-
-} // namespace
 
 RunRoles roles_of(const RunConfig& config) {
   return {problem_of(config), std::make_unique<ReplicaEstimator>(replica_plan(config)),

@@ -21,7 +21,12 @@ struct RunRoles {
   std::unique_ptr<Algorithm> algorithm;
 };
 
-/// A WalkProblem, or a RaceProblem for /fitness/kind "race"; a ReplicaEstimator
+/// The run's Problem: a WalkProblem, or a RaceProblem for /fitness/kind "race",
+/// measuring descriptors with /algorithm "map-elites" unless `describe` is false
+/// (a check or an export of an archive needs only the score).
+std::unique_ptr<Problem> problem_of(const RunConfig& config, bool describe = true);
+
+/// problem_of(config); a ReplicaEstimator
 /// (/fitness/replicas...) and a GeneticAlgorithm.
 RunRoles roles_of(const RunConfig& config);
 

@@ -17,10 +17,12 @@
 #include "core/input_error.hpp"
 #include "core/race_lane.hpp"
 #include "core/step.hpp"
+#include "evolve/map_elites_run.hpp"
 #include "evolve/race_problem.hpp"
 #include "evolve/replica_estimator.hpp"
 #include "evolve/run_roles.hpp"
 #include "evolve/wire_format.hpp"
+#include "formats/atomic_file.hpp"
 #include "formats/model_file.hpp"
 #include "formats/race_file.hpp"
 #include "test_support.hpp"
@@ -257,8 +259,12 @@ TEST_CASE("race config: bundled terrain names, the resolved config, and errors n
              Catch::Contains("/fitness/race/timeot: unknown key"));
   CHECK_THAT(error_of(R"({"race": {"terrains": ["TerrainFlat"]}})"),
              Catch::Contains("/fitness/race: expected only with /fitness/kind \"race\""));
-  CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"]}})", R"(, "algorithm": "map-elites")"),
-             Catch::Contains("/algorithm: expected \"ga\" with /fitness/kind \"race\""));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"]}})",
+                      R"(, "algorithm": "map-elites", "map_elites": {"descriptors": ["width", "floor_contact"],
+                          "bins": [4, 4], "ranges": [[0, 200], [0, 1]]})"),
+             Catch::Contains("/map_elites/descriptors/1: expected one of \"mass_count\", \"muscle_share\", \"width\", "
+                             "\"height\" with /fitness/kind \"race\"") &&
+                 Catch::Contains("got \"floor_contact\""));
   CHECK_THAT(error_of(R"({"kind": "race", "mode": "continuous", "race": {"terrains": ["TerrainFlat"]}})"),
              Catch::Contains("/fitness/kind: expected \"walk\" with /fitness/mode \"continuous\""));
 }
@@ -291,4 +297,85 @@ TEST_CASE("a race run: evolve, export, and `race` confirms the exported champion
   REQUIRE(raced.exit_code == 0);
   const auto j = nlohmann::json::parse(raced.output.substr(raced.output.find('{')));
   CHECK(j["contenders"][0]["frames"].get<double>() == champions[0]["exact_distance"].get<double>());
+}
+
+TEST_CASE("race problem with descriptors: the race's bits, descriptors sampled on the reference race", "[race][map-elites]") {
+  RunConfig config = race_config({"TerrainFlat"}, 500);
+  const RaceProblem plain(config, 0), described(config, 7);
+  const soda::ModelDef prepared = plain.prepare(dainty_walker());
+  const std::vector<Rollout> runs{Rollout(&prepared), Rollout(&prepared, soda::SineJitter{99, 0.2})};
+  const std::vector<Evaluation> a = plain.rollouts(runs), b = described.rollouts(runs);
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    REQUIRE(b[i].ok());
+    CHECK(same_bits(a[i].distance, b[i].distance)); // chunked, the race is the same race
+    CHECK(a[i].descriptors.empty());
+    REQUIRE(b[i].descriptors.size() == kDescriptorCount);
+  }
+  // By hand on the reference runner: the masses' x and y extents every 7th frame and after the last.
+  const soda::RaceDef race = soda::read_race_file(terrain("TerrainFlat"));
+  const soda::RaceLane lane = soda::build_lane(race.terrain, race.constraints, prepared, "c");
+  const soda::Model model = soda::build_lane_model(lane);
+  std::vector<soda::State> frames;
+  const soda::RaceOutcome o = soda::run_race(lane, model, 500, [&](const soda::State& s) { frames.push_back(s); });
+  CHECK(o.result == a[0].distance);
+  double width = 0.0, height = 0.0;
+  int samples = 0;
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    if ((f + 1) % 7 != 0 && f + 1 != frames.size()) continue;
+    double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+    for (int m = 0; m < model.mass_count; ++m) {
+      x0 = std::min(x0, frames[f].x[m]), x1 = std::max(x1, frames[f].x[m]);
+      y0 = std::min(y0, frames[f].y[m]), y1 = std::max(y1, frames[f].y[m]);
+    }
+    width += x1 - x0, height += y1 - y0, ++samples;
+  }
+  const std::vector<double>& d = b[0].descriptors;
+  CHECK(d[static_cast<std::size_t>(Descriptor::Width)] == Approx(width / samples).epsilon(1e-12));
+  CHECK(d[static_cast<std::size_t>(Descriptor::Height)] == Approx(height / samples).epsilon(1e-12));
+  CHECK(d[static_cast<std::size_t>(Descriptor::MassCount)] == model.mass_count);
+  CHECK(b[1].descriptors != b[0].descriptors); // the jittered race is another race
+  // Over the wire, with the interval.
+  WireWriter w;
+  described.write(w);
+  WireReader r(w.bytes());
+  const std::unique_ptr<Problem> copy = read_problem(r);
+  CHECK(copy->rollouts(runs)[0].descriptors == d);
+}
+
+TEST_CASE("MAP-Elites with race fitness: elites scored by their race, the same archive on 1 and 2 threads",
+          "[race][map-elites]") {
+  RunConfig config = race_config({"TerrainFlat"}, 300);
+  config.algorithm = AlgorithmKind::MapElites;
+  config.population.random_fraction = 0.5;
+  config.fitness.replicas = 2;
+  config.fitness.replicas_max = 4;
+  MapElitesConfig& me = config.map_elites;
+  me.axes = {{Descriptor::Width, 4, 0.0, 200.0}, {Descriptor::MassCount, 4, 2.5, 14.5}};
+  me.iterations = 2;
+  me.batch_size = 6;
+  me.sample_every = 5;
+  me.qd_offset = -310; // a timeout scores timeout + the share of the course left
+  const fs::path one = fresh_temp_dir("race_me_one"), two = fresh_temp_dir("race_me_two");
+  ThreadEvaluator threads1(1), threads2(2);
+  const MapElitesOutcome a = run_map_elites(one, config, me, threads1, {});
+  run_map_elites(two, config, me, threads2, {});
+  CHECK(a.stopped_because == "completed");
+  REQUIRE(a.metrics.filled > 1);
+  const std::string archive_text = soda::read_whole_file(one / "archive.json");
+  CHECK(archive_text == soda::read_whole_file(two / "archive.json"));
+  CHECK(soda::read_whole_file(one / "qd.csv") == soda::read_whole_file(two / "qd.csv"));
+  // Each elite's file, raced again by the reference runner, gives its logged
+  // result; its fitness is minus a race result (frames).
+  const soda::RaceDef race = soda::read_race_file(terrain("TerrainFlat"));
+  const nlohmann::json archive = nlohmann::json::parse(archive_text);
+  for (const auto& cell : archive["cells"]) {
+    const soda::ModelDef elite = soda::read_model_file(one / cell["file"].get<std::string>()).def;
+    const soda::RaceLane lane = soda::build_lane(race.terrain, race.constraints, elite, "elite");
+    CHECK(soda::run_race(lane, soda::build_lane_model(lane), 300).result == cell["distance"].get<double>());
+    const double fitness = cell["fitness"]["mean"].get<double>();
+    CHECK(fitness < 0.0);
+  }
+  CHECK(a.metrics.qd_score > 0.0); // fitness - (-310) per elite
+  fs::remove_all(one);
+  fs::remove_all(two);
 }
