@@ -45,13 +45,13 @@ struct LockstepBatch::Data {
     std::vector<int> wave_links;         ///< links with a moving target in some lane
     std::vector<int> column_of;          ///< [wave_links] its sine column
     int columns = 0;
-    int packed_rows = 0;                 ///< rows of one sine per column: ceil(columns / 8)
     bool uniform = false;                ///< every lane has the same phase in each column
     bool jittered = false;               ///< some lane's state carries sine jitter (run)
     /// Where its rows start: a block of points x, y, vx, vy [4][points], links
     /// rest, power, target [3][links], column phases [columns] and the world
-    /// [kWorldRows]; sine arguments and sines [columns]; packed ones [packed_rows].
-    std::size_t block = 0, sine_at = 0, packed_at = 0;
+    /// [kWorldRows]; sine arguments and sines [columns]; shared ones: columns
+    /// [pool_at, pool_at + columns) of the pool.
+    std::size_t block = 0, sine_at = 0, pool_at = 0;
   };
   int count = 0;
   std::vector<Group> groups;
@@ -71,11 +71,18 @@ struct LockstepBatch::Data {
   // Sines of the next frame: computed during this frame's links (where the
   // square-root/divide unit is the bottleneck and the other units idle), for the
   // phase each wave will have if no lane's direction turns; a group whose phase
-  // came out otherwise gets them again after its frame (sines_now). A group whose
-  // lanes share them (packed) has one per column, 8 columns to a row, and its
-  // muscle phases in that layout (packed_phase).
-  AVec<double> arguments, sines;                              ///< rows at sine_at
-  AVec<double> packed_phase, packed_arguments, packed_sines;  ///< rows at packed_at
+  // came out otherwise gets them again after the frame (sines_now). A group whose
+  // lanes share them (packed) has one per column in the pool, the columns of all
+  // such groups one after the other, 8 to a row, each with its muscle phase and
+  // its group's wave phase (pool_wave): a row's arguments are then those of each
+  // column's group, whatever groups the row holds.
+  AVec<double> arguments, sines;                                      ///< rows at sine_at
+  AVec<double> pool_phase, pool_wave, pool_arguments, pool_sines;     ///< columns at pool_at
+  int pool_rows = 0;
+  std::vector<std::uint8_t> redo;   ///< [groups] the wave turned: sines again after the frame
+  int total_links = 0;              ///< the link passes of a frame, over all steps
+  int sine_rows = 0, sines_done = 0, sine_credit = 0; ///< a frame's sines, spread over its link passes
+  unsigned far_lanes = 0; ///< lanes glibc's sin takes elsewhere (|x| >= 105414336, NaN): none from phases in [0, 1)
   AVec<double> predicted;        ///< [groups] rows: the phase the sines are for
   std::vector<std::uint8_t> packed; ///< [groups] the group's sines are the packed ones
   /// [groups] no mass of any lane can reach the ceiling or a side wall this frame
@@ -107,13 +114,15 @@ struct LockstepBatch::Data {
   double* world_row(int g, int k) { return column_row(g, groups[static_cast<std::size_t>(g)].columns + k); }
   double* arguments_row(int g, int q) { return arguments.data() + (groups[static_cast<std::size_t>(g)].sine_at + q) * kW; }
   double* sines_row(int g, int q) { return sines.data() + (groups[static_cast<std::size_t>(g)].sine_at + q) * kW; }
-  double* packed_row(AVec<double>& v, int g, int r) { return v.data() + (groups[static_cast<std::size_t>(g)].packed_at + r) * kW; }
+  double* pool(AVec<double>& v, int g) { return v.data() + groups[static_cast<std::size_t>(g)].pool_at; }
 
   void add_group(const std::vector<const Model*>& models, int first, int lanes);
   void lay_out();
   void load(State* const* st);
   void store(State* const* st);
-  void arguments_for(int g, O::V phase);
+  void arguments_for(int g, O::V phase, bool pool_rows_now);
+  void pool_arguments_rows(std::size_t first_row, std::size_t end_row);
+  void step_frame();
   void sines_now(int g);
   void unpack_sines(int g);
   void targets_from_sines(int g);
@@ -196,7 +205,6 @@ void LockstepBatch::Data::add_group(const std::vector<const Model*>& models, int
     G.column_of.push_back(column);
   }
   G.columns = static_cast<int>(column_link.size());
-  G.packed_rows = (G.columns + kW - 1) / kW;
   G.uniform = true;
   for (const Model* m : models) {
     for (int q = 0; q < G.columns; ++q) G.uniform = G.uniform && bits_of(m->link_phase[column_link[q]]) == bits_of(shape.link_phase[column_link[q]]);
@@ -210,22 +218,25 @@ void LockstepBatch::Data::add_group(const std::vector<const Model*>& models, int
 // The rows of every group, filled from each lane's model; the order in which the
 // groups step (side by side where consecutive groups have the same links).
 void LockstepBatch::Data::lay_out() {
-  std::size_t block_rows = 0, sine_rows = 0, packed_rows = 0;
+  std::size_t block_rows = 0, row_count = 0, pool_columns = 0;
   for (Group& G : groups) {
     G.block = block_rows;
-    G.sine_at = sine_rows;
-    G.packed_at = packed_rows;
+    G.sine_at = row_count;
+    G.pool_at = pool_columns;
     block_rows += 4 * static_cast<std::size_t>(G.points) + 3 * static_cast<std::size_t>(G.links) + G.columns + kWorldRows;
-    sine_rows += static_cast<std::size_t>(G.columns);
-    packed_rows += static_cast<std::size_t>(G.uniform ? G.packed_rows : 0);
+    row_count += static_cast<std::size_t>(G.columns);
+    pool_columns += static_cast<std::size_t>(G.uniform ? G.columns : 0);
   }
+  pool_rows = static_cast<int>((pool_columns + kW - 1) / kW);
   const int group_total = static_cast<int>(groups.size());
   rows.assign(block_rows * kW, 0.0);
-  arguments.assign(sine_rows * kW, 0.0);
+  arguments.assign(row_count * kW, 0.0);
   sines.assign(arguments.size(), 0.0);
-  packed_phase.assign(packed_rows * kW, 0.0);
-  packed_arguments.assign(packed_phase.size(), 0.0);
-  packed_sines.assign(packed_phase.size(), 0.0);
+  pool_phase.assign(static_cast<std::size_t>(pool_rows) * kW, 0.0);
+  pool_wave.assign(pool_phase.size(), 0.0);
+  pool_arguments.assign(pool_phase.size(), 0.0);
+  pool_sines.assign(pool_phase.size(), 0.0);
+  redo.assign(static_cast<std::size_t>(group_total), 0);
   predicted.assign(static_cast<std::size_t>(group_total) * kW, 0.0);
   packed.assign(static_cast<std::size_t>(group_total), 0);
   walls_far.assign(static_cast<std::size_t>(group_total), 0);
@@ -263,14 +274,21 @@ void LockstepBatch::Data::lay_out() {
       autoreverse[static_cast<std::size_t>(g) * kW + l] = m.autoreverse ? 1 : 0;
     }
     if (G.uniform) {
-      for (int q = 0; q < G.columns; ++q) packed_row(packed_phase, g, 0)[q] = column_row(g, q)[0];
+      for (int q = 0; q < G.columns; ++q) pool(pool_phase, g)[q] = column_row(g, q)[0];
     }
     most_work = std::max(most_work, static_cast<std::size_t>(G.columns));
   }
-  sine_work.reserve(2 * most_work);
+  sine_work.reserve(row_count + static_cast<std::size_t>(pool_rows));
+  (void)most_work;
   lane_models.clear();
   group_column_links.clear();
-  for (int g = 0; g < group_total; g += kSideBySide) schedule.emplace_back(g, std::min(kSideBySide, group_total - g));
+  for (int g = 0; g < group_total; g += kSideBySide) {
+    const int n = std::min(kSideBySide, group_total - g);
+    schedule.emplace_back(g, n);
+    int links = 0;
+    for (int k = g; k < g + n; ++k) links = std::max(links, groups[static_cast<std::size_t>(k)].links);
+    total_links += links;
+  }
 }
 
 LockstepBatch::~LockstepBatch() = default;
@@ -320,29 +338,44 @@ void LockstepBatch::Data::store(State* const* st) {
 #pragma GCC push_options
 #pragma GCC target("avx512f,avx512dq")
 
-// Group g's sine arguments for wave phase `phase`, noted in `predicted`: packed
-// (one per column) where the lanes share their column phases and their wave phase.
-[[gnu::always_inline]] inline void LockstepBatch::Data::arguments_for(int g, O::V phase) {
+// The pool's arguments in rows [first_row, end_row): each column's muscle phase
+// against its group's wave phase, the operations of sine_argument lane by lane.
+// Recomputing a row leaves the other groups' columns as they were (the same
+// operands), so one group's sines may be formed again alone (sines_now).
+[[gnu::always_inline]] inline void LockstepBatch::Data::pool_arguments_rows(std::size_t first_row, std::size_t end_row) {
+  for (std::size_t r = first_row; r < end_row; ++r) {
+    O::store(pool_arguments.data() + r * kW,
+             simd_rules::sine_argument<O>(O::load(pool_phase.data() + r * kW), O::load(pool_wave.data() + r * kW)));
+  }
+}
+
+// Group g's sine arguments for wave phase `phase`, noted in `predicted`: in the
+// pool (one per column) where the lanes share their column phases and their
+// wave phase, its rows' arguments formed now if `pool_rows_now` (else by the caller).
+[[gnu::always_inline]] inline void LockstepBatch::Data::arguments_for(int g, O::V phase, bool pool_rows_now) {
   O::store(predicted.data() + static_cast<std::size_t>(g) * kW, phase);
   const Group& G = groups[static_cast<std::size_t>(g)];
   const O::V first = _mm512_broadcastsd_pd(_mm512_castpd512_pd128(phase));
   const bool share = G.uniform && _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(phase), _mm512_castpd_si512(first)) == 0;
   packed[static_cast<std::size_t>(g)] = share ? 1 : 0;
   if (share) {
-    for (int r = 0; r < G.packed_rows; ++r) {
-      O::store(packed_row(packed_arguments, g, r), simd_rules::sine_argument<O>(O::load(packed_row(packed_phase, g, r)), first));
-    }
+    double* wave = pool(pool_wave, g);
+    const double w = _mm512_cvtsd_f64(phase);
+    for (int q = 0; q < G.columns; ++q) wave[q] = w;
+    if (pool_rows_now) pool_arguments_rows(G.pool_at / kW, (G.pool_at + static_cast<std::size_t>(G.columns) + kW - 1) / kW);
     return;
   }
   for (int q = 0; q < G.columns; ++q) O::store(arguments_row(g, q), simd_rules::sine_argument<O>(O::load(column_row(g, q)), phase));
 }
 
-// Group g's sines for the phase it has now.
+// Group g's sines for the phase it has now (in the pool: its rows' sines, the
+// other columns' the same again).
 void LockstepBatch::Data::sines_now(int g) {
   const Group& G = groups[static_cast<std::size_t>(g)];
-  arguments_for(g, O::load(world_row(g, kPhase)));
+  arguments_for(g, O::load(world_row(g, kPhase)), true);
   if (packed[static_cast<std::size_t>(g)] != 0) {
-    sine_fn(packed_row(packed_arguments, g, 0), packed_row(packed_sines, g, 0), G.packed_rows * kW);
+    const std::size_t first = G.pool_at / kW, end = (G.pool_at + static_cast<std::size_t>(G.columns) + kW - 1) / kW;
+    sine_fn(pool_arguments.data() + first * kW, pool_sines.data() + first * kW, static_cast<int>((end - first) * kW));
   } else {
     sine_fn(arguments_row(g, 0), sines_row(g, 0), G.columns * kW);
   }
@@ -352,22 +385,20 @@ void LockstepBatch::Data::sines_now(int g) {
 // column's value in each of its lanes.
 [[gnu::always_inline]] inline void LockstepBatch::Data::unpack_sines(int g) {
   const Group& G = groups[static_cast<std::size_t>(g)];
-  const double* argument = packed_row(packed_arguments, g, 0);
-  const double* sine = packed_row(packed_sines, g, 0);
+  const double* argument = pool(pool_arguments, g);
+  const double* sine = pool(pool_sines, g);
   for (int q = 0; q < G.columns; ++q) {
     O::store(sines_row(g, q), O::set1(sine[q]));
     O::store(arguments_row(g, q), O::set1(argument[q]));
   }
 }
 
-// Group g's (arguments, sines) rows to compute during the link pass.
+// Group g's (arguments, sines) rows to compute during the link passes (not
+// packed: the pool's rows are queued whole).
 [[gnu::always_inline]] inline void LockstepBatch::Data::queue_sines(int g) {
   const Group& G = groups[static_cast<std::size_t>(g)];
-  if (packed[static_cast<std::size_t>(g)] != 0) {
-    for (int r = 0; r < G.packed_rows; ++r) sine_work.emplace_back(packed_row(packed_arguments, g, r), packed_row(packed_sines, g, r));
-  } else {
-    for (int q = 0; q < G.columns; ++q) sine_work.emplace_back(arguments_row(g, q), sines_row(g, q));
-  }
+  if (packed[static_cast<std::size_t>(g)] != 0) return;
+  for (int q = 0; q < G.columns; ++q) sine_work.emplace_back(arguments_row(g, q), sines_row(g, q));
 }
 
 // Group g's sines moved by each lane's jitter, as rules::muscle_sine moves them:
@@ -408,7 +439,7 @@ void LockstepBatch::Data::jitter_sines(int g) {
   const __m512i threshold = _mm512_loadu_si512(lane_threshold.data() + first);
   const __m512i m1 = _mm512_set1_epi64(static_cast<long long>(0xbf58476d1ce4e5b9ULL));
   const __m512i m2 = _mm512_set1_epi64(static_cast<long long>(0x94d049bb133111ebULL));
-  const double* argument = packed_row(packed_arguments, g, 0);
+  const double* argument = pool(pool_arguments, g);
   unsigned hits = 0;
   for (int q = 0; q < groups[static_cast<std::size_t>(g)].columns; ++q) {
     __m512i z = _mm512_xor_si512(_mm512_castpd_si512(_mm512_set1_pd(argument[q])), seed_mix);
@@ -423,7 +454,7 @@ void LockstepBatch::Data::jitter_sines(int g) {
 // Packed group g's wave links' targets: each column's one sine in every lane.
 [[gnu::always_inline]] inline void LockstepBatch::Data::targets_from_packed(int g) {
   const Group& G = groups[static_cast<std::size_t>(g)];
-  const double* sine = packed_row(packed_sines, g, 0);
+  const double* sine = pool(pool_sines, g);
   for (std::size_t w = 0; w < G.wave_links.size(); ++w) {
     const int j = G.wave_links[w];
     O::store(link_row(g, 2, j), simd_rules::muscle_target<O>(O::load(link_row(g, 0, j)), O::load(link_row(g, 1, j)),
@@ -459,24 +490,6 @@ template <int N>
     springyness[n] = O::load(world_row(g0 + n, kSpringyness));
   }
   const V zero = O::set1(0.0);
-  // This frame's targets from the sines computed for it, then the arguments of
-  // the next frame's at the phase the waves will have if no direction turns.
-  sine_work.clear();
-  for (int n = 0; n < N; ++n) {
-    const int g = g0 + n;
-    const Group& G = groups[static_cast<std::size_t>(g)];
-    if (G.columns == 0) continue;
-    if (packed[static_cast<std::size_t>(g)] != 0 && !(G.jittered && packed_jitter_hits(g))) {
-      targets_from_packed(g); // the lanes' sines as computed: each column's in every lane
-    } else {
-      if (packed[static_cast<std::size_t>(g)] != 0) unpack_sines(g);
-      if (G.jittered) [[unlikely]] jitter_sines(g);
-      targets_from_sines(g);
-    }
-    arguments_for(g, simd_rules::advance_wave_phase<O>(O::load(world_row(g, kPhase)), O::load(world_row(g, kSpeed)),
-                                                       O::load(world_row(g, kMode))));
-    if (inline_sines) queue_sines(g);
-  }
   // The groups' links and masses side by side, each group's in its own order.
   const int* la[N];
   const int* lb[N];
@@ -491,15 +504,12 @@ template <int N>
     links = std::max(links, G.links);
     masses = std::max(masses, G.masses);
   }
-  const int sine_rows = static_cast<int>(sine_work.size());
   const glibc_sine::GlibcTable& table = *sine_table;
-  unsigned far_lanes = 0; // lanes glibc's sin takes elsewhere (|x| >= 105414336, NaN): none from phases in [0, 1)
-  int sines_done = 0, sine_credit = 0; // sines due after link j: (j + 1) * sine_rows / links, by steps
   // Links in file order (step.cpp apply_links): each impulse goes into both
   // ends' velocities at once; a zero-length link adds nothing (masked).
   for (int j = 0; j < links; ++j) {
-    // The next frame's sines, spread over the links.
-    for (sine_credit += sine_rows; sine_credit >= links; sine_credit -= links, ++sines_done) {
+    // The next frame's sines, spread over the link passes: sine_rows / total_links of them a link.
+    for (sine_credit += sine_rows; sine_credit >= total_links; sine_credit -= total_links, ++sines_done) {
       unsigned far = 0;
       const auto& [in, out] = sine_work[static_cast<std::size_t>(sines_done)];
       glibc_sine::glibc_sin<O, 1>(table, in, out, &far);
@@ -576,24 +586,68 @@ template <int N>
   for (int n = 0; n < N; ++n) walls_far[static_cast<std::size_t>(g0 + n)] = inside[n] == static_cast<M>(0xff) ? 1 : 0;
   // The wave advance after the physics (docs/physics.md, "The wave"): the
   // predicted phase where no lane hit a side wall (the same operations on the
-  // same operands). Where a direction turned (or the sines were not computed
-  // above), the next frame's sines again.
+  // same operands). Where a direction turned, the next frame's sines again once
+  // the frame is done (step_frame).
   for (int n = 0; n < N; ++n) {
     const int g = g0 + n;
     const double* expected = predicted.data() + static_cast<std::size_t>(g) * kW;
     if (groups[static_cast<std::size_t>(g)].columns > 0 && !hit_wall[n]) {
       O::store(world_row(g, kPhase), O::load(expected));
-      if (sine_rows == 0 || far_lanes != 0) sines_now(g);
       continue;
     }
     const V phase = simd_rules::advance_wave_phase<O>(O::load(world_row(g, kPhase)), O::load(world_row(g, kSpeed)),
                                                       O::load(world_row(g, kMode)));
     O::store(world_row(g, kPhase), phase);
     if (groups[static_cast<std::size_t>(g)].columns == 0) continue;
-    if (sine_rows == 0 || far_lanes != 0 ||
-        _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(phase), _mm512_load_si512(expected)) != 0) {
-      sines_now(g);
+    redo[static_cast<std::size_t>(g)] = _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(phase), _mm512_load_si512(expected)) != 0;
+  }
+}
+
+// One frame of every group: this frame's targets from the sines computed for it
+// and the arguments of the next frame's at the phase each wave will have if no
+// direction turns; the link and mass passes, two groups at a time, with those
+// sines spread over them; the sines again of a group whose wave turned (or all,
+// where they were not computed in the passes).
+void LockstepBatch::Data::step_frame() {
+  sine_work.clear();
+  for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
+    const Group& G = groups[static_cast<std::size_t>(g)];
+    if (G.columns == 0) continue;
+    if (packed[static_cast<std::size_t>(g)] != 0 && !(G.jittered && packed_jitter_hits(g))) {
+      targets_from_packed(g); // the lanes' sines as computed: each column's in every lane
+    } else {
+      if (packed[static_cast<std::size_t>(g)] != 0) unpack_sines(g);
+      if (G.jittered) [[unlikely]] jitter_sines(g);
+      targets_from_sines(g);
     }
+    arguments_for(g, simd_rules::advance_wave_phase<O>(O::load(world_row(g, kPhase)), O::load(world_row(g, kSpeed)),
+                                                       O::load(world_row(g, kMode))),
+                  false);
+    if (inline_sines) queue_sines(g);
+  }
+  pool_arguments_rows(0, static_cast<std::size_t>(pool_rows));
+  if (inline_sines) {
+    for (int r = 0; r < pool_rows; ++r) {
+      sine_work.emplace_back(pool_arguments.data() + static_cast<std::size_t>(r) * kW, pool_sines.data() + static_cast<std::size_t>(r) * kW);
+    }
+  }
+  sine_rows = static_cast<int>(sine_work.size());
+  sines_done = 0;
+  sine_credit = 0;
+  far_lanes = 0;
+  for (const auto& [g, n] : schedule) {
+    static_assert(kSideBySide == 2);
+    if (n == 2) {
+      step_groups<2>(g);
+    } else {
+      step_groups<1>(g);
+    }
+  }
+  assert(sines_done == sine_rows);
+  const bool all_again = !inline_sines || far_lanes != 0;
+  for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
+    if (groups[static_cast<std::size_t>(g)].columns > 0 && (all_again || redo[static_cast<std::size_t>(g)] != 0)) sines_now(g);
+    redo[static_cast<std::size_t>(g)] = 0;
   }
 }
 
@@ -632,16 +686,7 @@ void LockstepBatch::run(State* const* states, long long frames) {
   for (int g = 0; g < static_cast<int>(d.groups.size()); ++g) {
     if (d.groups[static_cast<std::size_t>(g)].columns > 0) d.sines_now(g);
   }
-  for (long long f = 0; f < frames; ++f) {
-    for (const auto& [g, n] : d.schedule) {
-      static_assert(kSideBySide == 2);
-      if (n == 2) {
-        d.step_groups<2>(g);
-      } else {
-        d.step_groups<1>(g);
-      }
-    }
-  }
+  for (long long f = 0; f < frames; ++f) d.step_frame();
   d.store(states);
   for (int c = 0; c < d.count; ++c) states[c]->frame += frames;
 }

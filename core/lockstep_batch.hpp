@@ -31,8 +31,9 @@
 // SIMD (exact_sines.hpp), for all lanes at once. Where every lane of a group has
 // the same phase in each column and the same wave phase (replicas of one
 // creature, until a wall turns one lane's wave), the lanes' arguments are equal:
-// the sines are computed once per column, 8 columns to a vector, and broadcast
-// to the lanes (the same bits: the same operations on the same operands). A lane
+// the sines are computed once per column and broadcast to the lanes (the same
+// bits: the same operations on the same operands), the columns of all such
+// groups packed 8 to a vector (a GA creature has about 4). A lane
 // whose state carries sine jitter (sine_jitter.hpp: replicas of one creature,
 // each its own seed) gets its sines moved before they are used, lane by lane
 // from the same arguments as the reference's; groups with no jittered lane skip
