@@ -11,6 +11,7 @@
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "evolve/evaluator.hpp"
+#include "evolve/race_schedule.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_reader.hpp"
 #include "evolve/run_roles.hpp"
@@ -36,6 +37,9 @@ int run_replay(const ReplayOptions& opt) {
   }
   const Generation g = read_saved_generation(run, generation);
   const RunRoles roles = roles_of(config);
+  // With the race timeout the generation was scored with (evolve/race_schedule.hpp).
+  const std::unique_ptr<Problem> scheduled = scheduled_problem(*roles.problem, g);
+  const Problem& problem = scheduled ? *scheduled : *roles.problem;
   // Each creature on as many replicas as it was logged with (survivors gather
   // more, evolve/replica_estimator.hpp): one evaluation per replica count.
   std::map<int, std::vector<std::size_t>> by_rollouts;
@@ -49,7 +53,7 @@ int run_replay(const ReplayOptions& opt) {
     for (std::size_t i : who) creatures.push_back(&g.individuals[i].creature);
     std::unique_ptr<Estimator> logged_count = rollouts > 0 ? roles.estimator->with_rollouts(rollouts) : nullptr;
     const Estimator& estimator = logged_count ? *logged_count : *roles.estimator;
-    std::vector<Evaluation> r = evaluator.evaluate(creatures, *roles.problem, estimator);
+    std::vector<Evaluation> r = evaluator.evaluate(creatures, problem, estimator);
     for (std::size_t k = 0; k < who.size(); ++k) replayed[who[k]] = std::move(r[k]);
   }
   int mismatches = 0;

@@ -4,6 +4,7 @@
 #include <chrono>
 
 #include "core/input_error.hpp"
+#include "evolve/race_schedule.hpp"
 #include "evolve/run_roles.hpp"
 #include "evolve/variation.hpp"
 #include "formats/model_file.hpp"
@@ -51,7 +52,10 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
   for (;;) {
     if (need_evaluation) {
       const auto t0 = Clock::now();
-      long long done = evaluate_generation(evaluator, current, *roles.problem, *roles.estimator);
+      // The generation's race timeout (/fitness/race/timeout_factor; evolve/race_schedule.hpp).
+      const std::unique_ptr<Problem> scheduled = scheduled_problem(*roles.problem, current);
+      const Problem& problem = scheduled ? *scheduled : *roles.problem;
+      long long done = evaluate_generation(evaluator, current, problem, *roles.estimator);
       // The generation the run ends with (by its budget of generations or of
       // evaluations: known now, so that a resumed run does the same) hands over its
       // best: they are confirmed on more replicas first, within the budget (the
@@ -61,7 +65,7 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
                         (limit > 0 && evaluations + done + roles.algorithm->evaluations_per_generation() +
                                               config.fitness.confirm > limit);
       if (last) {
-        done += confirm_best(evaluator, current, *roles.problem, *roles.estimator, config.fitness.confirm,
+        done += confirm_best(evaluator, current, problem, *roles.estimator, config.fitness.confirm,
                              limit > 0 ? std::max(0LL, limit - evaluations - done) : -1);
       }
       const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
@@ -108,7 +112,9 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
       }
       return outcome;
     }
-    current = roles.algorithm->next(current);
+    Generation next = roles.algorithm->next(current);
+    schedule_race(config, current, next);
+    current = std::move(next);
   }
 }
 

@@ -20,6 +20,9 @@ struct Individual {
 struct Generation {
   int index = 0;
   std::vector<Individual> individuals;
+  /// The race timeout this generation was scored with when
+  /// /fitness/race/timeout_factor sets one (evolve/race_schedule.hpp); 0: the run's.
+  int race_timeout = 0;
 };
 
 /// Summary of an evaluated generation (over the creatures that are Ok).

@@ -5,6 +5,7 @@
 #include <exception>
 #include <system_error>
 
+#include "core/number_text.hpp"
 #include "core/race_def.hpp"
 #include "evolve/race_problem.hpp"
 #include "evolve/strict_json.hpp"
@@ -40,12 +41,19 @@ class Reader {
       : base_dir_(base_dir), config_(config), problems_(problems) {}
 
   void read(const json& v) {
-    static const std::vector<std::string> keys = {"terrains", "combine", "timeout"};
-    if (!v.is_object()) return expected("", "an object with keys terrains, combine, timeout", v);
+    static const std::vector<std::string> keys = {"terrains", "combine", "timeout", "timeout_factor"};
+    if (!v.is_object()) return expected("", "an object with keys terrains, combine, timeout, timeout_factor", v);
     for (const auto& [key, value] : v.items()) {
       if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
-        problem("/" + key, "unknown key (expected one of: terrains, combine, timeout)");
+        problem("/" + key, "unknown key (expected one of: terrains, combine, timeout, timeout_factor)");
       }
+    }
+    if (const auto it = v.find("timeout_factor"); it != v.end()) {
+      constexpr double kMaxFactor = 100.0;
+      const bool valid = it->is_number() && (it->get<double>() == 0.0 ||
+                                             (it->get<double>() >= 1.0 && it->get<double>() <= kMaxFactor));
+      if (!valid) expected("/timeout_factor", "0 (off) or a number in [1, 100]", *it);
+      else config_.timeout_factor = it->get<double>();
     }
     if (const auto it = v.find("combine"); it != v.end()) {
       if (*it == "mean") config_.combine = RaceCombine::Mean;
@@ -124,6 +132,10 @@ std::vector<ConfigProblem> race_fitness_conflicts(FitnessKind kind, const RaceFi
     if (race_given) out.push_back({"/fitness/race", "expected only with /fitness/kind \"race\", got it with \"walk\""});
     return out;
   }
+  if (map_elites != nullptr && race.timeout_factor > 0.0) {
+    out.push_back({"/fitness/race/timeout_factor", "expected 0 with /algorithm \"map-elites\" (an archive has no "
+                                                   "generations), got " + soda::format_double_plain(race.timeout_factor)});
+  }
   if (race.terrains.empty()) {
     out.push_back({"/fitness/race/terrains",
                    "expected at least one race file or bundled terrain with /fitness/kind \"race\", got none"});
@@ -143,7 +155,10 @@ std::vector<ConfigProblem> race_fitness_conflicts(FitnessKind kind, const RaceFi
 }
 
 json to_json(const RaceFitnessConfig& c) {
-  return {{"terrains", c.terrains}, {"combine", race_combine_name(c.combine)}, {"timeout", c.timeout}};
+  return {{"terrains", c.terrains},
+          {"combine", race_combine_name(c.combine)},
+          {"timeout", c.timeout},
+          {"timeout_factor", c.timeout_factor}};
 }
 
 } // namespace sodaevo

@@ -33,6 +33,12 @@ struct RaceFitnessConfig {
   /// A shorter one makes evaluations cheaper: a creature that does not finish still
   /// scores timeout + the fraction of the way it had left.
   int timeout = 0;
+  /// /fitness/race/timeout_factor: 0 (off) or [1, 100]. As wodka did, a generation
+  /// races with a timeout of this factor times the frames of the previous
+  /// generation's best racer (rounded up; never above `timeout` or the file's):
+  /// slow creatures are cut off early. Its timeout is saved with each generation
+  /// (evolve/race_schedule.hpp).
+  double timeout_factor = 0.0;
 
   bool operator==(const RaceFitnessConfig&) const = default;
 };

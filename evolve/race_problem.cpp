@@ -92,7 +92,15 @@ RaceProblem::RaceProblem(const RunConfig& config, long long describe_every)
                   describe_every) {}
 
 int RaceProblem::timeout_of(std::size_t t) const {
-  return race_.timeout > 0 ? race_.timeout : terrains_[t].race.timeout;
+  const int base = race_.timeout > 0 ? race_.timeout : terrains_[t].race.timeout;
+  return adaptive_timeout_ > 0 ? std::min(base, adaptive_timeout_) : base;
+}
+
+RaceProblem RaceProblem::with_adaptive_timeout(int frames) const {
+  if (frames < 0 || frames > soda::kMaxRaceTimeout) throw soda::InputError("race problem: bad adaptive timeout");
+  RaceProblem p = *this;
+  p.adaptive_timeout_ = frames;
+  return p;
 }
 
 soda::ModelDef RaceProblem::prepare(const soda::ModelDef& creature) const {
@@ -233,6 +241,7 @@ void RaceProblem::write(WireWriter& out) const {
   }
   write_world_and_limits(out, world_, limits_);
   out.u64(static_cast<std::uint64_t>(describe_every_));
+  out.i32(adaptive_timeout_);
 }
 
 RaceProblem RaceProblem::read_fields(WireReader& in) {
@@ -264,7 +273,10 @@ RaceProblem RaceProblem::read_fields(WireReader& in) {
   const std::uint64_t describe_every = in.u64();
   constexpr std::uint64_t kMaxDescribeEvery = 1000000;
   if (describe_every > kMaxDescribeEvery) throw WireError("race problem: bad descriptor sample interval");
-  return RaceProblem(race, std::move(terrains), w, l, static_cast<long long>(describe_every));
+  const int adaptive = in.i32();
+  if (adaptive < 0 || adaptive > soda::kMaxRaceTimeout) throw WireError("race problem: bad adaptive timeout");
+  return RaceProblem(race, std::move(terrains), w, l, static_cast<long long>(describe_every))
+      .with_adaptive_timeout(adaptive);
 }
 
 } // namespace sodaevo

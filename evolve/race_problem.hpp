@@ -72,8 +72,12 @@ class RaceProblem final : public Problem {
   /// The fields `write` wrote after the kind tag.
   static RaceProblem read_fields(WireReader& in);
 
-  /// The timeout raced on terrain `t`: /fitness/race/timeout, or the race file's.
+  /// The timeout raced on terrain `t`: /fitness/race/timeout, or the race file's;
+  /// the adaptive timeout when it is shorter.
   [[nodiscard]] int timeout_of(std::size_t t) const;
+  /// This problem racing with an adaptive timeout of `frames` (0: none;
+  /// evolve/race_schedule.hpp).
+  [[nodiscard]] RaceProblem with_adaptive_timeout(int frames) const;
 
  private:
   RaceFitnessConfig race_;
@@ -81,6 +85,7 @@ class RaceProblem final : public Problem {
   WorldConfig world_;
   LimitsConfig limits_;
   long long describe_every_ = 0;
+  int adaptive_timeout_ = 0;
 };
 
 /// The descriptors a race measures (descriptor_names order): mass_count,

@@ -13,6 +13,7 @@
 
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
+#include "core/race_def.hpp"
 #include "evolve/input_limits.hpp"
 #include "evolve/sample_summary.hpp"
 #include "formats/atomic_file.hpp"
@@ -168,8 +169,10 @@ std::string generation_file_name(int generation) {
 }
 
 std::string generation_to_xml(const Generation& g) {
+  // A race timeout set by /fitness/race/timeout_factor is part of the generation.
   std::string out = "<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?>\n<generation index=\"" +
-                    std::to_string(g.index) + "\">\n";
+                    std::to_string(g.index) + "\"" +
+                    (g.race_timeout > 0 ? " race_timeout=\"" + std::to_string(g.race_timeout) + "\"" : "") + ">\n";
   for (const Individual& ind : g.individuals) {
     const Evaluation& e = ind.evaluation;
     std::string attrs = "id=\"" + xml_escape(ind.id) + "\" parents=\"" + xml_escape(join(ind.parents, ' ')) +
@@ -192,6 +195,14 @@ Generation generation_from_xml(const std::string& text, const std::string& sourc
                            std::to_string(kMaxGenerations - 1) + "], got '" + index_text + "'");
   }
   g.index = static_cast<int>(*index);
+  if (const std::string timeout = xml.root_attribute("race_timeout"); !timeout.empty()) {
+    const std::optional<long long> t = soda::parse_integer(timeout);
+    if (!t || *t < 1 || *t > soda::kMaxRaceTimeout) {
+      throw soda::InputError(xml.where() + ": <generation> attribute 'race_timeout': expected an integer in [1, " +
+                             std::to_string(soda::kMaxRaceTimeout) + "], got '" + timeout + "'");
+    }
+    g.race_timeout = static_cast<int>(*t);
+  }
   std::set<std::string> ids;
   xml.for_each_model([&](const soda::SavedModelElement& m) {
     Individual ind;

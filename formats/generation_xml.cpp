@@ -56,6 +56,8 @@ std::string GenerationXml::where() const { return parsed_->where(parsed_->root);
 
 std::string GenerationXml::index_text() const { return parsed_->root.attribute("index").value(); }
 
+std::string GenerationXml::root_attribute(const char* name) const { return parsed_->root.attribute(name).value(); }
+
 void GenerationXml::for_each_model(const std::function<void(const SavedModelElement&)>& visit) const {
   for (pugi::xml_node m : parsed_->root.children("model")) {
     SavedModelElement element;

@@ -40,6 +40,8 @@ class GenerationXml {
   [[nodiscard]] std::string where() const;
   /// The root's index attribute as written ("" if absent).
   [[nodiscard]] std::string index_text() const;
+  /// The root's attribute `name` as written ("" if absent).
+  [[nodiscard]] std::string root_attribute(const char* name) const;
   /// Calls `visit` on every <model> child of the root, in document order (an
   /// exception from `visit` ends the walk).
   void for_each_model(const std::function<void(const SavedModelElement&)>& visit) const;

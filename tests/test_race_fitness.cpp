@@ -17,9 +17,12 @@
 #include "core/input_error.hpp"
 #include "core/race_lane.hpp"
 #include "core/step.hpp"
+#include "evolve/evolution_run.hpp"
 #include "evolve/map_elites_run.hpp"
 #include "evolve/race_problem.hpp"
 #include "evolve/replica_estimator.hpp"
+#include "evolve/run_reader.hpp"
+#include "evolve/run_store.hpp"
 #include "evolve/run_roles.hpp"
 #include "evolve/wire_format.hpp"
 #include "formats/atomic_file.hpp"
@@ -259,6 +262,13 @@ TEST_CASE("race config: bundled terrain names, the resolved config, and errors n
              Catch::Contains("/fitness/race/timeot: unknown key"));
   CHECK_THAT(error_of(R"({"race": {"terrains": ["TerrainFlat"]}})"),
              Catch::Contains("/fitness/race: expected only with /fitness/kind \"race\""));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"], "timeout_factor": 0.5}})"),
+             Catch::Contains("/fitness/race/timeout_factor: expected 0 (off) or a number in [1, 100], got 0.5"));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"], "timeout_factor": "2"}})"),
+             Catch::Contains("/fitness/race/timeout_factor: expected 0 (off) or a number in [1, 100], got \"2\""));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"], "timeout_factor": 2}})",
+                      R"(, "algorithm": "map-elites")"),
+             Catch::Contains("/fitness/race/timeout_factor: expected 0 with /algorithm \"map-elites\""));
   CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"]}})",
                       R"(, "algorithm": "map-elites", "map_elites": {"descriptors": ["width", "floor_contact"],
                           "bins": [4, 4], "ranges": [[0, 200], [0, 1]]})"),
@@ -378,4 +388,82 @@ TEST_CASE("MAP-Elites with race fitness: elites scored by their race, the same a
   CHECK(a.metrics.qd_score > 0.0); // fitness - (-310) per elite
   fs::remove_all(one);
   fs::remove_all(two);
+}
+
+namespace {
+
+/// Runs `config` into `dir` (a new run, or resumed when it has a checkpoint) on
+/// `threads` threads; stops after generation `stop_after` (-1: none).
+void race_run(const fs::path& dir, const RunConfig& config, int threads, int stop_after = -1) {
+  RunStore store = fs::exists(dir / "checkpoint.json") ? RunStore::open(dir) : RunStore::create(dir, config, true, "test");
+  ThreadEvaluator evaluator(threads, threads == 8 ? 3 : 0);
+  std::atomic<bool> stop{false};
+  EvolutionOptions options;
+  options.stop_requested = &stop;
+  options.on_generation = [&](const Progress& p) { stop = p.generation == stop_after; };
+  run_evolution(store, evaluator, options);
+}
+
+/// The best column of generations.csv, by generation.
+std::vector<double> logged_best(const fs::path& dir) {
+  std::istringstream in(soda::read_whole_file(dir / "generations.csv"));
+  std::string line;
+  std::getline(in, line);
+  std::vector<double> best;
+  while (std::getline(in, line)) {
+    std::stringstream cells(line);
+    std::string cell;
+    for (int c = 0; c < 3; ++c) std::getline(cells, cell, ',');
+    best.push_back(std::stod(cell));
+  }
+  return best;
+}
+
+} // namespace
+
+TEST_CASE("race timeout factor: each generation races with the factor times the frames of the previous best; "
+          "threads, resume and replay alike",
+          "[race][evolve]") {
+  RunConfig config = race_config({"TerrainFlat"}, 2000);
+  config.budget.generations = 5;
+  config.fitness.race.timeout_factor = 1.5;
+  config.population.seed_models = {(models_dir() / "wodka_ga109.xml").string()}; // finishes in 118 frames
+  config.limits.min_masses = 2;
+  config.fitness.replicas = config.fitness.replicas_max = 2;
+  config.save.generation_every = 1;
+  config.save.checkpoint_every = 1;
+  const fs::path one = fresh_temp_dir("race_tf_one"), two = fresh_temp_dir("race_tf_two"),
+                 eight = fresh_temp_dir("race_tf_eight"), resumed = fresh_temp_dir("race_tf_resumed");
+  race_run(one, config, 1);
+  race_run(two, config, 2);
+  race_run(eight, config, 8);
+  race_run(resumed, config, 2, 2); // stopped after generation 2, then resumed across the switches
+  race_run(resumed, config, 1);
+  const std::vector<double> best = logged_best(one);
+  REQUIRE(best.size() == 5);
+  bool shorter = false;
+  for (int g = 0; g < 5; ++g) {
+    INFO("generation " << g);
+    const Generation saved = read_saved_generation(one, g);
+    // From the log: minus the previous generation's best fitness is its best racer's frames.
+    const int expected = g == 0 ? 0 : static_cast<int>(std::ceil(1.5 * -best[static_cast<std::size_t>(g - 1)]));
+    CHECK(saved.race_timeout == expected);
+    // A creature cut off by the shorter timeout scores it + the share of the course left.
+    for (const Individual& ind : saved.individuals) {
+      shorter = shorter || (expected > 0 && ind.evaluation.ok() && ind.evaluation.distance > expected &&
+                            ind.evaluation.distance < expected + 5);
+    }
+    for (const fs::path& other : {two, eight, resumed}) {
+      CHECK(soda::read_whole_file(other / "generations" / generation_file_name(g)) ==
+            soda::read_whole_file(one / "generations" / generation_file_name(g)));
+    }
+  }
+  CHECK(shorter); // the switch happened: slow racers were cut off long before 2000 frames
+  CHECK(soda::read_whole_file(resumed / "generations.csv") == soda::read_whole_file(one / "generations.csv"));
+  // Replay races the saved generation with its own timeout.
+  const ShellResult replayed = run_sodaevo("replay " + one.string() + " --generation 3");
+  INFO(replayed.output);
+  CHECK(replayed.exit_code == 0);
+  CHECK_THAT(replayed.output, Catch::Contains(", 0 differ"));
+  for (const fs::path& d : {one, two, eight, resumed}) fs::remove_all(d);
 }
