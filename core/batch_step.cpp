@@ -174,7 +174,7 @@ void BatchStepper::run(const std::vector<State*>& states, long long frames) {
   if (lockstep_) {
     scratch_.clear();
     for (int i : lockstep_index_) scratch_.push_back(states[i]);
-    lockstep_->run(scratch_.data(), frames);
+    lockstep_->step(scratch_.data(), frames); // the states checked above
   }
   for (Scene& s : scenes_) {
     scratch_.clear();

@@ -303,16 +303,18 @@ bool LockstepBatch::shares_sines(int g) const { return d_->groups.at(static_cast
 void LockstepBatch::Data::load(State* const* st) {
   for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
     const Group& G = groups[static_cast<std::size_t>(g)];
+    const std::size_t points = static_cast<std::size_t>(G.points);
+    double* const row = point_row(g, 0, 0); // x, y, vx, vy: rows of `points` each
+    double* const phase = world_row(g, kPhase);
+    double* const mode = world_row(g, kMode);
     for (int l = 0; l < kW; ++l) {
       const State& s = *st[G.first + std::min(l, G.lanes - 1)];
-      for (int p = 0; p < G.points; ++p) {
-        point_row(g, 0, p)[l] = s.x[p];
-        point_row(g, 1, p)[l] = s.y[p];
-        point_row(g, 2, p)[l] = s.vx[p];
-        point_row(g, 3, p)[l] = s.vy[p];
+      const double* const from[4] = {s.x.data(), s.y.data(), s.vx.data(), s.vy.data()};
+      for (std::size_t k = 0; k < 4; ++k) {
+        for (std::size_t p = 0; p < points; ++p) row[(k * points + p) * kW + static_cast<std::size_t>(l)] = from[k][p];
       }
-      world_row(g, kPhase)[l] = s.wave_phase;
-      world_row(g, kMode)[l] = static_cast<double>(static_cast<int>(s.wave_mode));
+      phase[l] = s.wave_phase;
+      mode[l] = static_cast<double>(static_cast<int>(s.wave_mode));
     }
   }
 }
@@ -655,6 +657,11 @@ void LockstepBatch::run(State* const* states, long long frames) {
   Data& d = *d_;
   require_batch_states(states, d.count, [&](int c) { return d.state_points[static_cast<std::size_t>(c)]; }, "LockstepBatch::run");
   for (int c = 0; c < d.count; ++c) require_valid_jitter_of(states[c]->jitter, "LockstepBatch::run", c);
+  step(states, frames);
+}
+
+void LockstepBatch::step(State* const* states, long long frames) {
+  Data& d = *d_;
   if (frames <= 0) return;
   d.load(states);
   std::fill(d.walls_far.begin(), d.walls_far.end(), 0); // tested in the first frame, known after it

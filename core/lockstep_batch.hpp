@@ -60,6 +60,8 @@
 
 namespace soda {
 
+class BatchStepper;
+
 class LockstepBatch {
  public:
   /// Creatures per vector.
@@ -105,6 +107,9 @@ class LockstepBatch {
 
  private:
   LockstepBatch(std::unique_ptr<Data> d, int groups); // of_shapes' (two arguments: LockstepBatch({}) stays unambiguous)
+  /// run() without its checks of the states, for BatchStepper, which has made them.
+  void step(State* const* states, long long frames);
+  friend class BatchStepper;
   std::unique_ptr<Data> d_;
 };
 
