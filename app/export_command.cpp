@@ -11,6 +11,7 @@
 #include "core/number_text.hpp"
 #include "evolve/archive_check.hpp"
 #include "evolve/archive_store.hpp"
+#include "evolve/race_schedule.hpp"
 #include "evolve/replica_check.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_reader.hpp"
@@ -77,7 +78,7 @@ void export_archive(const std::filesystem::path& run, const ExportOptions& opt) 
 void run_export(const ExportOptions& opt) {
   const std::filesystem::path run(opt.run);
   const RunConfig config = read_run_config(run / "config.json");
-  const std::unique_ptr<Problem> problem = roles_of(config).problem;
+  const std::unique_ptr<Problem> problem = final_problem(run, config); // a curriculum's last stage
   std::error_code ec;
   std::filesystem::create_directories(opt.out, ec);
   if (ec) throw soda::InputError(opt.out + ": cannot create the folder: " + ec.message());

@@ -75,7 +75,7 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
       std::optional<soda::ModelDef> best_file;
       if (stats.best_index >= 0) {
         const Individual& best = current.individuals[static_cast<std::size_t>(stats.best_index)];
-        best_file = roles.problem->export_form(best.creature, best.id, best.evaluation);
+        best_file = problem.export_form(best.creature, best.id, best.evaluation);
       }
       store.record_generation(current, stats, wall(), seconds, done, save_whole, best_file);
       if (last || current.index % config.save.checkpoint_every == 0) {

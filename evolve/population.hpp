@@ -23,6 +23,8 @@ struct Generation {
   /// The race timeout this generation was scored with when
   /// /fitness/race/timeout_factor sets one (evolve/race_schedule.hpp); 0: the run's.
   int race_timeout = 0;
+  /// The /fitness/race/curriculum stage this generation raced (0: the first).
+  int race_stage = 0;
 };
 
 /// Summary of an evaluated generation (over the creatures that are Ok).

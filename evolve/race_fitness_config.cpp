@@ -41,13 +41,19 @@ class Reader {
       : base_dir_(base_dir), config_(config), problems_(problems) {}
 
   void read(const json& v) {
-    static const std::vector<std::string> keys = {"terrains", "combine", "timeout", "timeout_factor"};
-    if (!v.is_object()) return expected("", "an object with keys terrains, combine, timeout, timeout_factor", v);
+    static const std::vector<std::string> keys = {"terrains", "combine", "timeout", "timeout_factor", "curriculum"};
+    if (!v.is_object()) {
+      return expected("", "an object with keys terrains, combine, timeout, timeout_factor, curriculum", v);
+    }
     for (const auto& [key, value] : v.items()) {
       if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
-        problem("/" + key, "unknown key (expected one of: terrains, combine, timeout, timeout_factor)");
+        problem("/" + key, "unknown key (expected one of: terrains, combine, timeout, timeout_factor, curriculum)");
       }
     }
+    if (v.contains("curriculum") && v.contains("terrains")) {
+      problem("/terrains", "expected no terrains with /fitness/race/curriculum (its stages name them), got both");
+    }
+    read_curriculum(v);
     if (const auto it = v.find("timeout_factor"); it != v.end()) {
       constexpr double kMaxFactor = 100.0;
       const bool valid = it->is_number() && (it->get<double>() == 0.0 ||
@@ -80,6 +86,66 @@ class Reader {
     problem(pointer, "expected " + what + ", got " + show_json(got));
   }
 
+  /// The race file a terrain entry names, or empty after reporting why not.
+  std::string terrain_file(const json& item, const std::string& at) {
+    if (!item.is_string() || item.get<std::string>().empty()) {
+      expected(at, "a race file or a bundled terrain name (e.g. \"TerrainFlat\")", item);
+      return {};
+    }
+    const fs::path found = find_race_terrain(item.get<std::string>(), base_dir_);
+    if (found.empty()) {
+      expected(at, "an existing race file (looked in " + base_dir_.string() + ") or a bundled terrain of models/terrains/",
+               item);
+      return {};
+    }
+    try {
+      (void)soda::read_race_file(found);
+    } catch (const std::exception& ex) {
+      problem(at, std::string("expected a race file, got one that does not read: ") + ex.what());
+      return {};
+    }
+    return found.string();
+  }
+
+  void read_curriculum(const json& v) {
+    const auto it = v.find("curriculum");
+    if (it == v.end()) return;
+    constexpr std::size_t kMaxStages = 64;
+    if (!it->is_array() || it->empty() || it->size() > kMaxStages) {
+      return expected("/curriculum", "an array of 1 to 64 stages {\"terrain\": ..., \"threshold\": frames}", *it);
+    }
+    std::vector<CurriculumStage> stages;
+    for (std::size_t i = 0; i < it->size(); ++i) {
+      const json& item = (*it)[i];
+      const std::string at = "/curriculum/" + std::to_string(i);
+      const bool last = i + 1 == it->size();
+      if (!item.is_object()) {
+        expected(at, "an object {\"terrain\": ..., \"threshold\": frames}", item);
+        continue;
+      }
+      for (const auto& [key, value] : item.items()) {
+        if (key != "terrain" && key != "threshold") problem(at + "/" + key, "unknown key (expected terrain or threshold)");
+      }
+      CurriculumStage stage;
+      if (!item.contains("terrain")) problem(at + "/terrain", "expected a race file or a bundled terrain name, got nothing");
+      else stage.terrain = terrain_file(item["terrain"], at + "/terrain");
+      if (const auto t = item.find("threshold"); t != item.end()) {
+        if (!t->is_number() || !(t->get<double>() > 0.0) || t->get<double>() > soda::kMaxRaceTimeout) {
+          expected(at + "/threshold", "frames in (0, " + std::to_string(soda::kMaxRaceTimeout) + "]", *t);
+        } else {
+          stage.threshold = t->get<double>();
+        }
+      } else if (!last) {
+        problem(at + "/threshold", "expected the frames under which the best racer moves on to stage " +
+                                       std::to_string(i + 1) + ", got nothing");
+      }
+      stages.push_back(stage);
+    }
+    const bool complete = stages.size() == it->size() &&
+                          std::none_of(stages.begin(), stages.end(), [](const CurriculumStage& s) { return s.terrain.empty(); });
+    if (complete) config_.curriculum = std::move(stages);
+  }
+
   void read_terrains(const json& v) {
     const auto it = v.find("terrains");
     if (it == v.end()) return; // checked with /fitness/kind (a race needs terrains)
@@ -89,26 +155,8 @@ class Reader {
     }
     std::vector<std::string> paths;
     for (std::size_t i = 0; i < it->size(); ++i) {
-      const json& item = (*it)[i];
-      const std::string at = "/terrains/" + std::to_string(i);
-      if (!item.is_string() || item.get<std::string>().empty()) {
-        expected(at, "a race file or a bundled terrain name (e.g. \"TerrainFlat\")", item);
-        continue;
-      }
-      const fs::path found = find_race_terrain(item.get<std::string>(), base_dir_);
-      if (found.empty()) {
-        expected(at, "an existing race file (looked in " + base_dir_.string() +
-                         ") or a bundled terrain of models/terrains/",
-                 item);
-        continue;
-      }
-      try {
-        (void)soda::read_race_file(found);
-      } catch (const std::exception& ex) {
-        problem(at, std::string("expected a race file, got one that does not read: ") + ex.what());
-        continue;
-      }
-      paths.push_back(found.string());
+      std::string file = terrain_file((*it)[i], "/terrains/" + std::to_string(i));
+      if (!file.empty()) paths.push_back(std::move(file));
     }
     if (paths.size() == it->size()) config_.terrains = std::move(paths);
   }
@@ -136,7 +184,12 @@ std::vector<ConfigProblem> race_fitness_conflicts(FitnessKind kind, const RaceFi
     out.push_back({"/fitness/race/timeout_factor", "expected 0 with /algorithm \"map-elites\" (an archive has no "
                                                    "generations), got " + soda::format_double_plain(race.timeout_factor)});
   }
-  if (race.terrains.empty()) {
+  if (map_elites != nullptr && !race.curriculum.empty()) {
+    out.push_back({"/fitness/race/curriculum", "expected no curriculum with /algorithm \"map-elites\" (an archive "
+                                               "has no generations), got " + std::to_string(race.curriculum.size()) +
+                                               " stages"});
+  }
+  if (race.terrains.empty() && race.curriculum.empty()) {
     out.push_back({"/fitness/race/terrains",
                    "expected at least one race file or bundled terrain with /fitness/kind \"race\", got none"});
   }
@@ -155,10 +208,21 @@ std::vector<ConfigProblem> race_fitness_conflicts(FitnessKind kind, const RaceFi
 }
 
 json to_json(const RaceFitnessConfig& c) {
-  return {{"terrains", c.terrains},
+  json j = {{"terrains", c.terrains},
           {"combine", race_combine_name(c.combine)},
           {"timeout", c.timeout},
           {"timeout_factor", c.timeout_factor}};
+  if (!c.curriculum.empty()) { // instead of terrains
+    j.erase("terrains");
+    json stages = json::array();
+    for (const CurriculumStage& s : c.curriculum) {
+      json stage = {{"terrain", s.terrain}};
+      if (s.threshold > 0.0) stage["threshold"] = s.threshold;
+      stages.push_back(std::move(stage));
+    }
+    j["curriculum"] = std::move(stages);
+  }
+  return j;
 }
 
 } // namespace sodaevo

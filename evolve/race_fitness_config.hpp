@@ -26,6 +26,16 @@ enum class RaceCombine { Mean, Worst };
 std::string fitness_kind_name(FitnessKind k); ///< "walk", "race"
 std::string race_combine_name(RaceCombine c); ///< "mean", "worst"
 
+/// One stage of /fitness/race/curriculum: its terrain (a race file, absolute once
+/// resolved) and the result (frames) under which the best racer moves the run on
+/// to the next stage (unused on the last).
+struct CurriculumStage {
+  std::string terrain;
+  double threshold = 0.0;
+
+  bool operator==(const CurriculumStage&) const = default;
+};
+
 struct RaceFitnessConfig {
   std::vector<std::string> terrains; ///< /fitness/race/terrains: race files, absolute paths once resolved
   RaceCombine combine = RaceCombine::Mean;
@@ -39,6 +49,11 @@ struct RaceFitnessConfig {
   /// slow creatures are cut off early. Its timeout is saved with each generation
   /// (evolve/race_schedule.hpp).
   double timeout_factor = 0.0;
+  /// /fitness/race/curriculum: 1 to 64 stages instead of `terrains` (as wodka's hill
+  /// curriculum): the run races stage 0's terrain until a generation's best racer
+  /// finishes in fewer frames than its threshold, then the next stage's. The stage
+  /// is saved with each generation (evolve/race_schedule.hpp).
+  std::vector<CurriculumStage> curriculum;
 
   bool operator==(const RaceFitnessConfig&) const = default;
 };

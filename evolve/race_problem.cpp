@@ -43,7 +43,9 @@ bool race_describes(Descriptor d) {
 
 namespace {
 
+/// The run's terrains: /fitness/race/terrains, or the curriculum's first stage.
 std::vector<RaceTerrain> read_terrains(const RaceFitnessConfig& race) {
+  if (!race.curriculum.empty()) return {read_race_terrain(race.curriculum.front().terrain)};
   std::vector<RaceTerrain> out;
   for (const std::string& file : race.terrains) out.push_back(read_race_terrain(file));
   return out;
@@ -94,6 +96,16 @@ RaceProblem::RaceProblem(const RunConfig& config, long long describe_every)
 int RaceProblem::timeout_of(std::size_t t) const {
   const int base = race_.timeout > 0 ? race_.timeout : terrains_[t].race.timeout;
   return adaptive_timeout_ > 0 ? std::min(base, adaptive_timeout_) : base;
+}
+
+RaceProblem RaceProblem::at_stage(int stage) const {
+  if (stage < 0 || static_cast<std::size_t>(stage) >= std::max<std::size_t>(1, race_.curriculum.size())) {
+    throw soda::InputError("race problem: no curriculum stage " + std::to_string(stage));
+  }
+  if (race_.curriculum.empty()) return *this;
+  RaceProblem p = *this;
+  p.terrains_ = {read_race_terrain(race_.curriculum[static_cast<std::size_t>(stage)].terrain)};
+  return p;
 }
 
 RaceProblem RaceProblem::with_adaptive_timeout(int frames) const {

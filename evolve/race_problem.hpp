@@ -75,6 +75,9 @@ class RaceProblem final : public Problem {
   /// The timeout raced on terrain `t`: /fitness/race/timeout, or the race file's;
   /// the adaptive timeout when it is shorter.
   [[nodiscard]] int timeout_of(std::size_t t) const;
+  /// This problem on stage `stage` of /fitness/race/curriculum (its terrain; stage
+  /// 0 is the run's). Throws soda::InputError for a stage the curriculum lacks.
+  [[nodiscard]] RaceProblem at_stage(int stage) const;
   /// This problem racing with an adaptive timeout of `frames` (0: none;
   /// evolve/race_schedule.hpp).
   [[nodiscard]] RaceProblem with_adaptive_timeout(int frames) const;

@@ -5,6 +5,8 @@
 
 #include "core/race_def.hpp"
 #include "evolve/race_problem.hpp"
+#include "evolve/run_reader.hpp"
+#include "evolve/run_roles.hpp"
 
 namespace sodaevo {
 
@@ -18,16 +20,36 @@ int next_race_timeout(const RunConfig& config, const Generation& evaluated) {
   return static_cast<int>(std::clamp(timeout, 1.0, static_cast<double>(soda::kMaxRaceTimeout)));
 }
 
+int next_race_stage(const RunConfig& config, const Generation& evaluated) {
+  const std::vector<CurriculumStage>& stages = config.fitness.race.curriculum;
+  const std::size_t stage = static_cast<std::size_t>(evaluated.race_stage);
+  if (config.fitness.kind != FitnessKind::Race || stage + 1 >= stages.size()) return evaluated.race_stage;
+  const GenerationStats stats = summarize(evaluated, 0);
+  if (stats.best_index < 0) return evaluated.race_stage;
+  const double frames = evaluated.individuals[static_cast<std::size_t>(stats.best_index)].evaluation.distance;
+  return frames < stages[stage].threshold ? evaluated.race_stage + 1 : evaluated.race_stage;
+}
+
 void schedule_race(const RunConfig& config, const Generation& evaluated, Generation& next) {
-  next.race_timeout = next_race_timeout(config, evaluated);
-  if (next.race_timeout == evaluated.race_timeout) return;
+  next.race_stage = next_race_stage(config, evaluated);
+  next.race_timeout = next.race_stage == evaluated.race_stage ? next_race_timeout(config, evaluated) : 0;
+  if (next.race_stage == evaluated.race_stage && next.race_timeout == evaluated.race_timeout) return;
   for (Individual& ind : next.individuals) ind.evaluated = false;
 }
 
 std::unique_ptr<Problem> scheduled_problem(const Problem& run_problem, const Generation& g) {
   const auto* race = dynamic_cast<const RaceProblem*>(&run_problem);
-  if (race == nullptr || g.race_timeout == 0) return nullptr;
-  return std::make_unique<RaceProblem>(race->with_adaptive_timeout(g.race_timeout));
+  if (race == nullptr || (g.race_timeout == 0 && g.race_stage == 0)) return nullptr;
+  return std::make_unique<RaceProblem>(race->at_stage(g.race_stage).with_adaptive_timeout(g.race_timeout));
+}
+
+std::unique_ptr<Problem> final_problem(const std::filesystem::path& run_dir, const RunConfig& config) {
+  std::unique_ptr<Problem> problem = problem_of(config);
+  const auto* race = dynamic_cast<const RaceProblem*>(problem.get());
+  if (race == nullptr || config.fitness.race.curriculum.empty()) return problem;
+  const std::vector<int> saved = saved_generations(run_dir);
+  if (saved.empty()) return problem;
+  return std::make_unique<RaceProblem>(race->at_stage(read_saved_generation(run_dir, saved.back()).race_stage));
 }
 
 } // namespace sodaevo

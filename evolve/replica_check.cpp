@@ -5,6 +5,7 @@
 
 #include "core/number_text.hpp"
 #include "evolve/parallel_for.hpp"
+#include "evolve/race_schedule.hpp"
 #include "evolve/run_reader.hpp"
 #include "evolve/run_roles.hpp"
 #include "formats/atomic_file.hpp"
@@ -86,7 +87,7 @@ std::vector<ReplicaCheck> write_run_champions(const std::filesystem::path& run_d
   const RunConfig config = read_run_config(run_dir / "config.json");
   const std::vector<Individual> best = best_individuals(run_dir, count);
   const std::vector<ReplicaCheck> checks =
-      check_all_on_fresh_replicas(*roles_of(config).problem, best, replica_plan(config), replicas, threads);
+      check_all_on_fresh_replicas(*final_problem(run_dir, config), best, replica_plan(config), replicas, threads);
   nlohmann::json all = nlohmann::json::array();
   for (const ReplicaCheck& c : checks) {
     all.push_back(champion_json(c, "", config));

@@ -172,7 +172,8 @@ std::string generation_to_xml(const Generation& g) {
   // A race timeout set by /fitness/race/timeout_factor is part of the generation.
   std::string out = "<?xml version=\"1.0\" encoding=\"ISO-8859-1\"?>\n<generation index=\"" +
                     std::to_string(g.index) + "\"" +
-                    (g.race_timeout > 0 ? " race_timeout=\"" + std::to_string(g.race_timeout) + "\"" : "") + ">\n";
+                    (g.race_timeout > 0 ? " race_timeout=\"" + std::to_string(g.race_timeout) + "\"" : "") +
+                    (g.race_stage > 0 ? " race_stage=\"" + std::to_string(g.race_stage) + "\"" : "") + ">\n";
   for (const Individual& ind : g.individuals) {
     const Evaluation& e = ind.evaluation;
     std::string attrs = "id=\"" + xml_escape(ind.id) + "\" parents=\"" + xml_escape(join(ind.parents, ' ')) +
@@ -202,6 +203,15 @@ Generation generation_from_xml(const std::string& text, const std::string& sourc
                              std::to_string(soda::kMaxRaceTimeout) + "], got '" + timeout + "'");
     }
     g.race_timeout = static_cast<int>(*t);
+  }
+  if (const std::string stage = xml.root_attribute("race_stage"); !stage.empty()) {
+    constexpr long long kMaxStage = 63; // /fitness/race/curriculum has at most 64 stages
+    const std::optional<long long> s = soda::parse_integer(stage);
+    if (!s || *s < 1 || *s > kMaxStage) {
+      throw soda::InputError(xml.where() + ": <generation> attribute 'race_stage': expected an integer in [1, " +
+                             std::to_string(kMaxStage) + "], got '" + stage + "'");
+    }
+    g.race_stage = static_cast<int>(*s);
   }
   std::set<std::string> ids;
   xml.for_each_model([&](const soda::SavedModelElement& m) {

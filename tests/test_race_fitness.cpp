@@ -229,6 +229,15 @@ TEST_CASE("race config: bundled terrain names, the resolved config, and errors n
   CHECK(c.fitness.race.combine == RaceCombine::Worst);
   CHECK(c.fitness.race.timeout == 2000);
   CHECK(parse_run_config(to_json(c).dump(), "resolved.json", "/nowhere") == c);
+  const RunConfig staged = parse_run_config(
+      R"({"population": {"random_fraction": 1}, "fitness": {"kind": "race", "race": {"timeout_factor": 1.5,
+          "curriculum": [{"terrain": "TerrainFlat", "threshold": 150}, {"terrain": "TerrainHilly"}]}}})",
+      "c.json", configs);
+  REQUIRE(staged.fitness.race.curriculum.size() == 2);
+  CHECK(fs::equivalent(staged.fitness.race.curriculum[1].terrain, terrain("TerrainHilly")));
+  CHECK(staged.fitness.race.curriculum[0].threshold == 150.0);
+  CHECK(staged.fitness.race.timeout_factor == 1.5);
+  CHECK(parse_run_config(to_json(staged).dump(), "resolved.json", "/nowhere") == staged);
   const RunConfig flat = read_run_config(configs / "sodarace_flat.json");
   CHECK(flat.fitness.kind == FitnessKind::Race);
   REQUIRE(flat.fitness.race.terrains.size() == 1);
@@ -262,6 +271,14 @@ TEST_CASE("race config: bundled terrain names, the resolved config, and errors n
              Catch::Contains("/fitness/race/timeot: unknown key"));
   CHECK_THAT(error_of(R"({"race": {"terrains": ["TerrainFlat"]}})"),
              Catch::Contains("/fitness/race: expected only with /fitness/kind \"race\""));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"curriculum": [{"terrain": "TerrainFlat"}, {"terrain": "nowhere"}]}})"),
+             Catch::Contains("/fitness/race/curriculum/0/threshold: expected the frames under which the best racer "
+                             "moves on to stage 1, got nothing") &&
+                 Catch::Contains("/fitness/race/curriculum/1/terrain: expected an existing race file"));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"curriculum": [{"terrain": "TerrainFlat", "threshold": -3}]}})"),
+             Catch::Contains("/fitness/race/curriculum/0/threshold: expected frames in (0, 49997], got -3"));
+  CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"], "curriculum": [{"terrain": "TerrainFlat"}]}})"),
+             Catch::Contains("/fitness/race/terrains: expected no terrains with /fitness/race/curriculum"));
   CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"], "timeout_factor": 0.5}})"),
              Catch::Contains("/fitness/race/timeout_factor: expected 0 (off) or a number in [1, 100], got 0.5"));
   CHECK_THAT(error_of(R"({"kind": "race", "race": {"terrains": ["TerrainFlat"], "timeout_factor": "2"}})"),
@@ -466,4 +483,51 @@ TEST_CASE("race timeout factor: each generation races with the factor times the 
   CHECK(replayed.exit_code == 0);
   CHECK_THAT(replayed.output, Catch::Contains(", 0 differ"));
   for (const fs::path& d : {one, two, eight, resumed}) fs::remove_all(d);
+}
+
+TEST_CASE("race curriculum: the next terrain once the best racer finishes under the threshold; threads, resume and "
+          "replay alike",
+          "[race][evolve]") {
+  RunConfig config = race_config({}, 600);
+  config.fitness.race.curriculum = {{terrain("TerrainFlat").string(), 150.0}, {terrain("TerrainHilly").string(), 0.0}};
+  config.population.seed_models = {(models_dir() / "wodka_ga109.xml").string()}; // 118 frames on TerrainFlat
+  config.limits.min_masses = 2;
+  config.budget.generations = 3;
+  config.fitness.replicas = config.fitness.replicas_max = 2;
+  config.save.generation_every = 1;
+  config.save.checkpoint_every = 1;
+  const fs::path one = fresh_temp_dir("race_cur_one"), eight = fresh_temp_dir("race_cur_eight"),
+                 resumed = fresh_temp_dir("race_cur_resumed");
+  race_run(one, config, 1);
+  race_run(eight, config, 8);
+  race_run(resumed, config, 2, 0); // stopped before the switch, then resumed across it
+  race_run(resumed, config, 1);
+  const std::vector<double> best = logged_best(one);
+  REQUIRE(best.size() == 3);
+  REQUIRE(-best[0] < 150.0); // the seed finishes TerrainFlat under the threshold
+  CHECK(read_saved_generation(one, 0).race_stage == 0);
+  const Generation second = read_saved_generation(one, 1);
+  CHECK(second.race_stage == 1);
+  CHECK(read_saved_generation(one, 2).race_stage == 1);
+  for (int g = 0; g < 3; ++g) {
+    for (const fs::path& other : {eight, resumed}) {
+      CHECK(soda::read_whole_file(other / "generations" / generation_file_name(g)) ==
+            soda::read_whole_file(one / "generations" / generation_file_name(g)));
+    }
+  }
+  // Generation 1 raced TerrainHilly: its best scores there as a run on TerrainHilly alone scores it.
+  RunConfig hilly = race_config({"TerrainHilly"}, 600);
+  hilly.fitness.replicas = hilly.fitness.replicas_max = 2;
+  hilly.limits.min_masses = 2;
+  const Individual& top = *std::max_element(second.individuals.begin(), second.individuals.end(),
+                                            [](const Individual& a, const Individual& b) {
+                                              return a.evaluation.fitness < b.evaluation.fitness;
+                                            });
+  CHECK(estimate_one(RaceProblem(hilly), hilly, top.creature).fitness == top.evaluation.fitness);
+  CHECK(top.evaluation.fitness == best[1]);
+  const ShellResult replayed = run_sodaevo("replay " + one.string() + " --generation 2");
+  INFO(replayed.output);
+  CHECK(replayed.exit_code == 0);
+  CHECK_THAT(replayed.output, Catch::Contains(", 0 differ"));
+  for (const fs::path& d : {one, eight, resumed}) fs::remove_all(d);
 }
