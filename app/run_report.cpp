@@ -22,6 +22,7 @@
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "evolve/race_problem.hpp"
+#include "evolve/race_schedule.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_roles.hpp"
 #include "evolve/run_store.hpp"
@@ -118,10 +119,14 @@ struct ScoreUnit {
   [[nodiscard]] std::string unit() const { return race ? "frames" : "px"; }
 };
 
-/// "TerrainFlat, TerrainHilly" for the run's race files.
+/// "TerrainFlat, TerrainHilly" for the run's race files; a curriculum's stages
+/// joined by "then".
 std::string terrain_names(const RaceFitnessConfig& race) {
   std::string out;
   for (const std::string& t : race.terrains) out += (out.empty() ? "" : ", ") + fs::path(t).stem().string();
+  for (const CurriculumStage& s : race.curriculum) {
+    out += (out.empty() ? "" : " then ") + fs::path(s.terrain).stem().string();
+  }
   return out;
 }
 
@@ -253,6 +258,8 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   if (!fs::is_directory(run_dir)) throw soda::InputError(run_dir.string() + ": no such run folder");
   const RunConfig config = read_run_config(run_dir / "config.json");
   const RunRoles roles = roles_of(config);
+  // What the table and the players race: a curriculum's last saved stage.
+  const std::unique_ptr<Problem> scored = final_problem(run_dir, config);
   nlohmann::json manifest = nlohmann::json::object();
   if (fs::exists(run_dir / "manifest.json")) {
     try {
@@ -375,11 +382,11 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   try {
     const soda::ModelDef dainty = soda::read_model_text(dainty_walker_xml(), "built-in models/dainty_walker.xml").def;
     const soda::ModelDef creature = creature_from_seed(dainty, config);
-    classic_evaluation = roles.estimator->estimate(*roles.problem, {&creature}).front();
+    classic_evaluation = roles.estimator->estimate(*scored, {&creature}).front();
     if (classic_evaluation->status == EvaluationStatus::Invalid) {
       classic_problem = classic_evaluation->reason;
     } else {
-      soda::ModelDef prepared = roles.problem->prepare(creature);
+      soda::ModelDef prepared = scored->prepare(creature);
       prepared.name = "Dainty Walker (classic, same fitness settings)";
       classic = Shown{prepared.name, prepared};
     }
@@ -413,7 +420,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
       ++rank;
       std::string distance = esc(k.problem), speed;
       if (k.problem.empty()) {
-        const Evaluation e = roles.problem->rollouts({&k.prepared}).front();
+        const Evaluation e = scored->rollouts({&k.prepared}).front();
         if (e.ok()) distance = table_number(e.distance, 1), speed = table_number(e.px_per_frame, 3);
         else distance = esc(e.reason);
       }
@@ -463,7 +470,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   if (classic) shown.push_back(*classic);
   if (!classic_problem.empty()) classic_problem = "<p class=\"note\">Dainty Walker not shown: " + esc(classic_problem) + "</p>\n";
   o << "<h2>Watch them</h2>\n";
-  if (score.race) race_players(o, *roles.problem, shown, classic_problem, options);
+  if (score.race) race_players(o, *scored, shown, classic_problem, options);
   else walk_players(o, config, shown, classic_problem, options);
   o << player_script() << "</body>\n</html>\n";
   return o.str();

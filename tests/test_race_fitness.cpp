@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "app/run_report.hpp"
 #include "core/input_error.hpp"
 #include "core/race_lane.hpp"
 #include "core/step.hpp"
@@ -529,5 +530,7 @@ TEST_CASE("race curriculum: the next terrain once the best racer finishes under 
   INFO(replayed.output);
   CHECK(replayed.exit_code == 0);
   CHECK_THAT(replayed.output, Catch::Contains(", 0 differ"));
+  // The report races the last stage's terrain.
+  CHECK_THAT(app::run_report_html(one), Catch::Contains("race on TerrainHilly"));
   for (const fs::path& d : {one, eight, resumed}) fs::remove_all(d);
 }
