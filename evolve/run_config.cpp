@@ -609,8 +609,7 @@ class ConfigReader {
 } // namespace
 
 const std::vector<std::string>& world_parameter_names() {
-  static const std::vector<std::string> names = {"gravity", "friction", "springyness", "surface_friction",
-                                                 "surface_reflection"};
+  static const std::vector<std::string> names = {"gravity", "friction", "springyness", "surface_friction", "surface_reflection"};
   return names;
 }
 
@@ -642,17 +641,14 @@ RunConfig read_run_config(const std::filesystem::path& path) {
                            std::to_string(size >> 10) + " KiB");
   }
   std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    const int err = errno;
-    throw soda::InputError(source + ": cannot read the config file: " +
-                           (err != 0 ? std::strerror(err) : "cannot open it"));
+  if (const int err = errno; !in) {
+    throw soda::InputError(source + ": cannot read the config file: " + (err != 0 ? std::strerror(err) : "cannot open it"));
   }
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw soda::InputError(source + ": cannot read the config file: read error");
-  fs::path base = fs::absolute(path, ec);
-  if (ec) base = path;
-  return parse_run_config(text.str(), source, base.lexically_normal().parent_path());
+  const fs::path absolute = fs::absolute(path, ec);
+  return parse_run_config(text.str(), source, (ec ? path : absolute).lexically_normal().parent_path());
 }
 
 nlohmann::json to_json(const RunConfig& config) {
