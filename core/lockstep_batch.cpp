@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <cstdint>
 #include <stdexcept>
 
@@ -264,10 +265,10 @@ void LockstepBatch::Data::lay_out() {
       world_row(g, kFs)[l] = m.surface_friction;
       world_row(g, kRs)[l] = m.surface_reflection;
       world_row(g, kSpeed)[l] = m.wave_speed;
-      // A free mass moves at most kMaxMovePerFrame (x max(1, keep)) px a frame
+      // A free mass moves at most kMaxMovePerFrame (x max(1, |keep|)) px a frame
       // (scene_analysis.hpp); out to kWallAnalysisMaxCoordinate. NaN limits
       // (a world without walls is +inf wide) keep every wall tested.
-      const double reach = kMaxMovePerFrame * std::max(1.0, m.air_keep);
+      const double reach = kMaxMovePerFrame * std::max(1.0, std::fabs(m.air_keep));
       world_row(g, kLeft)[l] = reach;
       world_row(g, kRight)[l] = std::min(m.width - reach, kWallAnalysisMaxCoordinate);
       world_row(g, kTop)[l] = std::min(m.height - reach, kWallAnalysisMaxCoordinate);
