@@ -34,6 +34,7 @@ const Model& FastStepper::model() const { return scene_->model(0); }
 bool FastStepper::used(const KernelChoice& k) const { return scene_->used(k); }
 const KernelChoice& FastStepper::last_kernel() const { return scene_->last_kernel(); }
 long long FastStepper::sines_evaluated() const { return scene_->sines_evaluated(); }
+long long FastStepper::bar_rules_run() const { return scene_->bar_rules_run(); }
 bool FastStepper::points_in_registers() const { return scene_->points_in_registers(); }
 bool FastStepper::frame_in_registers() const { return scene_->frame_in_registers(); }
 

@@ -33,9 +33,12 @@
 //    permutes from the link registers (still added in file order), and nothing
 //    is called per frame while a row of sines is ready (a call spills every
 //    vector register);
-//  - autoreverse hits are replayed in mass order, fixed-bar tests run per mass in
-//    order after the container (exactly as the reference does per mass); with a
-//    bar that has a free-mass end, masses go one by one in file order.
+//  - autoreverse hits are replayed in mass order; fixed bars: the masses move in
+//    SIMD as without bars, each keeping its move, then the bar rules run in file
+//    order for the masses a bar remembers or a corner holds and those whose move
+//    may touch a bar's box (a vector test against the tile of the bars' x grid
+//    each mass keeps); the rules of the others would change nothing (a mass's
+//    rules read and change only its own move and memory).
 //
 // The engine is FusedScene (fused_scene.hpp) holding this one model; BatchStepper
 // (batch_step.hpp) uses the same engine for several models at once.
@@ -61,7 +64,7 @@ struct FastStepOptions {
   SimdLevel simd = SimdLevel::Auto;
   /// Re-check, every chunk of frames, which walls a mass could reach (exact).
   bool adaptive_walls = true;
-  /// Force the per-mass ordered kernel (the one used with moving bars); for tests.
+  /// Force the per-mass ordered kernel (masses one by one in file order); for tests.
   bool force_ordered = false;
   /// Muscle sines in SIMD, glibc's sin repeated operation for operation
   /// (exact_sines.hpp). Off: soda::sine one by one. Both give the same bits.
@@ -79,7 +82,7 @@ struct FastStepOptions {
 /// The kernel a chunk of frames ran with, for tests and diagnostics.
 struct KernelChoice {
   SimdLevel simd = SimdLevel::Sse2;
-  bool ordered = false; ///< masses one by one in file order (bars with a free-mass end)
+  bool ordered = false; ///< masses one by one in file order (force_ordered)
   bool wave = false;
   bool gravity = false;
   WallNeeds walls;
@@ -117,6 +120,10 @@ class FastStepper {
   /// Sines evaluated since construction (shared per phase, skipped when the wave
   /// phase did not move).
   [[nodiscard]] long long sines_evaluated() const;
+  /// Moves that took the fixed-bar rules since construction (the reference runs them
+  /// for every moving mass; the fast path only for masses a bar remembers or whose
+  /// move may touch a bar); for diagnostics.
+  [[nodiscard]] long long bar_rules_run() const;
   /// Whether the link pass keeps every point in registers (AVX-512, at most 16
   /// points with the padding masses); for tests.
   [[nodiscard]] bool points_in_registers() const;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace soda {
 
@@ -120,16 +121,12 @@ struct BarList {
 
 /// Bars whose x range the move's x range touches, in link order: one cell's list
 /// as it is (a move is shorter than a cell, so nearly always), else the cells'
-/// lists merged into `merged`.
-BarList candidate_bars(const FixedBars& bars, double lo, double hi, std::vector<int>& merged) {
-  const auto cell = [&](double x) {
-    const double c = std::floor((x - bars.cell_x0) * bars.cell_scale); // exact: a power of two
-    if (!(c > 0.0)) return 0;
-    return c >= bars.cell_count - 1 ? bars.cell_count - 1 : static_cast<int>(c);
-  };
-  const int c0 = cell(lo), c1 = cell(hi);
+/// lists merged (into a list of this thread, valid until the next call).
+BarList candidate_bars(const FixedBars& bars, double lo, double hi) {
+  const int c0 = bars.cell_of(lo), c1 = bars.cell_of(hi);
   const int* cells = bars.cell_bars.data();
   if (c0 == c1) return {cells + bars.cell_start[c0], cells + bars.cell_start[c0 + 1]};
+  thread_local std::vector<int> merged; // valid until the next call on this thread
   merged.clear();
   for (int c = c0; c <= c1; ++c) merged.insert(merged.end(), cells + bars.cell_start[c], cells + bars.cell_start[c + 1]);
   std::sort(merged.begin(), merged.end());
@@ -305,6 +302,29 @@ FixedBars make_fixed_bars(const std::vector<int>& bar_a, const std::vector<int>&
     out.cell_bars.insert(out.cell_bars.end(), cell.begin(), cell.end());
     out.cell_start.push_back(static_cast<int>(out.cell_bars.size()));
   }
+  // Tiles: a bar whose x range meets cell c's range as doubles is listed in a cell
+  // within one of c (the cells are wide, the rounding of cell_of tiny).
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  for (int c = 0; c < out.cell_count; ++c) {
+    // The first and last tiles reach out to infinity (cell_of clamps to them).
+    const double x_lo = c == 0 ? -kInf : lo + c * out.cell_width;
+    const double x_hi = c == out.cell_count - 1 ? kInf : lo + (c + 1) * out.cell_width;
+    double tile[FixedBars::kTileStride] = {x_lo, x_hi, kInf, -kInf, kInf, -kInf, 0.0, 0.0};
+    for (int n = std::max(0, c - 1); n <= std::min(out.cell_count - 1, c + 1); ++n) {
+      for (int k : cells[static_cast<std::size_t>(n)]) {
+        const FixedBar& b = out.bars[static_cast<std::size_t>(k)];
+        // Both rules' boxes: the normalised one, and [x1, x1 + w] x [y1, y1 + h]
+        // (whose bounds may be inverted; a move spanning them still touches it).
+        const double bx0 = std::min(b.box_x0, b.x1 + b.w), bx1 = std::max(b.box_x1, b.x1 + b.w);
+        if (bx1 < x_lo || bx0 > x_hi) continue;
+        tile[2] = std::min(tile[2], bx0);
+        tile[3] = std::max(tile[3], bx1);
+        tile[4] = std::min({tile[4], b.box_y0, b.y1 + b.h});
+        tile[5] = std::max({tile[5], b.box_y1, b.y1 + b.h});
+      }
+    }
+    out.cell_tile.insert(out.cell_tile.end(), tile, tile + FixedBars::kTileStride);
+  }
   return out;
 }
 
@@ -317,8 +337,7 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
     if (corner_move(bars, memory, mass, m, surface, end)) return true;
     return false;
   }
-  thread_local std::vector<int> merged;
-  const BarList candidates = candidate_bars(bars, std::min(m.x0, m.x), std::max(m.x0, m.x), merged);
+  const BarList candidates = candidate_bars(bars, std::min(m.x0, m.x), std::max(m.x0, m.x));
   // Bars that remember the mass but are out of reach: their box test fails.
   bool remembered_any = false; // whether any bar remembers this mass (else nothing to find or forget)
   for (std::size_t k = memory.contacts.size(); k-- > 0;) {

@@ -14,9 +14,13 @@
 // every Model says which one it steps with, and the outputs name it.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <string>
 #include <vector>
+
+#include "detail/aligned_vector.hpp"
 
 namespace soda {
 
@@ -55,11 +59,26 @@ struct FixedBars {
   int cell_count = 0;
   std::vector<int> cell_start;
   std::vector<int> cell_bars;
+  /// [kTileStride * cell_count] per cell c its tile, for a cheap test of whether a
+  /// move may touch a bar (move_may_touch_bars): the tile's x range [x_lo, x_hi]
+  /// (cell c's range, the bounds as doubles; the first and last reach to infinity), then x_lo, x_hi, y_lo, y_hi of a box
+  /// holding the box, under either rule, of every bar whose x range meets the tile's
+  /// (an empty box if none), then padding.
+  AVec<double> cell_tile;
+  static constexpr int kTileStride = 8;
   static constexpr double kMinCellWidth = 128.0; ///< a move is at most ~20 px
   static constexpr double kMaxCells = 65536.0;
 
   [[nodiscard]] bool empty() const { return bars.empty(); }
   [[nodiscard]] int size() const { return static_cast<int>(bars.size()); }
+  /// The cell of x, floor((x - cell_x0) / cell_width) clamped to the grid (x *
+  /// cell_scale is x / cell_width exactly, and rounding is monotonic: a bar reaching x
+  /// is listed in cell_of(x)). Above 0 the floor is the truncation (no call to floor).
+  [[nodiscard]] int cell_of(double x) const {
+    const double c = (x - cell_x0) * cell_scale;
+    if (!(c > 0.0)) return 0;
+    return c >= cell_count - 1 ? cell_count - 1 : static_cast<int>(c);
+  }
 };
 
 /// Builds the geometry of bars (ends[2k], ends[2k+1]) from the positions px, py.
@@ -120,6 +139,28 @@ struct Surface {
 /// mass moves as the container left it (position and velocity unchanged).
 bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass, const MassMove& move,
                              const Surface& surface, MassEnd& end);
+
+/// Whether the move from (x0, y0) to (x, y) (as the container left it) may touch the
+/// box of a bar, under either rule, by the tile `tile` (a row of cell_tile). When
+/// false, collide_with_fixed_bars for a mass that no bar remembers and that is in no
+/// corner changes nothing and returns false, so a stepper may leave it out: every bar
+/// whose box the move touches has an x range that meets the move's, which lies in the
+/// tile, so its box is in the tile's box. A move not inside the tile answers true.
+[[nodiscard]] inline bool move_may_touch_tile(const double* tile, double x0, double y0, double x, double y) {
+  const double lo = std::min(x0, x), hi = std::max(x0, x);
+  if (!(lo >= tile[0] && hi <= tile[1])) return true;
+  return hi >= tile[2] && lo <= tile[3] && std::max(y0, y) >= tile[4] && std::min(y0, y) <= tile[5];
+}
+
+/// The tile of the cell of x.
+[[nodiscard]] inline const double* tile_of(const FixedBars& bars, double x) {
+  return bars.cell_tile.data() + FixedBars::kTileStride * static_cast<std::size_t>(bars.cell_of(x));
+}
+
+/// move_may_touch_tile with the tile of the move's start.
+[[nodiscard]] inline bool move_may_touch_bars(const FixedBars& bars, double x0, double y0, double x, double y) {
+  return move_may_touch_tile(tile_of(bars, x0), x0, y0, x, y);
+}
 
 /// Where the original's writer puts mass `mass` at (x, y): 1e-4 (FixedBar.TWEAK) off
 /// each bar that remembers it, toward the remembered side (spec 5.4).

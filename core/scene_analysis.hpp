@@ -12,8 +12,8 @@
 //  - gravity whose product g*d is +0 is an identity (vy - (+0) = vy for every vy,
 //    -0 included); g = 0 with gravity "up" gives -0 and is *not* skipped;
 //  - no fixed bars -> no bar tests; bars whose ends are fixed nodes are fixed
-//    segments (precomputable, masses independent); bars with a free-mass end need
-//    the masses in file order;
+//    segments, bars with a free-mass end moving ends in name only: the engine
+//    takes every bar's geometry once (spec 5.4), so both step alike;
 //  - a wall (floor, ceiling, left, right) that no mass can reach within the
 //    frames asked for is not tested: after the friction step a mass moves at most
 //    20 px/frame (the syrup speed limit, docs/physics.md, part 2), so kMaxMovePerFrame bounds it;

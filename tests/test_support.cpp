@@ -26,6 +26,7 @@ std::string compare_states(const soda::Model& m, const soda::State& a, const sod
   if (!same_bits(a.wave_phase, b.wave_phase)) return "wave phase";
   if (a.wave_mode != b.wave_mode) return "wave mode";
   if (a.last_side_wall != b.last_side_wall) return "last side wall";
+  if (!(a.bar_memory == b.bar_memory)) return "bar memory (masses the bars remember, corners)";
   for (int p = 0; p < m.point_count; ++p) {
     if (!same_bits(a.x[p], b.x[p]) || !same_bits(a.y[p], b.y[p]) || !same_bits(a.vx[p], b.vx[p]) ||
         !same_bits(a.vy[p], b.vy[p])) {

@@ -71,10 +71,12 @@ struct SideHits {
 /// rules::collide_with_container, without the walls the caller knows no lane can
 /// reach (Floor, Ceiling, Sides false) and without gravity when every lane's is +0
 /// (Gravity false: vy - (+0) = vy). Autoreverse is left to the caller (lanes
-/// `hit`, in mass order).
+/// `hit`, in mass order). `move_v`, if given, gets the velocity the move takes (after
+/// friction, before the container's response: what the fixed bars need).
 template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
 [[gnu::always_inline]] inline SideHits<O> move_mass(const MassParams<O>& p, typename O::V& x, typename O::V& y,
-                                                    typename O::V& vx, typename O::V& vy) {
+                                                    typename O::V& vx, typename O::V& vy,
+                                                    typename O::V* move_v = nullptr) {
   using V = typename O::V;
   using M = typename O::M;
   const V syrup = O::set1(kSyrupThreshold);
@@ -96,6 +98,10 @@ template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
   }
   vx = O::mul(factor, vx);
   vy = O::mul(factor, vy);
+  if (move_v != nullptr) {
+    move_v[0] = vx;
+    move_v[1] = vy;
+  }
   // rules::is_at_rest
   const M rest = O::m_and(O::lt(O::abs(vx), rest_limit), O::lt(O::abs(vy), rest_limit));
   V nx = O::add(x0, vx), ny = O::add(y0, vy);

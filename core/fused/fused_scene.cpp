@@ -76,6 +76,7 @@ bool FusedScene::used(const KernelChoice& k) const {
 }
 const KernelChoice& FusedScene::last_kernel() const { return d_->last; }
 long long FusedScene::sines_evaluated() const { return d_->sines_evaluated; }
+long long FusedScene::bar_rules_run() const { return d_->bar_rules_run; }
 bool FusedScene::points_in_registers() const { return d_->points_in_registers; }
 bool FusedScene::frame_in_registers() const { return d_->frame_in_registers; }
 
@@ -116,9 +117,13 @@ KernelChoice begin_frames(SceneData& s, State* const* states) {
   k.wave = s.any_wave;
   k.gravity = s.any_gravity;
   k.bars = s.bars;
-  // Fixed bars: the masses one by one (the bar rules need each move before the
-  // container's response and keep a memory per mass).
-  k.ordered = s.options.force_ordered || s.bars != BarKind::None;
+  k.ordered = s.options.force_ordered;
+  // Fixed bars: every wall tested (a bar's response is not bounded by the speed),
+  // the bar rules after the mass pass (bar_pass) from the state's memory.
+  if (s.bars != BarKind::None) {
+    k.walls = WallNeeds{};
+    if (!k.ordered) s.watch_bars(*states[0]);
+  }
   return k;
 }
 
@@ -141,8 +146,8 @@ long long FusedScene::run_until(State& state, long long frames, const std::funct
   if (s.creatures.size() != 1) throw std::invalid_argument("FusedScene::run_until: a scene of one model only");
   const Model& m = *s.creatures[0].model;
   State* const st[1] = {&state};
-  const bool ordered = s.options.force_ordered || s.bars != BarKind::None;
-  if (!ordered || m.mass_count == 0) { // the SIMD kernels run whole chunks: one frame per call
+  const bool per_frame = s.options.force_ordered || s.bars != BarKind::None;
+  if (!per_frame || m.mass_count == 0) { // the wall-skipping kernels run whole chunks: one frame per call
     for (long long f = 0; f < frames; ++f) {
       run(st, 1);
       const auto [lo, hi] = x_extent(m.mass_count, [&](int p) { return m.mass_count > 0 ? state.x[p] : 0.0; });
@@ -152,13 +157,18 @@ long long FusedScene::run_until(State& state, long long frames, const std::funct
   }
   take_states(s, st, "FastStepper::run_until");
   if (frames <= 0) return 0;
-  KernelChoice k = begin_frames(s, st); // ordered
+  KernelChoice k = begin_frames(s, st); // every wall tested
   k.walls = WallNeeds{};
   s.record(k);
+  const fused::ChunkFn bar_frames = fused::bar_chunk_fn(s.simd, k.gravity);
   const std::vector<int>& work = s.creatures[0].work_of_point;
   long long done = 0;
   while (done < frames) {
-    s.ordered_frame(state);
+    if (k.ordered) {
+      s.ordered_frame(state);
+    } else {
+      bar_frames(s, st, 1);
+    }
     ++done;
     const auto [lo, hi] = x_extent(m.mass_count, [&](int p) { return s.px(work[static_cast<std::size_t>(p)]); });
     if (stop(lo, hi)) break;
@@ -207,6 +217,8 @@ void FusedScene::run(State* const* states, long long frames) {
     s.record(k);
     if (k.ordered) {
       for (long long f = 0; f < chunk; ++f) s.ordered_frame(*states[0]);
+    } else if (s.bars != BarKind::None) {
+      fused::bar_chunk_fn(s.simd, k.gravity)(s, states, chunk);
     } else {
       (s.frame_in_registers ? register_chunk_fn(k.gravity, k.walls) : chunk_fn(s.simd, k.gravity, k.walls))(
           s, states, chunk);

@@ -23,9 +23,9 @@
 //    wall changes nothing), gravity is applied when some creature has it (g*d = +0
 //    is an identity for the others), targets are recomputed when some creature's
 //    wave moved (recomputing an unchanged target gives the same bits).
-// Fixed bars need masses in file order against the other masses' new positions,
-// so a scene with bars holds exactly one model (BatchStepper runs such models on
-// their own FastStepper).
+// Fixed bars keep their memory in the one State (the bar rules run after the mass
+// pass, mass by mass in file order: bar_pass), so a scene with bars holds exactly
+// one model (BatchStepper runs such models on their own FastStepper).
 //
 // The Models must outlive the scene; one scene is used by one thread at a time.
 #pragma once
@@ -75,6 +75,7 @@ class FusedScene {
   [[nodiscard]] bool used(const KernelChoice& k) const;
   [[nodiscard]] const KernelChoice& last_kernel() const;
   [[nodiscard]] long long sines_evaluated() const;
+  [[nodiscard]] long long bar_rules_run() const;
   [[nodiscard]] bool points_in_registers() const;
   [[nodiscard]] bool frame_in_registers() const;
 

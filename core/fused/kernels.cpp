@@ -13,6 +13,7 @@ template <class O>
 struct KernelTable {
   static LinkFn link();
   static ChunkFn chunk(bool g, bool f, bool c, bool sides);
+  static ChunkFn bar_chunk(bool g);
   static TargetFn targets();
   static ArgsFn args();
 };
@@ -42,6 +43,14 @@ constexpr int specialisation_index(bool g, bool f, bool c, bool sides) {
   SODA_EACH_SPECIALISATION(SODA_RUN_CHUNK, O)                                                              \
   template void targets_kernel<O>(SceneData&, const double*);                                                   \
   template void args_kernel<O>(SceneData&, int);                                                                \
+  template bool mass_kernel<O, false, true, true, true, true>(SceneData&);                                 \
+  template bool mass_kernel<O, true, true, true, true, true>(SceneData&);                                  \
+  template void run_chunk<O, false, true, true, true, true>(SceneData&, State* const*, long long);           \
+  template void run_chunk<O, true, true, true, true, true>(SceneData&, State* const*, long long);            \
+  template <>                                                                                              \
+  ChunkFn KernelTable<O>::bar_chunk(bool g) {                                                              \
+    return g ? &run_chunk<O, true, true, true, true, true> : &run_chunk<O, false, true, true, true, true>;  \
+  }                                                                                                        \
   template <>                                                                                              \
   TargetFn KernelTable<O>::targets() {                                                                     \
     return &targets_kernel<O>;                                                                             \
@@ -120,6 +129,14 @@ ChunkFn chunk_fn(SimdLevel level, bool g, const WallNeeds& w) {
     case SimdLevel::Avx512: return KernelTable<Avx512Ops>::chunk(g, w.floor, w.ceiling, w.sides);
     case SimdLevel::Avx2: return KernelTable<Avx2Ops>::chunk(g, w.floor, w.ceiling, w.sides);
     default: return KernelTable<Sse2Ops>::chunk(g, w.floor, w.ceiling, w.sides);
+  }
+}
+
+ChunkFn bar_chunk_fn(SimdLevel level, bool g) {
+  switch (level) {
+    case SimdLevel::Avx512: return KernelTable<Avx512Ops>::bar_chunk(g);
+    case SimdLevel::Avx2: return KernelTable<Avx2Ops>::bar_chunk(g);
+    default: return KernelTable<Sse2Ops>::bar_chunk(g);
   }
 }
 

@@ -86,19 +86,45 @@ void link_kernel(SceneData& s) {
   }
 }
 
+/// move_may_touch_tile (fixed_bars.hpp) for the W masses of a block, each with the
+/// tile it keeps (SceneData::mass_tile), the same comparisons lane by lane (O::min(b,
+/// a) is std::min(a, b), NaN included): the lanes whose move may touch a bar's box.
+template <class O>
+[[gnu::always_inline]] inline unsigned may_touch_bars(const double* tile, typename O::V x0, typename O::V y0,
+                                                     typename O::V x, typename O::V y) {
+  using V = typename O::V;
+  const V lo = O::min(x, x0), hi = O::max(x, x0);
+  const unsigned inside = O::lanes(O::m_and(O::ge(lo, O::load(tile)), O::le(hi, O::load(tile + O::W))));
+  const auto touch = O::m_and(O::m_and(O::ge(hi, O::load(tile + 2 * O::W)), O::le(lo, O::load(tile + 3 * O::W))),
+                              O::m_and(O::ge(O::max(y, y0), O::load(tile + 4 * O::W)),
+                                       O::le(O::min(y, y0), O::load(tile + 5 * O::W))));
+  return (~inside & ((1u << O::W) - 1)) | O::lanes(touch);
+}
+
 /// The mass step of one block of W masses starting at working index i (docs/physics.md,
 /// part 2), after their impulses: gravity, friction with the syrup limit, rest test, move,
 /// container walls, each mass with its own creature's parameters. (x, y) are the positions
 /// before the move and (vx, vy) the velocities after the impulses; all four are replaced by the
 /// stored results. Side-wall hits go to s.side_hit and any_side.
-template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
+/// With Bars, the block's moves are kept for the bar rules (SceneData::bar_pass): the
+/// start positions and the velocities the moves take.
+template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides, bool Bars = false>
 [[gnu::always_inline]] inline void move_mass_block(SceneData& s, int i, typename O::V& x, typename O::V& y, typename O::V& vx,
                             typename O::V& vy, typename O::M& any_side) {
   using V = typename O::V;
   const simd_rules::MassParams<O> params{O::load(s.mass_gravity_step.data() + i),    O::load(s.mass_air_keep.data() + i),
                                          O::load(s.mass_width.data() + i), O::load(s.mass_height.data() + i),
                                          O::load(s.mass_surface_friction.data() + i),    O::load(s.mass_surface_reflection.data() + i)};
-  const simd_rules::SideHits<O> sides = simd_rules::move_mass<O, Gravity, Floor, Ceiling, Sides>(params, x, y, vx, vy);
+  [[maybe_unused]] V move_v[2];
+  [[maybe_unused]] const V x0 = x, y0 = y;
+  const simd_rules::SideHits<O> sides =
+      simd_rules::move_mass<O, Gravity, Floor, Ceiling, Sides>(params, x, y, vx, vy, Bars ? move_v : nullptr);
+  if constexpr (Bars) {
+    O::store_pairs(s.move_start.data() + 2 * i, x0, y0);
+    O::store_pairs(s.move_velocity.data() + 2 * i, move_v[0], move_v[1]);
+    s.bar_touch[static_cast<std::size_t>(i / O::W)] =
+        may_touch_bars<O>(s.mass_tile.data() + SceneData::kTileValues * static_cast<std::size_t>(i), x0, y0, x, y);
+  }
   // s.side_hit is all zero between frames (replay_side_hits clears what it reads):
   // only a block with a hit writes it.
   if (O::any(sides.hit)) [[unlikely]] {
@@ -118,7 +144,7 @@ template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
 /// each addition is one load and one add, and the sums stay in registers for the
 /// rest of the step. (Pairs of masses in 256-bit additions were slower: the inserts
 /// cost more than the additions saved; bench/README.md, "Design figures".)
-template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
+template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides, bool Bars = false>
 bool mass_kernel(SceneData& s) {
   using V = typename O::V;
   using M = typename O::M;
@@ -146,7 +172,7 @@ bool mass_kernel(SceneData& s) {
       V vx, vy, x, y;
       O::pairs_to_xy(acc + j, vx, vy);
       O::load_pairs(positions + 2 * i, x, y);
-      move_mass_block<O, Gravity, Floor, Ceiling, Sides>(s, i, x, y, vx, vy, any_side);
+      move_mass_block<O, Gravity, Floor, Ceiling, Sides, Bars>(s, i, x, y, vx, vy, any_side);
       O::store_pairs(positions + 2 * i, x, y);
       O::store_pairs(velocities + 2 * i, vx, vy);
     }
@@ -221,7 +247,9 @@ void args_kernel(SceneData& s, int filled) {
 
 /// Frames with the SIMD kernels for one wall/gravity specialisation: the frame
 /// loop is inside the specialised function, so nothing is looked up per frame.
-template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
+/// With Bars (a single model with fixed bars), the bar rules follow the mass pass
+/// for the masses that may meet a bar (SceneData::bar_pass).
+template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides, bool Bars = false>
 void run_chunk(SceneData& s, State* const* st, long long frames) {
   const bool wave = s.wave_muscles > 0;
   for (long long f = 0; f < frames; ++f) {
@@ -234,7 +262,8 @@ void run_chunk(SceneData& s, State* const* st, long long frames) {
         link_kernel<O, false>(s);
       }
     }
-    if (mass_kernel<O, Gravity, Floor, Ceiling, Sides>(s)) s.replay_side_hits(st);
+    if (mass_kernel<O, Gravity, Floor, Ceiling, Sides, Bars>(s)) s.replay_side_hits(st);
+    if constexpr (Bars) s.bar_pass(*st[0]);
     s.advance_waves(st);
   }
 }

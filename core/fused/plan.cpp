@@ -323,6 +323,22 @@ void SceneData::place_bars() {
       bar_a.push_back(2 * creatures[0].work_of_point[m.bar_a[b]]);
       bar_b.push_back(2 * creatures[0].work_of_point[m.bar_b[b]]);
     }
+    if (m.bar_count() > 0) {
+      // No tile yet (an empty x range): every mass is due at first.
+      mass_tile.assign(kTileValues * static_cast<std::size_t>(padded_masses), 0.0);
+      for (int b = 0; b < padded_masses; b += W) {
+        for (int l = 0; l < W; ++l) {
+          mass_tile[kTileValues * b + l] = std::numeric_limits<double>::infinity();
+          mass_tile[kTileValues * b + W + l] = -std::numeric_limits<double>::infinity();
+        }
+      }
+      bar_touch.assign(static_cast<std::size_t>(padded_masses / W), 0);
+      file_of_work.assign(static_cast<std::size_t>(masses), 0);
+      for (int p = 0; p < masses; ++p) file_of_work[static_cast<std::size_t>(creatures[0].work_of_point[p])] = p;
+      const std::size_t words = (static_cast<std::size_t>(masses) + 63) / 64;
+      bar_held.assign(words, 0);
+      bar_due.assign(words, 0);
+    }
   }
 }
 

@@ -36,6 +36,7 @@
 #include "core/exact_sines.hpp"
 #include "core/fast_step.hpp"
 #include "core/model.hpp"
+#include "core/physics_rules.hpp"
 #include "core/scene_analysis.hpp"
 
 namespace soda::fused {
@@ -177,6 +178,7 @@ struct SceneData {
   std::vector<int> wave_creatures;  ///< creatures with a wave muscle
   std::vector<int> still_creatures; ///< the others (their phases still advance)
   long long sines_evaluated = 0;
+  long long bar_rules_run = 0; ///< masses that took the bar rules (bar_pass, ordered_masses)
   SinFn sine_fn = nullptr; ///< exact_sin_fn of the level (soda::sine alone without vector_sines), chosen at build
   // Wave states (fill_rows): creatures whose waves are in the same state (phase
   // bits, direction, speed bits) have the same rows of phases, and a muscle phase
@@ -215,6 +217,21 @@ struct SceneData {
   const std::int64_t* sine_lane = nullptr; ///< sine_index as permute indices (muscle_group_lane or muscle_argument_lane)
 
   std::vector<int> bar_a, bar_b; ///< 2 * working index (offset of x in positions), file order
+  // Fixed bars after the SIMD mass pass (bar_pass, ordered.cpp): each mass's move
+  // as the pass made it (its start, and its velocity after friction: the end before
+  // the container is start + velocity), and which masses (file order) a bar
+  // remembers or a corner holds: those and the masses whose move may touch a bar's
+  // box take the bar rules; for the others the rules would change nothing.
+  AVec<double> move_start, move_velocity; ///< [2*padded_masses] (x, y) pairs
+  std::vector<std::uint32_t> bar_touch; ///< [padded_masses / W] lanes whose move may touch a bar (may_touch_bars)
+  // Each mass keeps the tile (FixedBars::cell_tile) of where it was, as long as its
+  // moves stay inside: per block of W masses, kTileValues vectors (the tile's x
+  // range, its box) in lane order.
+  static constexpr int kTileValues = 6;
+  AVec<double> mass_tile; ///< [kTileValues * padded_masses]
+  void keep_tile(int i, double x); ///< mass i (working) takes the tile of x
+  std::vector<std::uint64_t> bar_held, bar_due; ///< bits in file order: held; due for the rules this frame
+  std::vector<int> file_of_work;                 ///< [masses] working index -> file index
 
   std::vector<KernelChoice> used;
   KernelChoice last;
@@ -269,6 +286,11 @@ struct SceneData {
   void replay_side_hits(State* const* st);
   void ordered_masses(State& s);
   void collide_with_bars(State& s, int p, int i, const MassMove& move);
+  rules::MassStepResult move_one_mass(const rules::MassConstants& k, int i, double& x, double& y, double& vx,
+                                      double& vy) const;
+  void watch_bars(const State& s);
+  void bar_pass(State& s);
+  void bar_rules(State& s, int p);
   void record(const KernelChoice& k);
 };
 
