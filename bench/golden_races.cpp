@@ -104,9 +104,10 @@ namespace sodaevo::bench {
 
 namespace {
 
-double best_fps(const soda::Model& model, long long frames, int repeats) {
+double best_fps(const soda::Model& model, long long frames, int repeats, soda::FastStepOptions options = {},
+                long long* bar_rules = nullptr) {
   double best = 0.0;
-  soda::FastStepper stepper(model, frames);
+  soda::FastStepper stepper(model, frames, options);
   for (int r = 0; r < repeats; ++r) {
     soda::State state = soda::make_state(model);
     const auto t0 = std::chrono::steady_clock::now();
@@ -114,6 +115,7 @@ double best_fps(const soda::Model& model, long long frames, int repeats) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     if (s > 0.0) best = std::max(best, static_cast<double>(frames) / s);
   }
+  if (bar_rules != nullptr) *bar_rules = stepper.bar_rules_run();
   return best;
 }
 
@@ -128,10 +130,16 @@ LaneSpeed measure_lane_speed(const fs::path& race_file, const fs::path& contende
   std::erase_if(floor.links, [](const soda::LinkDef& l) { return l.kind == soda::LinkKind::FixedBar; });
   const soda::Model without_bars = soda::build_model(floor);
   LaneSpeed out;
-  // Alternated, so that both see the same machine load.
+  out.masses = with_bars.mass_count;
+  soda::FastStepOptions ordered;
+  ordered.force_ordered = true;
+  // Alternated, so that all see the same machine load.
   for (int r = 0; r < repeats; ++r) {
-    out.lane_fps = std::max(out.lane_fps, best_fps(with_bars, frames, 1));
+    long long rules = 0;
+    out.lane_fps = std::max(out.lane_fps, best_fps(with_bars, frames, 1, {}, &rules));
+    out.rules_per_frame = static_cast<double>(rules) / static_cast<double>(frames);
     out.floor_fps = std::max(out.floor_fps, best_fps(without_bars, frames, 1));
+    out.ordered_fps = std::max(out.ordered_fps, best_fps(with_bars, frames, 1, ordered));
   }
   return out;
 }

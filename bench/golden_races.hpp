@@ -41,7 +41,12 @@ namespace sodaevo::bench {
 struct LaneSpeed {
   double lane_fps = 0.0;
   double floor_fps = 0.0;
+  double ordered_fps = 0.0;      ///< the lane with every mass one by one in file order (force_ordered)
+  double rules_per_frame = 0.0;  ///< masses that took the bar rules per frame (FastStepper::bar_rules_run)
+  int masses = 0;
   [[nodiscard]] double ratio() const { return floor_fps > 0.0 ? lane_fps / floor_fps : 0.0; }
+  /// Nanoseconds per frame the lane costs more than the floor.
+  [[nodiscard]] double extra_ns() const { return lane_fps > 0.0 && floor_fps > 0.0 ? 1e9 / lane_fps - 1e9 / floor_fps : 0.0; }
 };
 LaneSpeed measure_lane_speed(const std::filesystem::path& race_file, const std::filesystem::path& contender,
                              long long frames, int repeats);
