@@ -1,0 +1,140 @@
+// LockstepBatch::Data: the lanes' rows and the plan of a lockstep batch, shared by
+// its construction (lockstep_plan.cpp: groups, columns, layout, load/store) and its
+// AVX-512 frame kernels (lockstep_batch.cpp).
+//
+// Why a header of its own: the construction is plain C++ and the kernels are
+// compiled for AVX-512; one file held both past the project's size limit.
+// Private to those two files (core/detail/).
+#pragma once
+
+// The SIMD templates are instantiated with the default target and always inlined
+// into the AVX-512 kernels: no call ever crosses the vector ABI this warns about.
+#pragma GCC diagnostic ignored "-Wpsabi"
+
+#include <immintrin.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "core/detail/aligned_vector.hpp"
+#include "core/detail/glibc_sine.hpp"
+#include "core/detail/simd_ops.hpp"
+#include "core/exact_sines.hpp"
+#include "core/lockstep_batch.hpp"
+
+namespace soda {
+
+namespace lockstep_detail {
+using O = simd::Avx512Ops;
+inline constexpr int kW = LockstepBatch::kLanes;
+/// Groups stepped side by side in one pass over their links and masses (two,
+/// three and four measured alike on the GA's creatures; one alone ~25 % slower).
+inline constexpr int kSideBySide = 2;
+static_assert(O::W == kW);
+} // namespace lockstep_detail
+
+// Lane l of group g is state groups[g].first + l (padding lanes past a group's
+// own repeat its last state; their results are never read). Every per-lane value
+// is a row of 8 doubles.
+struct LockstepBatch::Data {
+  using O = lockstep_detail::O;
+  static constexpr int kW = lockstep_detail::kW;
+  struct Group {
+    int first = 0, lanes = 0;            ///< its states: [first, first + lanes)
+    int points = 0, masses = 0, links = 0;
+    std::vector<int> link_a, link_b;     ///< point indices, file order (the group's shape)
+    std::vector<int> wave_links;         ///< links with a moving target in some lane
+    std::vector<int> column_of;          ///< [wave_links] its sine column
+    int columns = 0;
+    bool uniform = false;                ///< every lane has the same phase in each column
+    bool jittered = false;               ///< some lane's state carries sine jitter (run)
+    /// Where its rows start: a block of points x, y, vx, vy [4][points], links
+    /// rest, power, target [3][links], column phases [columns] and the world
+    /// [kWorldRows]; sine arguments and sines [columns]; shared ones: columns
+    /// [pool_at, pool_at + columns) of the pool.
+    std::size_t block = 0, sine_at = 0, pool_at = 0;
+  };
+  int count = 0;
+  std::vector<Group> groups;
+  std::vector<int> state_points; ///< [count] points of state c's model
+  std::vector<std::pair<int, int>> schedule; ///< (first group, groups stepped side by side: same links)
+  SinFn sine_fn = nullptr;
+  const glibc_sine::GlibcTable* sine_table = nullptr; ///< for the sines inlined into the link pass
+
+  // kLeft, kRight, kTop: the walls are out of reach this frame where every mass
+  // is right of kLeft, left of kRight and below kTop (walls_far).
+  enum World { kSpringyness, kGravityStep, kKeep, kWidth, kHeight, kFs, kRs, kSpeed, kMode, kPhase, kLeft, kRight, kTop, kWorldRows };
+  // One allocation: the distances between the rows, hence which loads and stores
+  // share their low 12 address bits (a false dependency), are then the same in
+  // every run; with four allocations the speed changed from process to process
+  // (bench/README.md, "Design figures").
+  AVec<double> rows;
+  // Sines of the next frame: computed during this frame's links (where the
+  // square-root/divide unit is the bottleneck and the other units idle), for the
+  // phase each wave will have if no lane's direction turns; a group whose phase
+  // came out otherwise gets them again after the frame (sines_now). A group whose
+  // lanes share them (packed) has one per column in the pool, the columns of all
+  // such groups one after the other, 8 to a row, each with its muscle phase and
+  // its group's wave phase (pool_wave): a row's arguments are then those of each
+  // column's group, whatever groups the row holds.
+  AVec<double> arguments, sines;                                      ///< rows at sine_at
+  AVec<double> pool_phase, pool_wave, pool_arguments, pool_sines;     ///< columns at pool_at
+  int pool_rows = 0;
+  std::vector<std::uint8_t> redo;   ///< [groups] the wave turned: sines again after the frame
+  int total_links = 0;              ///< the link passes of a frame, over all steps
+  int sine_rows = 0, sines_done = 0, sine_credit = 0; ///< a frame's sines, spread over its link passes
+  unsigned far_lanes = 0; ///< lanes glibc's sin takes elsewhere (|x| >= 105414336, NaN): none from phases in [0, 1)
+  AVec<double> predicted;        ///< [groups] rows: the phase the sines are for
+  std::vector<std::uint8_t> packed; ///< [groups] the group's sines are the packed ones
+  /// [groups] no mass of any lane can reach the ceiling or a side wall this frame
+  /// (the floor is tested always: walkers touch it every frame).
+  std::vector<std::uint8_t> walls_far;
+  bool inline_sines = false;     ///< the CPU has the vector sine (exact_sines.hpp)
+  std::vector<std::uint8_t> autoreverse; ///< [groups * 8]
+  std::vector<State*> lane_state;        ///< [groups * 8] the state each lane loads from
+  /// [groups * 8] each lane's sine jitter as PreparedJitter holds it (threshold 0:
+  /// exact), in rows that jitter_sines loads 8 lanes at a time.
+  std::vector<std::uint64_t> lane_seed_mix, lane_threshold;
+  std::vector<std::pair<const double*, double*>> sine_work; ///< (arguments, sines) rows of a step
+  // Until lay_out: each group's lane models [groups * 8] and the link of each of its columns.
+  std::vector<const Model*> lane_models;
+  std::vector<std::vector<int>> group_column_links;
+
+  double* block_row(int g, std::size_t row) { return rows.data() + (groups[static_cast<std::size_t>(g)].block + row) * kW; }
+  double* point_row(int g, int k, int p) {
+    return block_row(g, static_cast<std::size_t>(k) * groups[static_cast<std::size_t>(g)].points + p);
+  }
+  double* link_row(int g, int k, int j) {
+    const Group& G = groups[static_cast<std::size_t>(g)];
+    return block_row(g, 4 * static_cast<std::size_t>(G.points) + static_cast<std::size_t>(k) * G.links + j);
+  }
+  double* column_row(int g, int q) {
+    const Group& G = groups[static_cast<std::size_t>(g)];
+    return block_row(g, 4 * static_cast<std::size_t>(G.points) + 3 * static_cast<std::size_t>(G.links) + q);
+  }
+  double* world_row(int g, int k) { return column_row(g, groups[static_cast<std::size_t>(g)].columns + k); }
+  double* arguments_row(int g, int q) { return arguments.data() + (groups[static_cast<std::size_t>(g)].sine_at + q) * kW; }
+  double* sines_row(int g, int q) { return sines.data() + (groups[static_cast<std::size_t>(g)].sine_at + q) * kW; }
+  double* pool(AVec<double>& v, int g) { return v.data() + groups[static_cast<std::size_t>(g)].pool_at; }
+
+  void add_group(const std::vector<const Model*>& models, int first, int lanes);
+  void lay_out();
+  void load(State* const* st);
+  void store(State* const* st);
+  void arguments_for(int g, O::V phase, bool pool_rows_now);
+  void pool_arguments_rows(std::size_t first_row, std::size_t end_row);
+  void step_frame();
+  void sines_now(int g);
+  void unpack_sines(int g);
+  void targets_from_sines(int g);
+  bool packed_jitter_hits(int g);
+  void targets_from_packed(int g);
+  void jitter_sines(int g);
+  void queue_sines(int g);
+  template <int N>
+  void step_groups(int g0);
+};
+
+} // namespace soda
