@@ -166,9 +166,53 @@ void LockstepBatch::Data::jitter_sines(int g) {
   }
 }
 
+// The fixed-bar rules of group g's lanes after the mass pass (which left each
+// mass as the reference leaves it before its bar rules, and kept its move), as
+// FastStepper's bar_pass (fused/ordered.cpp) does them: per lane in file order
+// against the lane's own BarMemory, for a mass that moved and that a bar
+// remembers, a corner holds or whose move may touch a bar's box (every moving
+// mass until each has its corner entry); a bar's response replaces the mass's
+// position and velocity in the lane. The rules of one mass read and change only
+// its own move and memory, so the lanes and masses left out change nothing.
+void LockstepBatch::Data::bar_pass(int g) {
+  const Group& G = groups[static_cast<std::size_t>(g)];
+  const FixedBars& fixed = group_bars[static_cast<std::size_t>(g)];
+  for (int l = 0; l < G.lanes; ++l) { // padding lanes: never read
+    State& s = *lane_state[static_cast<std::size_t>(g) * kW + static_cast<std::size_t>(l)];
+    BarMemory& memory = s.bar_memory;
+    const bool all = memory.corners.size() < static_cast<std::size_t>(G.masses);
+    if (!all) {
+      std::fill(bar_held.begin(), bar_held.begin() + G.masses, 0);
+      for (int p = 0; p < G.masses; ++p) bar_held[static_cast<std::size_t>(p)] = memory.corners[static_cast<std::size_t>(p)].bar >= 0;
+      for (const BarContact& c : memory.contacts) {
+        if (c.mass >= 0 && c.mass < G.masses) bar_held[static_cast<std::size_t>(c.mass)] = 1;
+      }
+    }
+    const Surface surface{world_row(g, kFs)[l], world_row(g, kRs)[l], world_row(g, kWidth)[l], world_row(g, kHeight)[l]};
+    for (int p = 0; p < G.masses; ++p) {
+      const double vx = move_row(g, 2, p)[l], vy = move_row(g, 3, p)[l];
+      if (rules::is_at_rest(vx, vy)) continue; // not moved: no bar rules
+      const double x0 = move_row(g, 0, p)[l], y0 = move_row(g, 1, p)[l];
+      double& x = point_row(g, 0, p)[l];
+      double& y = point_row(g, 1, p)[l];
+      if (!all && bar_held[static_cast<std::size_t>(p)] == 0 && !move_may_touch_bars(fixed, x0, y0, x, y)) continue;
+      ++bar_rules_run;
+      MassMove clamped = rules::mass_move(x0, y0, x0 + vx, y0 + vy, vx, vy);
+      clamped.x = x;
+      clamped.y = y;
+      MassEnd end;
+      if (!collide_with_fixed_bars(fixed, memory, p, clamped, surface, end)) continue;
+      x = end.x;
+      y = end.y;
+      point_row(g, 2, p)[l] = end.vx;
+      point_row(g, 3, p)[l] = end.vy;
+    }
+  }
+}
+
 // One frame's physics and wave advance of groups [g0, g0 + N) (the same links),
 // side by side: N independent chains for the processor to overlap.
-template <int N>
+template <int N, bool Bars>
 [[gnu::always_inline]] inline void LockstepBatch::Data::step_groups(int g0) {
   using V = O::V;
   using M = O::M;
@@ -251,16 +295,32 @@ template <int N>
     right[n] = O::load(world_row(g, kRight));
     top[n] = O::load(world_row(g, kTop));
   }
+  // With bars: each mass's move kept (its start and the velocity it takes) for bar_pass.
+  [[maybe_unused]] bool bars[N] = {};
+  if constexpr (Bars) {
+    for (int n = 0; n < N; ++n) bars[n] = groups[static_cast<std::size_t>(g0 + n)].bars;
+  }
   for (int i = 0; i < masses; ++i) {
 #pragma GCC unroll 4
     for (int n = 0; n < N; ++n) {
       if (i >= group_masses[n]) continue;
+      [[maybe_unused]] V move_v[2];
+      [[maybe_unused]] const V x0 = x[n][i], y0 = y[n][i];
       if (far[n]) {
-        simd_rules::move_mass<O, true, true, false, false>(params[n], x[n][i], y[n][i], vx[n][i], vy[n][i]);
+        simd_rules::move_mass<O, true, true, false, false>(params[n], x[n][i], y[n][i], vx[n][i], vy[n][i], Bars ? move_v : nullptr);
       }
       const simd_rules::SideHits<O> hits =
           far[n] ? simd_rules::SideHits<O>{O::m_none(), O::m_none()}
-                 : simd_rules::move_mass<O, true, true, true, true>(params[n], x[n][i], y[n][i], vx[n][i], vy[n][i]);
+                 : simd_rules::move_mass<O, true, true, true, true>(params[n], x[n][i], y[n][i], vx[n][i], vy[n][i],
+                                                                     Bars ? move_v : nullptr);
+      if constexpr (Bars) {
+        if (bars[n]) {
+          O::store(move_row(g0 + n, 0, i), x0);
+          O::store(move_row(g0 + n, 1, i), y0);
+          O::store(move_row(g0 + n, 2, i), move_v[0]);
+          O::store(move_row(g0 + n, 3, i), move_v[1]);
+        }
+      }
       inside[n] = O::m_and(inside[n], O::m_and(O::gt(x[n][i], left[n]), O::m_and(O::lt(x[n][i], right[n]), O::lt(y[n][i], top[n]))));
       if (O::any(hits.hit)) [[unlikely]] {
         hit_wall[n] = true;
@@ -275,6 +335,16 @@ template <int N>
           mode[l] = static_cast<double>(static_cast<int>(m));
         }
       }
+    }
+  }
+  // Fixed bars after every mass moved (autoreverse done: a bar hit leaves it), as
+  // FastStepper's bar_pass; every wall tested next frame (a bar's push-off is not
+  // bounded by the speed limit).
+  if constexpr (Bars) {
+    for (int n = 0; n < N; ++n) {
+      if (!bars[n]) continue;
+      bar_pass(g0 + n);
+      inside[n] = O::m_none();
     }
   }
   for (int n = 0; n < N; ++n) walls_far[static_cast<std::size_t>(g0 + n)] = inside[n] == static_cast<M>(0xff) ? 1 : 0;
@@ -329,12 +399,19 @@ void LockstepBatch::Data::step_frame() {
   sines_done = 0;
   sine_credit = 0;
   far_lanes = 0;
-  for (const auto& [g, n] : schedule) {
+  for (std::size_t k = 0; k < schedule.size(); ++k) {
     static_assert(kSideBySide == 2);
-    if (n == 2) {
-      step_groups<2>(g);
+    const auto [g, n] = schedule[k];
+    if (schedule_bars[k] != 0) [[unlikely]] {
+      if (n == 2) {
+        step_groups<2, true>(g);
+      } else {
+        step_groups<1, true>(g);
+      }
+    } else if (n == 2) {
+      step_groups<2, false>(g);
     } else {
-      step_groups<1>(g);
+      step_groups<1, false>(g);
     }
   }
   assert(sines_done == sine_rows);

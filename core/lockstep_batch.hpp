@@ -46,8 +46,19 @@
 // frame's positions for a few compares per mass; there the tests would change
 // nothing).
 //
-// AVX-512 only (usable()); models with fixed bars are not taken (a bar test needs
-// each mass against the others' new positions, fast_step's ordered kernel).
+// Fixed bars (race lanes, terrains; fixed_bars.hpp): lanes of one shape also have
+// the same bars (same_shape compares their geometry). The masses move in SIMD as
+// without bars, each lane keeping each mass's move (its start and the velocity it
+// takes); after the mass pass each lane runs the bar rules as FastStepper does
+// (fused/ordered.cpp bar_pass): in file order, against its own State's BarMemory,
+// for the masses a bar remembers or a corner holds and those whose move may touch
+// a bar's box; the rules of the others would change nothing (a mass's rules read
+// and change only its own move and memory). Autoreverse stays with the wall hit
+// (a bar hit does not undo it), and every wall is tested in every frame (a bar's
+// push-off is not bounded by the speed limit). Bars with a mass at an end
+// (BarKind::MovingEnds) are not taken.
+//
+// AVX-512 only (usable()).
 // The batch copies what it needs of the Models when it is built (a Model changed
 // afterwards is not seen: build a new batch). One batch is used by one thread at a
 // time, and each state must be a different object.
@@ -69,13 +80,14 @@ class LockstepBatch {
 
   /// Whether this machine runs the batch (AVX-512 with the exact vector sine).
   static bool usable();
-  /// Whether `model` can be in a batch (no fixed bars).
+  /// Whether `model` can be in a batch (no fixed bar with a mass at an end).
   static bool can_take(const Model& model);
   /// Whether two models have one shape: the same masses and fixed nodes (by
-  /// count) and the same links, end for end, in file order. Fixed bars excluded.
+  /// count) and the same links, end for end, in file order, and the same fixed
+  /// bars (ends, geometry, box rule) if any; both taken (can_take).
   static bool same_shape(const Model& a, const Model& b);
 
-  /// Throws std::invalid_argument when `models` is empty, a model has fixed bars,
+  /// Throws std::invalid_argument when `models` is empty, a model cannot be taken,
   /// or two models differ in shape, and std::runtime_error when !usable().
   explicit LockstepBatch(const std::vector<const Model*>& models);
   /// Several shapes in one batch: shapes[s] are models of one shape (as for the
@@ -102,6 +114,9 @@ class LockstepBatch {
   /// Whether group g's lanes share their muscle phases, column by column (replicas
   /// of one creature): their sines are computed once per column while their waves agree.
   [[nodiscard]] bool shares_sines(int g) const;
+  /// Lane-moves that took the fixed-bar rules since construction (bar_pass); for
+  /// tests and diagnostics (FastStepper::bar_rules_run counts the same for one state).
+  [[nodiscard]] long long bar_rules_run() const;
 
   struct Data;
 

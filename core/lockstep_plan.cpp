@@ -26,11 +26,35 @@ bool LockstepBatch::usable() {
   return simd_level_supported(SimdLevel::Avx512) && __builtin_cpu_supports("avx512dq");
 }
 
-bool LockstepBatch::can_take(const Model& model) { return model.bar_count() == 0; }
+bool LockstepBatch::can_take(const Model& model) {
+  for (int b = 0; b < model.bar_count(); ++b) {
+    if (model.is_mass(model.bar_a[b]) || model.is_mass(model.bar_b[b])) return false; // BarKind::MovingEnds
+  }
+  return true;
+}
+
+namespace {
+// The same fixed bars: ends, geometry and box rule, bit for bit (the rest of
+// FixedBars, chains and the index by x, follows from these: make_fixed_bars).
+bool same_bars(const Model& a, const Model& b) {
+  const FixedBars& p = a.fixed_bars;
+  const FixedBars& q = b.fixed_bars;
+  if (a.bar_a != b.bar_a || a.bar_b != b.bar_b || p.engine != q.engine || p.size() != q.size()) return false;
+  for (int k = 0; k < p.size(); ++k) {
+    const FixedBar& u = p.bars[static_cast<std::size_t>(k)];
+    const FixedBar& v = q.bars[static_cast<std::size_t>(k)];
+    if (u.a != v.a || u.b != v.b || bits_of(u.x1) != bits_of(v.x1) || bits_of(u.y1) != bits_of(v.y1) ||
+        bits_of(u.x2) != bits_of(v.x2) || bits_of(u.y2) != bits_of(v.y2)) {
+      return false;
+    }
+  }
+  return true;
+}
+} // namespace
 
 bool LockstepBatch::same_shape(const Model& a, const Model& b) {
   return can_take(a) && can_take(b) && a.mass_count == b.mass_count && a.point_count == b.point_count &&
-         a.link_a == b.link_a && a.link_b == b.link_b;
+         a.link_a == b.link_a && a.link_b == b.link_b && same_bars(a, b);
 }
 
 LockstepBatch::LockstepBatch(std::unique_ptr<Data> d, int) : d_(std::move(d)) {}
@@ -43,7 +67,7 @@ LockstepBatch LockstepBatch::of_shapes(const std::vector<std::vector<const Model
     if (models.empty()) throw std::invalid_argument("LockstepBatch: no models");
     for (const Model* m : models) {
       assert(constants_current(*m));
-      if (!same_shape(*models[0], *m)) throw std::invalid_argument("LockstepBatch: models of different shapes, or with fixed bars");
+      if (!same_shape(*models[0], *m)) throw std::invalid_argument("LockstepBatch: models of different shapes (or bars), or with a fixed bar moved by a mass");
     }
   }
   if (!usable()) throw std::runtime_error("LockstepBatch: this CPU has no AVX-512 (F and DQ)");
@@ -76,6 +100,8 @@ void LockstepBatch::Data::add_group(const std::vector<const Model*>& models, int
   G.links = shape.link_count();
   G.link_a = shape.link_a;
   G.link_b = shape.link_b;
+  G.bars = shape.bar_count() > 0;
+  group_bars.push_back(G.bars ? shape.fixed_bars : FixedBars{});
   std::vector<int> column_link;
   for (int j = 0; j < G.links; ++j) {
     bool moves = false;
@@ -105,8 +131,14 @@ void LockstepBatch::Data::add_group(const std::vector<const Model*>& models, int
 // The rows of every group, filled from each lane's model; the order in which the
 // groups step (side by side where consecutive groups have the same links).
 void LockstepBatch::Data::lay_out() {
-  std::size_t block_rows = 0, row_count = 0, pool_columns = 0;
+  std::size_t block_rows = 0, row_count = 0, pool_columns = 0, move_rows = 0;
+  int most_masses = 0;
   for (Group& G : groups) {
+    if (G.bars) {
+      G.move_at = move_rows;
+      move_rows += 4 * static_cast<std::size_t>(G.masses);
+      most_masses = std::max(most_masses, G.masses);
+    }
     G.block = block_rows;
     G.sine_at = row_count;
     G.pool_at = pool_columns;
@@ -117,6 +149,8 @@ void LockstepBatch::Data::lay_out() {
   pool_rows = static_cast<int>((pool_columns + kW - 1) / kW);
   const int group_total = static_cast<int>(groups.size());
   rows.assign(block_rows * kW, 0.0);
+  moves.assign(move_rows * kW, 0.0);
+  bar_held.assign(static_cast<std::size_t>(most_masses), 0);
   arguments.assign(row_count * kW, 0.0);
   sines.assign(arguments.size(), 0.0);
   pool_phase.assign(static_cast<std::size_t>(pool_rows) * kW, 0.0);
@@ -173,7 +207,12 @@ void LockstepBatch::Data::lay_out() {
     const int n = std::min(kSideBySide, group_total - g);
     schedule.emplace_back(g, n);
     int links = 0;
-    for (int k = g; k < g + n; ++k) links = std::max(links, groups[static_cast<std::size_t>(k)].links);
+    bool bars = false;
+    for (int k = g; k < g + n; ++k) {
+      links = std::max(links, groups[static_cast<std::size_t>(k)].links);
+      bars = bars || groups[static_cast<std::size_t>(k)].bars;
+    }
+    schedule_bars.push_back(bars ? 1 : 0);
     total_links += links;
   }
 }
@@ -186,6 +225,7 @@ int LockstepBatch::size() const { return d_->count; }
 int LockstepBatch::group_count() const { return static_cast<int>(d_->groups.size()); }
 int LockstepBatch::sine_columns(int g) const { return d_->groups.at(static_cast<std::size_t>(g)).columns; }
 bool LockstepBatch::shares_sines(int g) const { return d_->groups.at(static_cast<std::size_t>(g)).uniform; }
+long long LockstepBatch::bar_rules_run() const { return d_->bar_rules_run; }
 
 void LockstepBatch::Data::load(State* const* st) {
   for (int g = 0; g < static_cast<int>(groups.size()); ++g) {

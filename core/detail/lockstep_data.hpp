@@ -22,6 +22,7 @@
 #include "core/detail/glibc_sine.hpp"
 #include "core/detail/simd_ops.hpp"
 #include "core/exact_sines.hpp"
+#include "core/fixed_bars.hpp"
 #include "core/lockstep_batch.hpp"
 
 namespace soda {
@@ -55,11 +56,21 @@ struct LockstepBatch::Data {
     /// [kWorldRows]; sine arguments and sines [columns]; shared ones: columns
     /// [pool_at, pool_at + columns) of the pool.
     std::size_t block = 0, sine_at = 0, pool_at = 0;
+    bool bars = false;     ///< fixed bars (group_bars[g]): bar_pass after the mass pass
+    std::size_t move_at = 0; ///< with bars: where its rows of moves start in `moves`
   };
   int count = 0;
   std::vector<Group> groups;
   std::vector<int> state_points; ///< [count] points of state c's model
   std::vector<std::pair<int, int>> schedule; ///< (first group, groups stepped side by side: same links)
+  std::vector<std::uint8_t> schedule_bars;   ///< [schedule] some of those groups has fixed bars
+  /// [groups] each group's fixed bars (one copy for its lanes: same_shape), empty without.
+  std::vector<FixedBars> group_bars;
+  /// Each bar group's moves of this frame, per mass: start x, y and the velocity
+  /// the move takes (vx, vy) [4][masses] rows, for the bar rules (bar_pass).
+  AVec<double> moves;
+  std::vector<std::uint8_t> bar_held; ///< [masses] scratch: a bar remembers the mass, or a corner holds it
+  long long bar_rules_run = 0;        ///< lane-moves that took the bar rules
   SinFn sine_fn = nullptr;
   const glibc_sine::GlibcTable* sine_table = nullptr; ///< for the sines inlined into the link pass
 
@@ -115,6 +126,10 @@ struct LockstepBatch::Data {
     return block_row(g, 4 * static_cast<std::size_t>(G.points) + 3 * static_cast<std::size_t>(G.links) + q);
   }
   double* world_row(int g, int k) { return column_row(g, groups[static_cast<std::size_t>(g)].columns + k); }
+  double* move_row(int g, int k, int p) {
+    const Group& G = groups[static_cast<std::size_t>(g)];
+    return moves.data() + (G.move_at + static_cast<std::size_t>(k) * G.masses + p) * kW;
+  }
   double* arguments_row(int g, int q) { return arguments.data() + (groups[static_cast<std::size_t>(g)].sine_at + q) * kW; }
   double* sines_row(int g, int q) { return sines.data() + (groups[static_cast<std::size_t>(g)].sine_at + q) * kW; }
   double* pool(AVec<double>& v, int g) { return v.data() + groups[static_cast<std::size_t>(g)].pool_at; }
@@ -133,7 +148,8 @@ struct LockstepBatch::Data {
   void targets_from_packed(int g);
   void jitter_sines(int g);
   void queue_sines(int g);
-  template <int N>
+  void bar_pass(int g);
+  template <int N, bool Bars>
   void step_groups(int g0);
 };
 
