@@ -17,7 +17,9 @@
 #include "evolve/rng.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/variation.hpp"
+#include "core/race_lane.hpp"
 #include "formats/model_file.hpp"
+#include "formats/race_file.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo::test;
@@ -205,14 +207,30 @@ TEST_CASE("lockstep batch: shapes", "[lockstep]") {
   if (!soda::LockstepBatch::usable()) return;
   CHECK_THROWS_AS(soda::LockstepBatch({&walker, &slug}), std::invalid_argument);
   CHECK_THROWS_AS(soda::LockstepBatch({}), std::invalid_argument);
+  int barred = 0;
   for (const fs::path& file : xml_files_under(data_dir() / "soda")) {
     const std::optional<Scene> scene = load_scene_unless_race(file);
-    if (scene && scene->model.bar_count() > 0) {
-      CHECK_FALSE(soda::LockstepBatch::can_take(scene->model));
-      CHECK_THROWS_AS(soda::LockstepBatch({&scene->model}), std::invalid_argument);
-      break;
+    if (!scene || scene->model.bar_count() == 0) continue;
+    const soda::Model& model = scene->model;
+    CHECK(soda::LockstepBatch::can_take(model)); // fixed bars between fixed nodes
+    soda::Model moved_bar = model; // one bar a little elsewhere: other bars, another shape
+    moved_bar.fixed_bars.bars[0].x1 = std::nextafter(model.fixed_bars.bars[0].x1, 1e300);
+    CHECK_FALSE(soda::LockstepBatch::same_shape(model, moved_bar));
+    CHECK_THROWS_AS(soda::LockstepBatch({&model, &moved_bar}), std::invalid_argument);
+    soda::Model other_rule = model; // the other original's box test
+    other_rule.fixed_bars.engine = model.fixed_bars.engine == soda::BarEngine::Racer2004
+                                       ? soda::BarEngine::SodaConstructor2003
+                                       : soda::BarEngine::Racer2004;
+    CHECK_FALSE(soda::LockstepBatch::same_shape(model, other_rule));
+    if (model.mass_count > 0) {
+      soda::Model mass_end = model; // a bar with a mass at an end (BarKind::MovingEnds): not taken
+      mass_end.bar_a[0] = 0;
+      CHECK_FALSE(soda::LockstepBatch::can_take(mass_end));
+      CHECK_THROWS_AS(soda::LockstepBatch({&mass_end}), std::invalid_argument);
     }
+    ++barred;
   }
+  CHECK(barred > 0);
 }
 
 TEST_CASE("BatchStepper: how many of a shape go in lockstep", "[lockstep]") {
@@ -461,4 +479,46 @@ TEST_CASE("BatchStepper: the GA's batch of replicas (creatures of several shapes
     INFO("round " << round << ": " << diff);
     CHECK(diff.empty());
   }
+}
+
+// Issue 27: race replicas (K states of one lane Model with fixed bars) in lockstep.
+// The reference runs the bar rules for every moving mass in its step; the lanes run
+// them after the mass pass (bar_pass), each against its own State's BarMemory, which
+// compare_states compares too.
+TEST_CASE("lockstep batch: jittered replicas of a racer in a TerrainFlat lane equal the reference, bar memory "
+          "included; BatchStepper puts them in lockstep",
+          "[lockstep][race]") {
+  if (skip_without_avx512()) return;
+  const soda::RaceDef race = soda::read_race_file(models_dir() / "terrains" / "TerrainFlat.xml");
+  const soda::RaceLane lane = soda::build_lane(
+      race.terrain, race.constraints, soda::read_model_file(models_dir() / "dainty_walker.xml").def, "dainty_walker");
+  const soda::Model model = soda::build_lane_model(lane);
+  REQUIRE(model.bar_count() > 0);
+  REQUIRE(soda::LockstepBatch::can_take(model));
+  constexpr long long kFrames = 700; // falls onto the platform, walks on it
+  constexpr int kReplicas = 11;      // a full group and a partial one (padding lanes)
+  bool moved = false;
+  soda::LockstepBatch batch(std::vector<const soda::Model*>(kReplicas, &model));
+  CHECK(replicas_against_reference(
+            model, kReplicas, 0.02, kFrames,
+            [&](const auto&, std::vector<soda::State*>& s, long long n) { batch.run(s.data(), n); }, moved)
+            .empty());
+  CHECK(moved); // the replicas parted: a lane that took another's bar memory would differ
+  // The bars acted: every replica's masses lie on a bar (its memory is compared above).
+  CHECK(batch.bar_rules_run() > kReplicas * kFrames);
+  soda::State landed = soda::make_state(model);
+  soda::run(model, landed, kFrames);
+  CHECK_FALSE(landed.bar_memory.contacts.empty());
+
+  std::unique_ptr<soda::BatchStepper> stepper;
+  CHECK(replicas_against_reference(
+            model, kReplicas, 0.02, kFrames,
+            [&](const std::vector<const soda::Model*>& m, std::vector<soda::State*>& s, long long n) {
+              if (!stepper) stepper = std::make_unique<soda::BatchStepper>(m, kFrames);
+              stepper->run(s, n);
+            },
+            moved)
+            .empty());
+  CHECK(stepper->lockstep_count() == soda::lockstep_share(kReplicas)); // 8 in lockstep, 3 alone (FastStepper)
+  CHECK(soda::lockstep_share(kReplicas) == 8);
 }
