@@ -19,12 +19,12 @@
 //
 // Exact: after run(), every state equals bit for bit what soda::run gives for its
 // model alone (fused_scene.hpp explains why; tests/test_batch_step.cpp checks it).
-// Models with fixed bars cannot share a scene (a bar test needs the masses in
-// file order against each other's new positions); each of those runs alone on its
-// own FastStepper, in the same call.
+// Models with fixed bars cannot share a fused scene (its bar pass serves one
+// model); each of those runs alone on its own FastStepper, in the same call,
+// unless it goes in lockstep (below: race replicas, the same lane model K times).
 //
-// Models of one shape (LockstepBatch::same_shape: the same masses and links, any
-// numbers), kMinLockstep or more of them (lockstep_share), that share few muscle
+// Models of one shape (LockstepBatch::same_shape: the same masses and links, and
+// the same fixed bars if any, any other numbers), kMinLockstep or more of them (lockstep_share), that share few muscle
 // sines (shared_sine_fraction), run instead in a LockstepBatch
 // (lockstep_batch.hpp), one creature per SIMD lane, where the CPU has AVX-512:
 // measured faster than fusing them (bench speed, fast-batch). Exact either way.
