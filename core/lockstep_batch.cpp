@@ -429,15 +429,26 @@ void LockstepBatch::run(State* const* states, long long frames) {
   step(states, frames);
 }
 
-void LockstepBatch::step(State* const* states, long long frames) {
+void LockstepBatch::step(State* const* states, long long frames) { step_until(states, frames, nullptr, nullptr); }
+
+long long LockstepBatch::run_until(State* const* states, long long frames, const StopFn& stop, std::vector<long long>& done) {
   Data& d = *d_;
-  if (frames <= 0) return;
+  require_batch_states(states, d.count, [&](int c) { return d.state_points[static_cast<std::size_t>(c)]; }, "LockstepBatch::run_until");
+  for (int c = 0; c < d.count; ++c) require_valid_jitter_of(states[c]->jitter, "LockstepBatch::run_until", c);
+  done.assign(static_cast<std::size_t>(d.count), 0);
+  return step_until(states, frames, &stop, done.data());
+}
+
+long long LockstepBatch::step_until(State* const* states, long long frames, const StopFn* stop, long long* done) {
+  Data& d = *d_;
+  if (frames <= 0) return 0;
   d.load(states);
   std::fill(d.walls_far.begin(), d.walls_far.end(), 0); // tested in the first frame, known after it
   const std::size_t lanes = d.groups.size() * kW;
-  // Padding lanes autoreverse into a scratch copy of their group's last state, not into it.
-  std::vector<State> padding;
-  padding.reserve(lanes - static_cast<std::size_t>(d.count));
+  // Padding lanes autoreverse into a scratch copy of their group's last state, not
+  // into it; so do stopped lanes (and their bar memory), which step on unread.
+  std::vector<State> scratch;
+  scratch.reserve(lanes);
   d.lane_state.resize(lanes);
   d.lane_seed_mix.assign(lanes, 0); // padding lanes: exact, unread
   d.lane_threshold.assign(lanes, 0);
@@ -454,17 +465,57 @@ void LockstepBatch::step(State* const* states, long long frames) {
         d.lane_threshold[lane] = jitter.threshold;
         if (jitter.threshold != 0) G.jittered = true;
       } else {
-        padding.push_back(*states[G.first + G.lanes - 1]);
-        d.lane_state[lane] = &padding.back();
+        scratch.push_back(*states[G.first + G.lanes - 1]);
+        d.lane_state[lane] = &scratch.back();
       }
     }
   }
   for (int g = 0; g < static_cast<int>(d.groups.size()); ++g) {
     if (d.groups[static_cast<std::size_t>(g)].columns > 0) d.sines_now(g);
   }
-  for (long long f = 0; f < frames; ++f) d.step_frame();
-  d.store(states);
-  for (int c = 0; c < d.count; ++c) states[c]->frame += frames;
+  std::vector<std::uint8_t> running(static_cast<std::size_t>(d.count), 1);
+  int left = d.count;
+  long long ran = 0;
+  while (ran < frames && left > 0) {
+    d.step_frame();
+    ++ran;
+    if (stop == nullptr) continue;
+    // Each running lane's free masses' least and greatest x, in mass order as
+    // FastStepper::run_until takes them (std::min, std::max one after the other).
+    for (int g = 0; g < static_cast<int>(d.groups.size()); ++g) {
+      const Data::Group& G = d.groups[static_cast<std::size_t>(g)];
+      for (int l = 0; l < G.lanes; ++l) {
+        const int c = G.first + l;
+        if (running[static_cast<std::size_t>(c)] == 0) continue;
+        double lo = G.masses > 0 ? d.point_row(g, 0, 0)[l] : 0.0, hi = lo;
+        for (int p = 1; p < G.masses; ++p) {
+          const double x = d.point_row(g, 0, p)[l];
+          lo = std::min(lo, x);
+          hi = std::max(hi, x);
+        }
+        if (!(*stop)(c, lo, hi)) continue;
+        State& s = *states[c];
+        d.store_lane(g, l, s);
+        s.frame += ran;
+        done[c] = ran;
+        running[static_cast<std::size_t>(c)] = 0;
+        --left;
+        scratch.push_back(s);
+        d.lane_state[static_cast<std::size_t>(g) * kW + static_cast<std::size_t>(l)] = &scratch.back();
+      }
+    }
+  }
+  for (int g = 0; g < static_cast<int>(d.groups.size()); ++g) {
+    const Data::Group& G = d.groups[static_cast<std::size_t>(g)];
+    for (int l = 0; l < G.lanes; ++l) {
+      const int c = G.first + l;
+      if (running[static_cast<std::size_t>(c)] == 0) continue;
+      d.store_lane(g, l, *states[c]);
+      states[c]->frame += ran;
+      if (done != nullptr) done[c] = ran;
+    }
+  }
+  return ran;
 }
 
 #pragma GCC pop_options

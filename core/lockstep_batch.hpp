@@ -64,6 +64,7 @@
 // time, and each state must be a different object.
 #pragma once
 
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -105,6 +106,14 @@ class LockstepBatch {
   /// afterwards each equals, bit for bit, soda::run(*models[c], *states[c], frames),
   /// with the state's sine jitter (throws std::invalid_argument for an invalid one).
   void run(State* const* states, long long frames);
+  /// `stop(c, min_x, max_x)`: whether state c ends after this frame, from its free
+  /// masses' least and greatest x (in mass order, as FastStepper::run_until takes them).
+  using StopFn = std::function<bool(int, double, double)>;
+  /// Steps each state until `stop` holds for it after a frame, at most `frames`
+  /// frames; done[c] gets the frames state c ran, and the state equals what
+  /// FastStepper::run_until(state, frames, stop for c) leaves, bit for bit (a race's
+  /// finish: race replicas). Returns the frames the batch ran (the most of done).
+  long long run_until(State* const* states, long long frames, const StopFn& stop, std::vector<long long>& done);
 
   [[nodiscard]] int size() const;
   /// Groups of at most kLanes lanes.
@@ -124,6 +133,8 @@ class LockstepBatch {
   LockstepBatch(std::unique_ptr<Data> d, int groups); // of_shapes' (two arguments: LockstepBatch({}) stays unambiguous)
   /// run() without its checks of the states, for BatchStepper, which has made them.
   void step(State* const* states, long long frames);
+  /// step, each state until `stop` (if given) holds for it; done[c] its frames.
+  long long step_until(State* const* states, long long frames, const StopFn* stop, long long* done);
   friend class BatchStepper;
   std::unique_ptr<Data> d_;
 };

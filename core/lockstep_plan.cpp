@@ -246,21 +246,16 @@ void LockstepBatch::Data::load(State* const* st) {
   }
 }
 
-void LockstepBatch::Data::store(State* const* st) {
-  for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
-    const Group& G = groups[static_cast<std::size_t>(g)];
-    for (int l = 0; l < G.lanes; ++l) {
-      State& s = *st[G.first + l];
-      for (int p = 0; p < G.masses; ++p) {
-        s.x[p] = point_row(g, 0, p)[l];
-        s.y[p] = point_row(g, 1, p)[l];
-        s.vx[p] = point_row(g, 2, p)[l];
-        s.vy[p] = point_row(g, 3, p)[l];
-      }
-      s.wave_phase = world_row(g, kPhase)[l];
-      s.wave_mode = static_cast<WaveDirection>(static_cast<int>(world_row(g, kMode)[l]));
-    }
+void LockstepBatch::Data::store_lane(int g, int l, State& s) {
+  const Group& G = groups[static_cast<std::size_t>(g)];
+  for (int p = 0; p < G.masses; ++p) {
+    s.x[p] = point_row(g, 0, p)[l];
+    s.y[p] = point_row(g, 1, p)[l];
+    s.vx[p] = point_row(g, 2, p)[l];
+    s.vy[p] = point_row(g, 3, p)[l];
   }
+  s.wave_phase = world_row(g, kPhase)[l];
+  s.wave_mode = static_cast<WaveDirection>(static_cast<int>(world_row(g, kMode)[l]));
 }
 
 } // namespace soda

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/batch_step.hpp"
+#include "core/fast_step.hpp"
 #include "core/lockstep_batch.hpp"
 #include "core/step.hpp"
 #include "evolve/rng.hpp"
@@ -521,4 +522,48 @@ TEST_CASE("lockstep batch: jittered replicas of a racer in a TerrainFlat lane eq
             .empty());
   CHECK(stepper->lockstep_count() == soda::lockstep_share(kReplicas)); // 8 in lockstep, 3 alone (FastStepper)
   CHECK(soda::lockstep_share(kReplicas) == 8);
+}
+
+// A race's finish: each replica stops at its own frame, as FastStepper::run_until
+// stops it (the same final state, bar memory included, and the same frame count).
+TEST_CASE("lockstep batch run_until: race replicas stop each at its own frame, as FastStepper::run_until",
+          "[lockstep][race]") {
+  if (skip_without_avx512()) return;
+  const soda::RaceDef race = soda::read_race_file(models_dir() / "terrains" / "TerrainFlat.xml");
+  const soda::RaceLane lane = soda::build_lane(
+      race.terrain, race.constraints, soda::read_model_file(models_dir() / "dainty_walker.xml").def, "dainty_walker");
+  const soda::Model model = soda::build_lane_model(lane);
+  constexpr int kReplicas = 10;
+  constexpr long long kFrames = 1500;
+  const soda::State start = soda::make_state(model);
+  double start_lo = start.x[0];
+  for (int p = 1; p < model.mass_count; ++p) start_lo = std::min(start_lo, start.x[static_cast<std::size_t>(p)]);
+  // Replica c's finish line (the walker walks left, ~0.4 px a frame): further for
+  // later replicas; the last never finishes.
+  const auto stop_of = [&](int c) {
+    return [&, c](double lo, double) { return c < kReplicas - 1 && lo < start_lo - 100.0 - 40.0 * c; };
+  };
+  std::vector<soda::State> by_one(kReplicas, start), in_lanes(kReplicas, start);
+  for (int c = 0; c < kReplicas; ++c) by_one[c].jitter = in_lanes[c].jitter = {static_cast<std::uint64_t>(c), 0.02};
+  std::vector<long long> expected(kReplicas);
+  for (int c = 0; c < kReplicas; ++c) {
+    soda::FastStepper stepper(model, kFrames);
+    expected[c] = stepper.run_until(by_one[c], kFrames, stop_of(c));
+  }
+  soda::LockstepBatch batch(std::vector<const soda::Model*>(kReplicas, &model));
+  std::vector<soda::State*> pointers;
+  for (soda::State& s : in_lanes) pointers.push_back(&s);
+  std::vector<long long> done;
+  const long long ran = batch.run_until(pointers.data(), kFrames, [&](int c, double lo, double hi) { return stop_of(c)(lo, hi); }, done);
+  CHECK(ran == kFrames);
+  CHECK(done == expected);
+  for (int c = 0; c < kReplicas; ++c) {
+    INFO("replica " << c << ", stopped after " << expected[c]);
+    CHECK(compare_states(model, by_one[c], in_lanes[c]).empty());
+    CHECK(in_lanes[c].frame == by_one[c].frame);
+  }
+  // The test could fail: the replicas stopped at different frames, before the end.
+  CHECK(*std::min_element(expected.begin(), expected.end() - 1) < *std::max_element(expected.begin(), expected.end() - 1));
+  CHECK(expected.back() == kFrames);
+  CHECK(expected.front() < kFrames);
 }

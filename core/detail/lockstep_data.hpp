@@ -137,7 +137,7 @@ struct LockstepBatch::Data {
   void add_group(const std::vector<const Model*>& models, int first, int lanes);
   void lay_out();
   void load(State* const* st);
-  void store(State* const* st);
+  void store_lane(int g, int l, State& s); ///< lane l of group g into its state s
   void arguments_for(int g, O::V phase, bool pool_rows_now);
   void pool_arguments_rows(std::size_t first_row, std::size_t end_row);
   void step_frame();
