@@ -24,10 +24,11 @@
 // unless it goes in lockstep (below: race replicas, the same lane model K times).
 //
 // Models of one shape (LockstepBatch::same_shape: the same masses and links, and
-// the same fixed bars if any, any other numbers), kMinLockstep or more of them (lockstep_share), that share few muscle
-// sines (shared_sine_fraction), run instead in a LockstepBatch
-// (lockstep_batch.hpp), one creature per SIMD lane, where the CPU has AVX-512:
-// measured faster than fusing them (bench speed, fast-batch). Exact either way.
+// the same fixed bars if any, any other numbers), kMinLockstep or more of them
+// (lockstep_share), that share few muscle sines (shared_sine_fraction), run
+// instead in a LockstepBatch (lockstep_batch.hpp), one creature per SIMD lane,
+// where the CPU has AVX-512: measured faster than fusing them (bench speed,
+// fast-batch). Exact either way.
 // All shapes' groups go in one LockstepBatch, which steps them frame by frame
 // together (a group of a small creature alone leaves the core mostly idle).
 //

@@ -3,8 +3,10 @@
 #include <cmath>
 #include <limits>
 
+#include "batch_step.hpp"
 #include "fast_step.hpp"
 #include "input_error.hpp"
+#include "lockstep_batch.hpp"
 #include "step.hpp"
 
 namespace soda {
@@ -246,6 +248,35 @@ RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout,
   });
   if (ends_after(lane, model, timeout, u, state, out)) return out;
   racer_limit();
+}
+
+std::vector<RaceOutcome> run_races_fast(const RaceLane& lane, const Model& model, int timeout,
+                                        const std::vector<State*>& states) {
+  const long long last = std::min<long long>(kRacerUpdateLimit, static_cast<long long>(timeout) + 3);
+  std::vector<RaceOutcome> out(states.size());
+  const int share = lockstep_share(static_cast<int>(states.size()));
+  // The timeout ends every race by update `last` unless the racer's limit comes
+  // first: then one by one (run_race_fast throws for the state it reaches).
+  const bool lockstep = share > 0 && LockstepBatch::usable() && LockstepBatch::can_take(model) &&
+                        static_cast<long long>(timeout) + 3 <= kRacerUpdateLimit;
+  std::size_t first_alone = 0;
+  if (lockstep) {
+    LockstepBatch batch(std::vector<const Model*>(static_cast<std::size_t>(share), &model));
+    std::vector<long long> done;
+    batch.run_until(states.data(), last, [&](int, double min_x, double max_x) {
+      RaceOutcome ignored;
+      return race_ends(lane, timeout, 0, min_x, max_x, ignored) && ignored.finished;
+    }, done);
+    for (int c = 0; c < share; ++c) {
+      if (!ends_after(lane, model, timeout, done[static_cast<std::size_t>(c)], *states[static_cast<std::size_t>(c)],
+                      out[static_cast<std::size_t>(c)])) {
+        racer_limit();
+      }
+    }
+    first_alone = static_cast<std::size_t>(share);
+  }
+  for (std::size_t c = first_alone; c < states.size(); ++c) out[c] = run_race_fast(lane, model, timeout, *states[c]);
+  return out;
 }
 
 } // namespace soda

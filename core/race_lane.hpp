@@ -10,6 +10,7 @@
 
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "model.hpp"
 #include "race_def.hpp"
@@ -59,5 +60,12 @@ RaceOutcome run_race(const RaceLane& lane, const Model& model, int timeout,
 /// (the reference step) gives that state: the fast stepper, the finish watched
 /// after every frame (FastStepper::run_until).
 RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout, State& state);
+
+/// run_race_fast for each of `states` (fresh states of `model`: race replicas, each
+/// with its own sine jitter), the same results and final states, bit for bit: the
+/// replicas in lockstep lanes (lockstep_batch.hpp; lockstep_share of them) where
+/// the CPU has AVX-512, the rest one by one.
+std::vector<RaceOutcome> run_races_fast(const RaceLane& lane, const Model& model, int timeout,
+                                        const std::vector<State*>& states);
 
 } // namespace soda

@@ -5,9 +5,11 @@
 #include <cstdint>
 #include <exception>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <utility>
 
+#include "core/batch_step.hpp"
 #include "core/divergence.hpp"
 #include "core/fast_step.hpp"
 #include "core/input_error.hpp"
@@ -154,6 +156,35 @@ soda::ModelDef RaceProblem::prepare(const soda::ModelDef& creature) const {
   return m;
 }
 
+// The replicas `replicas` (run indices, one prepared model) raced together on
+// every terrain (run_races_fast: the same outcomes and final states as one by
+// one). Nothing is kept if a race throws: each replica then races alone, where
+// the error is reported for the one it concerns.
+void RaceProblem::race_replicas(const std::vector<soda::RaceLane>& lanes, const std::vector<soda::Model>& models,
+                                const std::vector<Rollout>& runs, const std::vector<std::size_t>& replicas,
+                                std::vector<std::vector<soda::State>>& states,
+                                std::vector<std::vector<soda::RaceOutcome>>& outcomes,
+                                std::map<std::size_t, std::size_t>& replica_of_run) const {
+  try {
+    for (std::size_t t = 0; t < lanes.size(); ++t) {
+      std::vector<soda::State> raced;
+      for (std::size_t run : replicas) {
+        raced.push_back(soda::make_state(models[t]));
+        raced.back().jitter = runs[run].jitter;
+      }
+      std::vector<soda::State*> pointers;
+      for (soda::State& s : raced) pointers.push_back(&s);
+      outcomes.push_back(soda::run_races_fast(lanes[t], models[t], timeout_of(t), pointers));
+      states.push_back(std::move(raced));
+    }
+  } catch (const std::exception&) {
+    states.clear();
+    outcomes.clear();
+    return;
+  }
+  for (std::size_t k = 0; k < replicas.size(); ++k) replica_of_run[replicas[k]] = k;
+}
+
 std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) const {
   std::vector<Evaluation> results(runs.size());
   // The lanes and their models of each distinct prepared model (replicas share them).
@@ -162,6 +193,12 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
     std::vector<soda::RaceLane> lanes;
     std::vector<soda::Model> models;
     std::string error;
+    // Its replicas raced together (run_races_fast: lockstep lanes), when there are
+    // enough of them and no descriptors are measured: run index -> replica k, and
+    // per terrain each replica's final state and outcome.
+    std::map<std::size_t, std::size_t> replica_of_run;
+    std::vector<std::vector<soda::State>> raced_states;
+    std::vector<std::vector<soda::RaceOutcome>> raced;
   };
   std::vector<Lanes> built;
   for (std::size_t i = 0; i < runs.size(); ++i) {
@@ -176,6 +213,13 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
         }
       } catch (const std::exception& ex) {
         l.error = ex.what();
+      }
+      std::vector<std::size_t> replicas;
+      for (std::size_t j = i; j < runs.size(); ++j) {
+        if (runs[j].prepared == l.prepared) replicas.push_back(j);
+      }
+      if (l.error.empty() && describe_every_ == 0 && soda::lockstep_share(static_cast<int>(replicas.size())) > 0) {
+        race_replicas(l.lanes, l.models, runs, replicas, l.raced_states, l.raced, l.replica_of_run);
       }
       built.push_back(std::move(l));
       it = built.end() - 1;
@@ -195,9 +239,15 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
       soda::RaceOutcome o;
       std::optional<DescriptorMeter> meter;
       if (describe_every_ > 0) meter.emplace(model);
+      const auto replica = it->replica_of_run.find(i);
       try {
-        o = meter ? race_described(it->lanes[t], model, timeout_of(t), describe_every_, state, *meter)
-                  : soda::run_race_fast(it->lanes[t], model, timeout_of(t), state);
+        if (replica != it->replica_of_run.end()) { // raced with its replicas
+          state = std::move(it->raced_states[t][replica->second]);
+          o = it->raced[t][replica->second];
+        } else {
+          o = meter ? race_described(it->lanes[t], model, timeout_of(t), describe_every_, state, *meter)
+                    : soda::run_race_fast(it->lanes[t], model, timeout_of(t), state);
+        }
       } catch (const std::exception& ex) {
         e.status = EvaluationStatus::Diverged;
         e.reason = terrains_[t].file + ": " + ex.what();

@@ -24,10 +24,13 @@
 // bits as one run (tests/test_race_fitness.cpp).
 #pragma once
 
+#include <cstddef>
+#include <map>
 #include <string>
 #include <vector>
 
 #include "core/race_def.hpp"
+#include "core/race_lane.hpp"
 #include "evolve/descriptors.hpp"
 #include "evolve/problem.hpp"
 #include "evolve/run_config.hpp"
@@ -83,6 +86,10 @@ class RaceProblem final : public Problem {
   [[nodiscard]] RaceProblem with_adaptive_timeout(int frames) const;
 
  private:
+  void race_replicas(const std::vector<soda::RaceLane>& lanes, const std::vector<soda::Model>& models,
+                     const std::vector<Rollout>& runs, const std::vector<std::size_t>& replicas,
+                     std::vector<std::vector<soda::State>>& states, std::vector<std::vector<soda::RaceOutcome>>& outcomes,
+                     std::map<std::size_t, std::size_t>& replica_of_run) const;
   RaceFitnessConfig race_;
   std::vector<RaceTerrain> terrains_;
   WorldConfig world_;

@@ -534,3 +534,50 @@ TEST_CASE("race curriculum: the next terrain once the best racer finishes under 
   CHECK_THAT(app::run_report_html(one), Catch::Contains("race on TerrainHilly"));
   for (const fs::path& d : {one, eight, resumed}) fs::remove_all(d);
 }
+
+// Issue 27: a creature's race replicas race together (run_races_fast: lockstep lanes
+// where the CPU has AVX-512), each with the result it has raced alone.
+TEST_CASE("race problem: replicas raced together give each replica's race alone, bit for bit", "[race][lockstep]") {
+  RunConfig config = race_config({"TerrainFlat", "TerrainHilly"}, 600);
+  const RaceProblem problem(config);
+  const soda::ModelDef prepared = problem.prepare(dainty_walker());
+  std::vector<Rollout> runs;
+  for (std::uint64_t seed = 0; seed < 11; ++seed) runs.emplace_back(&prepared, soda::SineJitter{seed, 0.2});
+  const std::vector<Evaluation> together = problem.rollouts(runs);
+  REQUIRE(together.size() == runs.size());
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const std::vector<Evaluation> alone = problem.rollouts({runs[i]}); // one replica: never in lockstep
+    INFO("replica " << i);
+    REQUIRE(alone[0].ok());
+    CHECK(together[i].status == alone[0].status);
+    CHECK(same_bits(together[i].distance, alone[0].distance));
+    CHECK(same_bits(together[i].fitness, alone[0].fitness));
+  }
+}
+
+TEST_CASE("run_races_fast: each replica's result and final state as run_race_fast's, bar memory included",
+          "[race][lockstep]") {
+  const soda::RaceDef race = soda::read_race_file(terrain("TerrainHilly"));
+  const soda::RaceLane lane = soda::build_lane(race.terrain, race.constraints, dainty_walker(), "dainty_walker");
+  const soda::Model model = soda::build_lane_model(lane);
+  constexpr int kTimeout = 800;
+  std::vector<soda::State> together, alone;
+  for (std::uint64_t seed = 0; seed < 11; ++seed) { // 8 in lockstep, 3 one by one
+    together.push_back(soda::make_state(model));
+    together.back().jitter = {seed, 0.2};
+  }
+  alone = together;
+  std::vector<soda::State*> pointers;
+  for (soda::State& s : together) pointers.push_back(&s);
+  const std::vector<soda::RaceOutcome> outcomes = soda::run_races_fast(lane, model, kTimeout, pointers);
+  REQUIRE(outcomes.size() == alone.size());
+  for (std::size_t k = 0; k < alone.size(); ++k) {
+    const soda::RaceOutcome o = soda::run_race_fast(lane, model, kTimeout, alone[k]);
+    INFO("replica " << k);
+    CHECK(same_bits(outcomes[k].result, o.result));
+    CHECK(outcomes[k].updates == o.updates);
+    CHECK(outcomes[k].finished == o.finished);
+    CHECK(compare_states(model, together[k], alone[k]).empty());
+  }
+  CHECK_FALSE(compare_states(model, together[0], together[1]).empty()); // the jitter parted them
+}
