@@ -166,6 +166,32 @@ void LockstepBatch::Data::jitter_sines(int g) {
   }
 }
 
+// The lanes whose move of one mass may meet a bar: moved (not at rest) and, by the
+// tile of the cell of its start (FixedBars::cell_tile), move_may_touch_tile, lane
+// by lane the same compares (cell_of's clamps; std::min and std::max as written).
+[[gnu::always_inline]] inline unsigned may_meet_bars(const FixedBars& f, O::V x0, O::V y0, O::V x, O::V y, O::V vx,
+                                                     O::V vy) {
+  const O::V still = O::set1(kZeroVelocity);
+  const unsigned rest = _mm512_cmp_pd_mask(_mm512_abs_pd(vx), still, _CMP_LT_OQ) &
+                        _mm512_cmp_pd_mask(_mm512_abs_pd(vy), still, _CMP_LT_OQ);
+  const O::V c = O::mul(O::sub(x0, O::set1(f.cell_x0)), O::set1(f.cell_scale));
+  const O::V last = O::set1(static_cast<double>(f.cell_count - 1));
+  __m512i cell = _mm512_maskz_mov_epi64(_mm512_cmp_pd_mask(c, O::set1(0.0), _CMP_GT_OQ), _mm512_cvttpd_epi64(c));
+  cell = _mm512_mask_mov_epi64(cell, _mm512_cmp_pd_mask(c, last, _CMP_GE_OQ), _mm512_cvttpd_epi64(last));
+  cell = _mm512_slli_epi64(cell, 3);
+  static_assert(FixedBars::kTileStride == 8);
+  const double* tile = f.cell_tile.data();
+  const O::V t0 = _mm512_i64gather_pd(cell, tile + 0, 8), t1 = _mm512_i64gather_pd(cell, tile + 1, 8);
+  const O::V t2 = _mm512_i64gather_pd(cell, tile + 2, 8), t3 = _mm512_i64gather_pd(cell, tile + 3, 8);
+  const O::V t4 = _mm512_i64gather_pd(cell, tile + 4, 8), t5 = _mm512_i64gather_pd(cell, tile + 5, 8);
+  const O::V lo = O::select(O::lt(x, x0), x, x0), hi = O::select(O::lt(x0, x), x, x0);       // std::min, std::max (x0, x)
+  const O::V ylo = O::select(O::lt(y, y0), y, y0), yhi = O::select(O::lt(y0, y), y, y0);
+  const unsigned inside = _mm512_cmp_pd_mask(lo, t0, _CMP_GE_OQ) & _mm512_cmp_pd_mask(hi, t1, _CMP_LE_OQ);
+  const unsigned touch = _mm512_cmp_pd_mask(hi, t2, _CMP_GE_OQ) & _mm512_cmp_pd_mask(lo, t3, _CMP_LE_OQ) &
+                         _mm512_cmp_pd_mask(yhi, t4, _CMP_GE_OQ) & _mm512_cmp_pd_mask(ylo, t5, _CMP_LE_OQ);
+  return ~rest & (~inside | touch) & 0xffu;
+}
+
 // The fixed-bar rules of group g's lanes after the mass pass (which left each
 // mass as the reference leaves it before its bar rules, and kept its move), as
 // FastStepper's bar_pass (fused/ordered.cpp) does them: per lane in file order
@@ -177,25 +203,25 @@ void LockstepBatch::Data::jitter_sines(int g) {
 void LockstepBatch::Data::bar_pass(int g) {
   const Group& G = groups[static_cast<std::size_t>(g)];
   const FixedBars& fixed = group_bars[static_cast<std::size_t>(g)];
+  const std::uint8_t* due = bar_due.data() + G.due_at;
   for (int l = 0; l < G.lanes; ++l) { // padding lanes: never read
     State& s = *lane_state[static_cast<std::size_t>(g) * kW + static_cast<std::size_t>(l)];
     BarMemory& memory = s.bar_memory;
     const bool all = memory.corners.size() < static_cast<std::size_t>(G.masses);
-    if (!all) {
-      std::fill(bar_held.begin(), bar_held.begin() + G.masses, 0);
-      for (int p = 0; p < G.masses; ++p) bar_held[static_cast<std::size_t>(p)] = memory.corners[static_cast<std::size_t>(p)].bar >= 0;
-      for (const BarContact& c : memory.contacts) {
-        if (c.mass >= 0 && c.mass < G.masses) bar_held[static_cast<std::size_t>(c.mass)] = 1;
-      }
+    for (const BarContact& c : memory.contacts) { // bar_held is all 0 between lanes
+      if (c.mass >= 0 && c.mass < G.masses) bar_held[static_cast<std::size_t>(c.mass)] = 1;
     }
     const Surface surface{world_row(g, kFs)[l], world_row(g, kRs)[l], world_row(g, kWidth)[l], world_row(g, kHeight)[l]};
     for (int p = 0; p < G.masses; ++p) {
+      if (!all && ((due[p] >> l) & 1) == 0 && bar_held[static_cast<std::size_t>(p)] == 0 &&
+          memory.corners[static_cast<std::size_t>(p)].bar < 0) {
+        continue; // its rules would change nothing (may_meet_bars)
+      }
       const double vx = move_row(g, 2, p)[l], vy = move_row(g, 3, p)[l];
       if (rules::is_at_rest(vx, vy)) continue; // not moved: no bar rules
       const double x0 = move_row(g, 0, p)[l], y0 = move_row(g, 1, p)[l];
       double& x = point_row(g, 0, p)[l];
       double& y = point_row(g, 1, p)[l];
-      if (!all && bar_held[static_cast<std::size_t>(p)] == 0 && !move_may_touch_bars(fixed, x0, y0, x, y)) continue;
       ++bar_rules_run;
       MassMove clamped = rules::mass_move(x0, y0, x0 + vx, y0 + vy, vx, vy);
       clamped.x = x;
@@ -206,6 +232,9 @@ void LockstepBatch::Data::bar_pass(int g) {
       y = end.y;
       point_row(g, 2, p)[l] = end.vx;
       point_row(g, 3, p)[l] = end.vy;
+    }
+    for (const BarContact& c : memory.contacts) {
+      if (c.mass >= 0 && c.mass < G.masses) bar_held[static_cast<std::size_t>(c.mass)] = 0;
     }
   }
 }
@@ -319,6 +348,8 @@ template <int N, bool Bars>
           O::store(move_row(g0 + n, 1, i), y0);
           O::store(move_row(g0 + n, 2, i), move_v[0]);
           O::store(move_row(g0 + n, 3, i), move_v[1]);
+          bar_due[groups[static_cast<std::size_t>(g0 + n)].due_at + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(
+              may_meet_bars(group_bars[static_cast<std::size_t>(g0 + n)], x0, y0, x[n][i], y[n][i], move_v[0], move_v[1]));
         }
       }
       inside[n] = O::m_and(inside[n], O::m_and(O::gt(x[n][i], left[n]), O::m_and(O::lt(x[n][i], right[n]), O::lt(y[n][i], top[n]))));

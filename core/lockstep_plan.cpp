@@ -136,6 +136,7 @@ void LockstepBatch::Data::lay_out() {
   for (Group& G : groups) {
     if (G.bars) {
       G.move_at = move_rows;
+      G.due_at = move_rows / 4;
       move_rows += 4 * static_cast<std::size_t>(G.masses);
       most_masses = std::max(most_masses, G.masses);
     }
@@ -150,6 +151,7 @@ void LockstepBatch::Data::lay_out() {
   const int group_total = static_cast<int>(groups.size());
   rows.assign(block_rows * kW, 0.0);
   moves.assign(move_rows * kW, 0.0);
+  bar_due.assign(move_rows / 4, 0);
   bar_held.assign(static_cast<std::size_t>(most_masses), 0);
   arguments.assign(row_count * kW, 0.0);
   sines.assign(arguments.size(), 0.0);

@@ -58,6 +58,7 @@ struct LockstepBatch::Data {
     std::size_t block = 0, sine_at = 0, pool_at = 0;
     bool bars = false;     ///< fixed bars (group_bars[g]): bar_pass after the mass pass
     std::size_t move_at = 0; ///< with bars: where its rows of moves start in `moves`
+    std::size_t due_at = 0;  ///< with bars: where its masses' lanes start in `bar_due`
   };
   int count = 0;
   std::vector<Group> groups;
@@ -69,7 +70,8 @@ struct LockstepBatch::Data {
   /// Each bar group's moves of this frame, per mass: start x, y and the velocity
   /// the move takes (vx, vy) [4][masses] rows, for the bar rules (bar_pass).
   AVec<double> moves;
-  std::vector<std::uint8_t> bar_held; ///< [masses] scratch: a bar remembers the mass, or a corner holds it
+  std::vector<std::uint8_t> bar_held; ///< [masses] scratch: a bar remembers the mass (all 0 between uses)
+  std::vector<std::uint8_t> bar_due;  ///< [masses of bar groups] lanes whose move may meet a bar (may_meet_bars)
   long long bar_rules_run = 0;        ///< lane-moves that took the bar rules
   SinFn sine_fn = nullptr;
   const glibc_sine::GlibcTable* sine_table = nullptr; ///< for the sines inlined into the link pass
