@@ -482,6 +482,16 @@ TEST_CASE("BatchStepper: the GA's batch of replicas (creatures of several shapes
   }
 }
 
+namespace {
+/// The Dainty Walker placed in the TerrainFlat lane, as the racer places it.
+soda::Model dainty_in_flat_lane() {
+  const soda::RaceDef race = soda::read_race_file(models_dir() / "terrains" / "TerrainFlat.xml");
+  const soda::RaceLane lane = soda::build_lane(
+      race.terrain, race.constraints, soda::read_model_file(models_dir() / "dainty_walker.xml").def, "dainty_walker");
+  return soda::build_lane_model(lane);
+}
+} // namespace
+
 // Issue 27: race replicas (K states of one lane Model with fixed bars) in lockstep.
 // The reference runs the bar rules for every moving mass in its step; the lanes run
 // them after the mass pass (bar_pass), each against its own State's BarMemory, which
@@ -490,10 +500,7 @@ TEST_CASE("lockstep batch: jittered replicas of a racer in a TerrainFlat lane eq
           "included; BatchStepper puts them in lockstep",
           "[lockstep][race]") {
   if (skip_without_avx512()) return;
-  const soda::RaceDef race = soda::read_race_file(models_dir() / "terrains" / "TerrainFlat.xml");
-  const soda::RaceLane lane = soda::build_lane(
-      race.terrain, race.constraints, soda::read_model_file(models_dir() / "dainty_walker.xml").def, "dainty_walker");
-  const soda::Model model = soda::build_lane_model(lane);
+  const soda::Model model = dainty_in_flat_lane();
   REQUIRE(model.bar_count() > 0);
   REQUIRE(soda::LockstepBatch::can_take(model));
   constexpr long long kFrames = 700; // falls onto the platform, walks on it
@@ -529,10 +536,7 @@ TEST_CASE("lockstep batch: jittered replicas of a racer in a TerrainFlat lane eq
 TEST_CASE("lockstep batch run_until: race replicas stop each at its own frame, as FastStepper::run_until",
           "[lockstep][race]") {
   if (skip_without_avx512()) return;
-  const soda::RaceDef race = soda::read_race_file(models_dir() / "terrains" / "TerrainFlat.xml");
-  const soda::RaceLane lane = soda::build_lane(
-      race.terrain, race.constraints, soda::read_model_file(models_dir() / "dainty_walker.xml").def, "dainty_walker");
-  const soda::Model model = soda::build_lane_model(lane);
+  const soda::Model model = dainty_in_flat_lane();
   constexpr int kReplicas = 10;
   constexpr long long kFrames = 1500;
   const soda::State start = soda::make_state(model);

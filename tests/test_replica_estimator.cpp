@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <stdexcept>
 #include <set>
@@ -44,6 +45,19 @@ double reference_distance(const soda::ModelDef& prepared, const soda::SineJitter
   const double start = soda::mass_centroid(model, state).x;
   soda::run(model, state, f.frames);
   return soda::mass_centroid(model, state).x - start;
+}
+
+/// Generation 0 of `count` Dainty Walkers, creature i changed by vary(creature, i).
+Generation generation_of(int count, const std::function<void(soda::ModelDef&, int)>& vary) {
+  Generation g;
+  for (int i = 0; i < count; ++i) {
+    Individual ind;
+    ind.id = "g0-" + std::to_string(i);
+    ind.creature = dainty();
+    vary(ind.creature, i);
+    g.individuals.push_back(ind);
+  }
+  return g;
 }
 
 } // namespace
@@ -117,14 +131,7 @@ TEST_CASE("adaptive resampling: survivors gather replicas up to the cap, whateve
   const RunConfig config = walker_config(2, 5);
   const WalkProblem problem(config);
   const ReplicaEstimator estimator(replica_plan(config));
-  Generation g;
-  for (int i = 0; i < 3; ++i) {
-    Individual ind;
-    ind.id = "g0-" + std::to_string(i);
-    ind.creature = dainty();
-    ind.creature.nodes[0].x += i;
-    g.individuals.push_back(ind);
-  }
+  Generation g = generation_of(3, [](soda::ModelDef& c, int i) { c.nodes[0].x += i; });
   ThreadEvaluator one(1), two(2);
   CHECK(evaluate_generation(one, g, problem, estimator) == 3);
   for (const Individual& ind : g.individuals) CHECK(ind.evaluation.estimate.rollouts == 2);
@@ -152,15 +159,10 @@ TEST_CASE("confirmation: the best end estimated on replicas_max, ranked again un
   const WalkProblem problem(config);
   const ReplicaEstimator estimator(replica_plan(config));
   // Mutants of the Dainty Walker: a population whose best are partly lucky draws.
-  Generation g;
-  for (int i = 0; i < 12; ++i) {
-    Individual ind;
-    ind.id = "g0-" + std::to_string(i);
-    ind.creature = dainty();
+  Generation g = generation_of(12, [&](soda::ModelDef& c, int i) {
     Rng rng = Rng::stream(11, 0, static_cast<std::uint64_t>(i), 9);
-    mutate(ind.creature, config, rng);
-    g.individuals.push_back(ind);
-  }
+    mutate(c, config, rng);
+  });
   ThreadEvaluator one(1), two(2);
   evaluate_generation(one, g, problem, estimator);
   Generation copy = g;
