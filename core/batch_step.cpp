@@ -55,15 +55,19 @@ void BatchStepper::plan(const std::vector<bool>& jittered) {
   scenes_.clear();
   alone_.clear();
   alone_index_.clear();
-  std::vector<const Model*> pack;
-  std::vector<int> pack_index;
-  int pack_links = 0;
-  auto close_pack = [&] {
-    if (pack.empty()) return;
-    scenes_.push_back({std::make_unique<FusedScene>(pack, frame_budget_, options), pack_index});
-    pack.clear();
-    pack_index.clear();
-    pack_links = 0;
+  // Two packs fill at once: models with fixed bars and the others. A scene with
+  // bars tests every wall every frame and runs the bar pass (fused_scene.hpp), which
+  // the others would pay for too.
+  struct Pack {
+    std::vector<const Model*> models;
+    std::vector<int> index;
+    int links = 0;
+  };
+  Pack packs[2];
+  auto close_pack = [&](Pack& pack) {
+    if (pack.models.empty()) return;
+    scenes_.push_back({std::make_unique<FusedScene>(pack.models, frame_budget_, options), pack.index});
+    pack = Pack{};
   };
   // Models of one shape, enough of them, in lockstep; which ones is decided here,
   // from the models alone and which states carry jitter.
@@ -120,18 +124,20 @@ void BatchStepper::plan(const std::vector<bool>& jittered) {
   }
   for (int i = 0; i < count_; ++i) {
     if (in_lockstep[static_cast<std::size_t>(i)]) continue;
-    if (options.force_ordered || !FusedScene::can_fuse(*models[i])) {
+    if (options.force_ordered) {
       alone_.emplace_back(*models[i], frame_budget_, options);
       alone_index_.push_back(i);
       continue;
     }
+    Pack& pack = packs[models[i]->fixed_bars.empty() ? 0 : 1];
     const int links = models[i]->link_count();
-    if (!pack.empty() && starts_new_scene(pack_links, links)) close_pack();
-    pack.push_back(models[i]);
-    pack_index.push_back(i);
-    pack_links += links;
+    if (!pack.models.empty() && starts_new_scene(pack.links, links)) close_pack(pack);
+    pack.models.push_back(models[i]);
+    pack.index.push_back(i);
+    pack.links += links;
   }
-  close_pack();
+  close_pack(packs[0]);
+  close_pack(packs[1]);
 }
 
 std::vector<std::size_t> fused_batch_ends(const std::vector<int>& links, std::size_t max_models) {

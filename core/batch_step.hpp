@@ -19,9 +19,9 @@
 //
 // Exact: after run(), every state equals bit for bit what soda::run gives for its
 // model alone (fused_scene.hpp explains why; tests/test_batch_step.cpp checks it).
-// Models with fixed bars cannot share a fused scene (its bar pass serves one
-// model); each of those runs alone on its own FastStepper, in the same call,
-// unless it goes in lockstep (below: race replicas, the same lane model K times).
+// Models with fixed bars (race lanes: each its own terrain) are fused too, among
+// themselves: a scene with bars tests every wall every frame and runs the bar pass
+// after the mass pass, which models without bars would pay for in the same scene.
 //
 // Models of one shape (LockstepBatch::same_shape: the same masses and links, and
 // the same fixed bars if any, any other numbers), kMinLockstep or more of them
@@ -133,7 +133,7 @@ class BatchStepper {
   std::optional<LockstepBatch> lockstep_;
   std::vector<int> lockstep_index_;   ///< index in the batch of lockstep state c
   std::vector<Scene> scenes_;         ///< the other fusable models, packed by kMaxFusedLinks
-  std::vector<FastStepper> alone_;    ///< models with fixed bars
+  std::vector<FastStepper> alone_;    ///< FastStepOptions::force_ordered: each model alone
   std::vector<int> alone_index_;
   std::vector<State*> scratch_;
   std::vector<int> point_count_; ///< [count_] points of models[i] (run checks the states)

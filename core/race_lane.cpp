@@ -1,10 +1,12 @@
 #include "race_lane.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
 #include "batch_step.hpp"
 #include "fast_step.hpp"
+#include "fused/fused_scene.hpp"
 #include "input_error.hpp"
 #include "lockstep_batch.hpp"
 #include "step.hpp"
@@ -218,6 +220,9 @@ bool ends_after(const RaceLane& lane, const Model& model, int timeout, long long
   return race_ends(lane, timeout, u, min_x, max_x, out);
 }
 
+/// The update that ends a race of `timeout` at the latest (the timeout's, or the racer's limit).
+long long last_update(int timeout) { return std::min<long long>(kRacerUpdateLimit, static_cast<long long>(timeout) + 3); }
+
 [[noreturn]] void racer_limit() {
   throw InputError("race: still in progress after 50000 updates (the racer's limit)");
 }
@@ -239,20 +244,21 @@ RaceOutcome run_race(const RaceLane& lane, const Model& model, int timeout,
 RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout, State& state) {
   RaceOutcome out;
   // The timeout ends the race at update timeout + 3; the finish is watched after
-  // every frame inside the stepper (same extremes as ends_after takes).
-  const long long last = std::min<long long>(kRacerUpdateLimit, static_cast<long long>(timeout) + 3);
-  FastStepper stepper(model, last);
-  const long long u = stepper.run_until(state, last, [&](double min_x, double max_x) {
+  // every frame inside the stepper (same extremes as ends_after takes). A state
+  // partway through its race goes on from its update state.frame.
+  const long long left = std::max(0LL, last_update(timeout) - state.frame);
+  FastStepper stepper(model, left);
+  stepper.run_until(state, left, [&](double min_x, double max_x) {
     RaceOutcome ignored;
     return race_ends(lane, timeout, 0, min_x, max_x, ignored) && ignored.finished;
   });
-  if (ends_after(lane, model, timeout, u, state, out)) return out;
+  if (ends_after(lane, model, timeout, state.frame, state, out)) return out;
   racer_limit();
 }
 
 std::vector<RaceOutcome> run_races_fast(const RaceLane& lane, const Model& model, int timeout,
                                         const std::vector<State*>& states) {
-  const long long last = std::min<long long>(kRacerUpdateLimit, static_cast<long long>(timeout) + 3);
+  const long long last = last_update(timeout);
   std::vector<RaceOutcome> out(states.size());
   const int share = lockstep_share(static_cast<int>(states.size()));
   // The timeout ends every race by update `last` unless the racer's limit comes
@@ -276,6 +282,83 @@ std::vector<RaceOutcome> run_races_fast(const RaceLane& lane, const Model& model
     first_alone = static_cast<std::size_t>(share);
   }
   for (std::size_t c = first_alone; c < states.size(); ++c) out[c] = run_race_fast(lane, model, timeout, *states[c]);
+  return out;
+}
+
+namespace {
+
+/// run_races_fused for races[group], the ones that can go on (update limit and
+/// state allow) in fused scenes while two or more run; sets their outcomes and
+/// marks them decided.
+void race_group_fused(const std::vector<LaneRace>& races, const std::vector<std::size_t>& group,
+                      std::vector<RaceOutcome>& out, std::vector<bool>& decided) {
+  std::vector<std::size_t> active;
+  for (std::size_t r : group) {
+    const LaneRace& race = races[r];
+    if (static_cast<long long>(race.timeout) + 3 <= kRacerUpdateLimit && race.state->frame < last_update(race.timeout)) {
+      active.push_back(r);
+    }
+  }
+  while (active.size() >= 2) {
+    std::vector<const Model*> models;
+    std::vector<State*> states;
+    std::vector<long long> start, calls(active.size(), 0);
+    long long longest = 0;
+    for (std::size_t r : active) {
+      models.push_back(races[r].model);
+      states.push_back(races[r].state);
+      start.push_back(races[r].state->frame);
+      longest = std::max(longest, last_update(races[r].timeout) - races[r].state->frame);
+    }
+    FusedScene scene(models, longest);
+    // stop(c) is called once per frame while c runs: calls[c] counts its frames here.
+    const auto stop = [&](int c, double min_x, double max_x) {
+      const std::size_t k = static_cast<std::size_t>(c);
+      const LaneRace& race = races[active[k]];
+      const long long u = start[k] + ++calls[k];
+      RaceOutcome ignored;
+      return u >= last_update(race.timeout) ||
+             (race_ends(*race.lane, race.timeout, 0, min_x, max_x, ignored) && ignored.finished);
+    };
+    std::vector<long long> done;
+    std::vector<bool> stopped;
+    // Fewer than half still running: a smaller scene for them (the stopped ones'
+    // masses are still stepped in this one).
+    scene.run_until(states.data(), longest, stop, done, stopped, static_cast<int>((active.size() + 1) / 2));
+    std::vector<std::size_t> still;
+    for (std::size_t k = 0; k < active.size(); ++k) {
+      const LaneRace& race = races[active[k]];
+      if (!stopped[k]) {
+        still.push_back(active[k]);
+        continue;
+      }
+      if (!ends_after(*race.lane, *race.model, race.timeout, race.state->frame, *race.state, out[active[k]])) {
+        racer_limit();
+      }
+      decided[active[k]] = true;
+    }
+    active = std::move(still);
+  }
+}
+
+} // namespace
+
+std::vector<RaceOutcome> run_races_fused(const std::vector<LaneRace>& races) {
+  std::vector<RaceOutcome> out(races.size());
+  std::vector<bool> decided(races.size(), false);
+  // Scenes of at most kMaxFusedLinks links, as BatchStepper packs them.
+  std::vector<int> links;
+  for (const LaneRace& race : races) links.push_back(race.model->link_count());
+  std::size_t first = 0;
+  for (std::size_t end : fused_batch_ends(links, races.size())) {
+    std::vector<std::size_t> group;
+    for (std::size_t r = first; r < end; ++r) group.push_back(r);
+    race_group_fused(races, group, out, decided);
+    first = end;
+  }
+  for (std::size_t r = 0; r < races.size(); ++r) { // the last of a group, or past the racer's limit
+    if (!decided[r]) out[r] = run_race_fast(*races[r].lane, *races[r].model, races[r].timeout, *races[r].state);
+  }
   return out;
 }
 

@@ -58,7 +58,8 @@ RaceOutcome run_race(const RaceLane& lane, const Model& model, int timeout,
 /// Runs the lane from `state` (a fresh state of `model`, possibly with sine
 /// jitter) until the race ends, with the same result and final state as run_race
 /// (the reference step) gives that state: the fast stepper, the finish watched
-/// after every frame (FastStepper::run_until).
+/// after every frame (FastStepper::run_until). A state partway through its race
+/// (state.frame updates run) goes on from there.
 RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout, State& state);
 
 /// run_race_fast for each of `states` (fresh states of `model`: race replicas, each
@@ -67,5 +68,21 @@ RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout,
 /// the CPU has AVX-512, the rest one by one.
 std::vector<RaceOutcome> run_races_fast(const RaceLane& lane, const Model& model, int timeout,
                                         const std::vector<State*>& states);
+
+/// One race of run_races_fused: a contender's lane, the lane's model, the
+/// timeout, and a fresh state of the model (possibly with sine jitter).
+struct LaneRace {
+  const RaceLane* lane = nullptr;
+  const Model* model = nullptr;
+  int timeout = 0;
+  State* state = nullptr;
+};
+
+/// run_race_fast for each race, the same results and final states, bit for bit:
+/// different contenders (each its own lane model, on any terrains) raced together
+/// in one fused scene (fused_scene.hpp), each stopping at its own finish or
+/// timeout. When fewer than half are still running, the rest go on in a smaller
+/// scene; the last one alone.
+std::vector<RaceOutcome> run_races_fused(const std::vector<LaneRace>& races);
 
 } // namespace soda

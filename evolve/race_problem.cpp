@@ -86,6 +86,39 @@ soda::RaceOutcome race_described(const soda::RaceLane& lane, const soda::Model& 
   }
 }
 
+/// Runs raced together on each terrain (run_races_fused), and what each gave.
+struct Together {
+  std::vector<std::size_t> runs;                        ///< run indices, ascending
+  std::vector<std::vector<soda::State>> states;         ///< [terrain][k] final state of runs[k]
+  std::vector<std::vector<soda::RaceOutcome>> outcomes; ///< [terrain][k]
+};
+
+/// Races together.runs (each with its lanes and lane models, one per terrain) on
+/// every terrain in fused scenes. False if a race throws: each run then races alone,
+/// where the error is reported for the one it concerns.
+bool race_together(const std::vector<Rollout>& runs,
+                   const std::vector<std::pair<const std::vector<soda::RaceLane>*, const std::vector<soda::Model>*>>& lanes,
+                   const std::vector<int>& timeouts, Together& together) {
+  try {
+    for (std::size_t t = 0; t < timeouts.size(); ++t) {
+      std::vector<soda::State> states;
+      for (std::size_t k = 0; k < together.runs.size(); ++k) {
+        states.push_back(soda::make_state((*lanes[k].second)[t]));
+        states.back().jitter = runs[together.runs[k]].jitter;
+      }
+      std::vector<soda::LaneRace> races;
+      for (std::size_t k = 0; k < together.runs.size(); ++k) {
+        races.push_back({&(*lanes[k].first)[t], &(*lanes[k].second)[t], timeouts[t], &states[k]});
+      }
+      together.outcomes.push_back(soda::run_races_fused(races));
+      together.states.push_back(std::move(states));
+    }
+  } catch (const std::exception&) {
+    return false;
+  }
+  return true;
+}
+
 } // namespace
 
 RaceProblem::RaceProblem(const RunConfig& config)
@@ -201,6 +234,7 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
     std::vector<std::vector<soda::RaceOutcome>> raced;
   };
   std::vector<Lanes> built;
+  std::vector<std::size_t> lanes_of_run(runs.size());
   for (std::size_t i = 0; i < runs.size(); ++i) {
     auto it = std::find_if(built.begin(), built.end(), [&](const Lanes& l) { return l.prepared == runs[i].prepared; });
     if (it == built.end()) {
@@ -224,6 +258,25 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
       built.push_back(std::move(l));
       it = built.end() - 1;
     }
+    lanes_of_run[i] = static_cast<std::size_t>(it - built.begin());
+  }
+  // The other runs (other creatures, or too few replicas for lockstep lanes) raced
+  // together, each terrain in fused scenes (run_races_fused: the same outcomes and
+  // final states as one by one), when no descriptors are measured.
+  Together together;
+  if (describe_every_ == 0) {
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      const Lanes& l = built[lanes_of_run[i]];
+      if (l.error.empty() && l.replica_of_run.count(i) == 0) together.runs.push_back(i);
+    }
+    std::vector<std::pair<const std::vector<soda::RaceLane>*, const std::vector<soda::Model>*>> lanes;
+    for (std::size_t i : together.runs) lanes.emplace_back(&built[lanes_of_run[i]].lanes, &built[lanes_of_run[i]].models);
+    std::vector<int> timeouts;
+    for (std::size_t t = 0; t < terrains_.size(); ++t) timeouts.push_back(timeout_of(t));
+    if (together.runs.size() < 2 || !race_together(runs, lanes, timeouts, together)) together = Together{};
+  }
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const auto it = built.begin() + static_cast<std::ptrdiff_t>(lanes_of_run[i]);
     Evaluation& e = results[i];
     if (!it->error.empty()) {
       e.reason = it->error;
@@ -240,10 +293,15 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
       std::optional<DescriptorMeter> meter;
       if (describe_every_ > 0) meter.emplace(model);
       const auto replica = it->replica_of_run.find(i);
+      const auto with_others = std::lower_bound(together.runs.begin(), together.runs.end(), i);
       try {
         if (replica != it->replica_of_run.end()) { // raced with its replicas
           state = std::move(it->raced_states[t][replica->second]);
           o = it->raced[t][replica->second];
+        } else if (with_others != together.runs.end() && *with_others == i) { // raced with the others
+          const std::size_t k = static_cast<std::size_t>(with_others - together.runs.begin());
+          state = std::move(together.states[t][k]);
+          o = together.outcomes[t][k];
         } else {
           o = meter ? race_described(it->lanes[t], model, timeout_of(t), describe_every_, state, *meter)
                     : soda::run_race_fast(it->lanes[t], model, timeout_of(t), state);

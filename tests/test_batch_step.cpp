@@ -159,7 +159,7 @@ TEST_CASE("batch: table sines off and fixed walls give the same bits", "[batch_s
   CHECK(run_batch_and_reference(models, all_indices(models.size()), 2000, opt).empty());
 }
 
-TEST_CASE("batch: models with fixed bars run alone, in the same call", "[batch_step]") {
+TEST_CASE("batch: models with fixed bars are fused, in scenes of their own", "[batch_step]") {
   std::vector<std::pair<std::string, soda::Model>> models;
   add_directory(data_dir() / "soda", models);
   add_random_creatures(4, 3, models);
@@ -176,11 +176,10 @@ TEST_CASE("batch: models with fixed bars run alone, in the same call", "[batch_s
     return;
   }
   for (std::size_t i = models.size() - 4; i < models.size(); ++i) picks.push_back(static_cast<int>(i));
-  int fused = 0;
-  CHECK(run_batch_and_reference(models, picks, 2000, {}, &fused).empty());
-  CHECK(fused == static_cast<int>(picks.size()) - with_bars);
-  std::vector<const soda::Model*> both = {&models[picks[0]].second, &models.back().second};
-  CHECK_THROWS_AS(soda::FusedScene(both, 100), std::invalid_argument);
+  int fused = 0, scenes = 0;
+  CHECK(run_batch_and_reference(models, picks, 2000, {}, &fused, &scenes).empty());
+  CHECK(fused == static_cast<int>(picks.size()));
+  CHECK(scenes == 2);
 }
 
 TEST_CASE("batch: the comparison sees a difference of one creature's parameter", "[batch_step]") {

@@ -527,7 +527,7 @@ TEST_CASE("lockstep batch: jittered replicas of a racer in a TerrainFlat lane eq
             },
             moved)
             .empty());
-  CHECK(stepper->lockstep_count() == soda::lockstep_share(kReplicas)); // 8 in lockstep, 3 alone (FastStepper)
+  CHECK(stepper->lockstep_count() == soda::lockstep_share(kReplicas)); // 8 in lockstep, 3 fused
   CHECK(soda::lockstep_share(kReplicas) == 8);
 }
 

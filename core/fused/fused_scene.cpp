@@ -48,16 +48,11 @@ void fused::SceneData::record(const KernelChoice& k) {
   if (std::find(used.begin(), used.end(), k) == used.end()) used.push_back(k);
 }
 
-bool FusedScene::can_fuse(const Model& model) { return model.bar_count() == 0; }
-
 FusedScene::FusedScene(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options)
     : d_(std::make_unique<SceneData>()) {
   if (models.empty()) throw std::invalid_argument("FusedScene: no models");
-  if (models.size() > 1) {
-    if (options.force_ordered) throw std::invalid_argument("FusedScene: the ordered kernel takes one model");
-    for (const Model* m : models) {
-      if (!can_fuse(*m)) throw std::invalid_argument("FusedScene: a model with fixed bars cannot be fused");
-    }
+  if (models.size() > 1 && options.force_ordered) {
+    throw std::invalid_argument("FusedScene: the ordered kernel takes one model");
   }
 #ifndef NDEBUG
   for (const Model* m : models) assert(constants_current(*m));
@@ -119,10 +114,10 @@ KernelChoice begin_frames(SceneData& s, State* const* states) {
   k.bars = s.bars;
   k.ordered = s.options.force_ordered;
   // Fixed bars: every wall tested (a bar's response is not bounded by the speed),
-  // the bar rules after the mass pass (bar_pass) from the state's memory.
+  // the bar rules after the mass pass (bar_pass) from the states' memories.
   if (s.bars != BarKind::None) {
     k.walls = WallNeeds{};
-    if (!k.ordered) s.watch_bars(*states[0]);
+    if (!k.ordered) s.watch_bars(states);
   }
   return k;
 }
@@ -142,40 +137,73 @@ std::pair<double, double> x_extent(int masses, const XOf& x_of) {
 } // namespace
 
 long long FusedScene::run_until(State& state, long long frames, const std::function<bool(double, double)>& stop) {
-  SceneData& s = *d_;
-  if (s.creatures.size() != 1) throw std::invalid_argument("FusedScene::run_until: a scene of one model only");
-  const Model& m = *s.creatures[0].model;
+  if (d_->creatures.size() != 1) throw std::invalid_argument("FusedScene::run_until: a scene of one model only");
   State* const st[1] = {&state};
-  const bool per_frame = s.options.force_ordered || s.bars != BarKind::None;
-  if (!per_frame || m.mass_count == 0) { // the wall-skipping kernels run whole chunks: one frame per call
-    for (long long f = 0; f < frames; ++f) {
-      run(st, 1);
-      const auto [lo, hi] = x_extent(m.mass_count, [&](int p) { return m.mass_count > 0 ? state.x[p] : 0.0; });
-      if (stop(lo, hi)) return f + 1;
-    }
-    return std::max(0LL, frames);
-  }
-  take_states(s, st, "FastStepper::run_until");
+  std::vector<long long> done;
+  std::vector<bool> stopped;
+  return run_until(st, frames, [&](int, double lo, double hi) { return stop(lo, hi); }, done, stopped);
+}
+
+long long FusedScene::run_until(State* const* states, long long frames, const StopFn& stop, std::vector<long long>& done,
+                                std::vector<bool>& stopped, int min_running) {
+  SceneData& s = *d_;
+  const std::size_t n = s.creatures.size();
+  take_states(s, states, "FusedScene::run_until");
+  done.assign(n, 0);
+  stopped.assign(n, false);
   if (frames <= 0) return 0;
-  KernelChoice k = begin_frames(s, st); // every wall tested
-  k.walls = WallNeeds{};
+  KernelChoice k = begin_frames(s, states);
+  k.walls = WallNeeds{}; // every wall tested: a frame at a time
   s.record(k);
-  const fused::ChunkFn bar_frames = fused::bar_chunk_fn(s.simd, k.gravity);
-  const std::vector<int>& work = s.creatures[0].work_of_point;
-  long long done = 0;
-  while (done < frames) {
+  const fused::ChunkFn one_frame = k.ordered                      ? nullptr
+                                   : s.bars != BarKind::None     ? fused::bar_chunk_fn(s.simd, k.gravity)
+                                   : s.frame_in_registers        ? register_chunk_fn(k.gravity, k.walls)
+                                                                 : chunk_fn(s.simd, k.gravity, k.walls);
+  // A creature that stops is parked: its state as after its last frame is kept
+  // aside (the scene goes on stepping its masses, whose results are then dropped).
+  std::vector<State> parked;
+  int running = static_cast<int>(n);
+  long long f = 0;
+  while (f < frames && running > 0 && running >= min_running) {
     if (k.ordered) {
-      s.ordered_frame(state);
+      s.ordered_frame(*states[0]);
     } else {
-      bar_frames(s, st, 1);
+      one_frame(s, states, 1);
     }
-    ++done;
-    const auto [lo, hi] = x_extent(m.mass_count, [&](int p) { return s.px(work[static_cast<std::size_t>(p)]); });
-    if (stop(lo, hi)) break;
+    ++f;
+    for (std::size_t c = 0; c < n; ++c) {
+      if (stopped[c]) continue;
+      const SceneData::Creature& cr = s.creatures[c];
+      const int masses = cr.model->mass_count;
+      const std::vector<int>& work = cr.work_of_point;
+      const auto [lo, hi] =
+          x_extent(std::max(masses, 1), [&](int p) { return masses > 0 ? s.px(work[static_cast<std::size_t>(p)]) : 0.0; });
+      if (!stop(static_cast<int>(c), lo, hi)) continue;
+      if (parked.empty()) parked.resize(n);
+      parked[c] = *states[c];
+      for (int p = 0; p < masses; ++p) {
+        const int w = work[static_cast<std::size_t>(p)];
+        parked[c].x[p] = s.px(w);
+        parked[c].y[p] = s.py(w);
+        parked[c].vx[p] = s.pvx(w);
+        parked[c].vy[p] = s.pvy(w);
+      }
+      parked[c].frame += f;
+      done[c] = f;
+      stopped[c] = true;
+      --running;
+    }
   }
-  s.store_state(st);
-  state.frame += done;
-  return done;
+  s.store_state(states);
+  for (std::size_t c = 0; c < n; ++c) {
+    if (stopped[c]) {
+      *states[c] = std::move(parked[c]);
+    } else {
+      states[c]->frame += f;
+      done[c] = f;
+    }
+  }
+  return f;
 }
 
 void FusedScene::run(State* const* states, long long frames) {

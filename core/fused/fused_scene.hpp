@@ -23,9 +23,10 @@
 //    wall changes nothing), gravity is applied when some creature has it (g*d = +0
 //    is an identity for the others), targets are recomputed when some creature's
 //    wave moved (recomputing an unchanged target gives the same bits).
-// Fixed bars keep their memory in the one State (the bar rules run after the mass
-// pass, mass by mass in file order: bar_pass), so a scene with bars holds exactly
-// one model (BatchStepper runs such models on their own FastStepper).
+// Fixed bars: each creature has its own (a race lane's terrain is part of its
+// model) and keeps their memory in its own State. The bar rules run after the mass
+// pass, each creature's masses in file order (bar_pass), only for the masses that
+// may meet a bar; a scene may mix creatures with and without bars.
 //
 // The Models must outlive the scene; one scene is used by one thread at a time.
 #pragma once
@@ -47,16 +48,13 @@ struct SceneData; // scene_data.hpp
 class FusedScene {
  public:
   /// `frame_budget` as for FastStepper. Throws std::invalid_argument if there are
-  /// no models, or several and one of them cannot be fused (can_fuse).
+  /// no models, or several with FastStepOptions::force_ordered (one model only).
   FusedScene(const std::vector<const Model*>& models, long long frame_budget, FastStepOptions options = {});
   ~FusedScene();
   FusedScene(FusedScene&&) noexcept;
   FusedScene& operator=(FusedScene&&) noexcept;
   FusedScene(const FusedScene&) = delete;
   FusedScene& operator=(const FusedScene&) = delete;
-
-  /// Whether `model` can share a scene with others (no fixed bars).
-  static bool can_fuse(const Model& model);
 
   /// Steps states[c] (a state of model c) by `frames` frames, for every model c.
   void run(State* const* states, long long frames);
@@ -68,6 +66,17 @@ class FusedScene {
   /// the finish: checking that per frame inside the scene keeps the state and the
   /// rows of sines in place.)
   long long run_until(State& state, long long frames, const std::function<bool(double, double)>& stop);
+
+  /// Whether creature c stops after a frame, given its free masses' least and greatest x.
+  using StopFn = std::function<bool(int c, double min_x, double max_x)>;
+  /// Several models, each state stepped until stop(c, ...) is true after a frame (as
+  /// run_until above for each alone), at most `frames` frames; returns the frames
+  /// the scene ran. done[c]: the frames states[c] ran, stopped[c]: whether it
+  /// stopped. With min_running > 0 it returns as soon as fewer than that are still
+  /// running (the caller may go on with a smaller scene of the rest: a stopped
+  /// creature's masses are still stepped, their results dropped).
+  long long run_until(State* const* states, long long frames, const StopFn& stop, std::vector<long long>& done,
+                      std::vector<bool>& stopped, int min_running = 0);
 
   [[nodiscard]] int size() const;
   [[nodiscard]] const Model& model(int c) const;

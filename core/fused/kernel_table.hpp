@@ -20,7 +20,7 @@ TargetFn targets_fn(SimdLevel level);
 ArgsFn args_fn(SimdLevel level);
 /// Frames with the kernels of `level`, gravity `g` and the walls `w` tested.
 ChunkFn chunk_fn(SimdLevel level, bool g, const WallNeeds& w);
-/// Frames of a single model with fixed bars: every wall tested, the bar rules after
+/// Frames of a scene where some creature has fixed bars: every wall tested, the bar rules after
 /// the mass pass (run_chunk with Bars).
 ChunkFn bar_chunk_fn(SimdLevel level, bool g);
 /// Frames in registers (AVX-512; SceneData::frame_in_registers).

@@ -247,7 +247,7 @@ void args_kernel(SceneData& s, int filled) {
 
 /// Frames with the SIMD kernels for one wall/gravity specialisation: the frame
 /// loop is inside the specialised function, so nothing is looked up per frame.
-/// With Bars (a single model with fixed bars), the bar rules follow the mass pass
+/// With Bars (some creature has fixed bars), the bar rules follow the mass pass
 /// for the masses that may meet a bar (SceneData::bar_pass).
 template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides, bool Bars = false>
 void run_chunk(SceneData& s, State* const* st, long long frames) {
@@ -263,7 +263,7 @@ void run_chunk(SceneData& s, State* const* st, long long frames) {
       }
     }
     if (mass_kernel<O, Gravity, Floor, Ceiling, Sides, Bars>(s)) s.replay_side_hits(st);
-    if constexpr (Bars) s.bar_pass(*st[0]);
+    if constexpr (Bars) s.bar_pass(st);
     s.advance_waves(st);
   }
 }

@@ -10,11 +10,11 @@
 
 namespace soda::fused {
 
-// Fixed bars (single-model scenes): collide_with_fixed_bars for mass p (working
-// index i) on the pair arrays, with the state's bar memory.
-void SceneData::collide_with_bars(State& s, int p, int i, const MassMove& move) {
+// Fixed bars: collide_with_fixed_bars for mass p of creature c (working index i)
+// on the pair arrays, with its state's bar memory.
+void SceneData::collide_with_bars(State& s, int c, int p, int i, const MassMove& move) {
   ++bar_rules_run;
-  const Model& m = *creatures[0].model;
+  const Model& m = *creatures[static_cast<std::size_t>(c)].model;
   MassMove clamped = move;
   clamped.x = px(i);
   clamped.y = py(i);
@@ -54,7 +54,7 @@ void SceneData::ordered_masses(State& s) {
     rules::autoreverse_on_wall_hit(moved.hit, m.autoreverse, s.wave_mode, s.last_side_wall);
     px(i) = xi;
     py(i) = yi;
-    if (!bar_a.empty()) collide_with_bars(s, p, i, moved.move);
+    if (!m.fixed_bars.empty()) collide_with_bars(s, 0, p, i, moved.move);
   }
 }
 
@@ -75,31 +75,31 @@ void set_bit(std::vector<std::uint64_t>& bits, int p, bool on) {
 }
 } // namespace
 
-// Which masses a bar remembers or a corner holds, from the state's memory (a run
-// may bring another state).
-void SceneData::watch_bars(const State& s) {
+// Which masses a bar remembers or a corner holds, from each state's memory (a run
+// may bring other states).
+void SceneData::watch_bars(State* const* st) {
   std::fill(bar_held.begin(), bar_held.end(), 0);
-  for (int p = 0; p < masses; ++p) set_bit(bar_held, p, held_by_bars(s.bar_memory, p));
+  for (int c : bar_creatures) {
+    const Creature& cr = creatures[static_cast<std::size_t>(c)];
+    for (int p = 0; p < cr.model->mass_count; ++p) set_bit(bar_held, cr.mass_base + p, held_by_bars(st[c]->bar_memory, p));
+  }
   move_start.assign(2 * static_cast<std::size_t>(padded_masses), 0.0);
   move_velocity.assign(2 * static_cast<std::size_t>(padded_masses), 0.0);
 }
 
 // Fixed bars after the SIMD mass pass (which left every mass as the reference
-// leaves it before its bar rules, autoreverse replayed, and kept each move), in
-// file order as the reference meets them. The bar rules of a mass read and change
-// only its own move and its own memory (its contacts and corner; the contact list's
-// order follows the calls, which are the reference's but for calls that change
-// nothing), so a mass that no bar remembers, no corner holds and whose move touches
-// no bar's box (may_touch_bars, in the pass) is left as the pass left it. Until
-// every mass has its corner entry all take the rules (the reference's first call
-// makes it). The move is the one rules::move_mass makes: the end before the
-// container is start + velocity, the rest test on that velocity.
-void SceneData::bar_pass(State& s) {
-  const std::size_t corners = s.bar_memory.corners.size();
-  if (corners < static_cast<std::size_t>(masses)) {
-    for (int p = 0; p < masses; ++p) bar_rules(s, p);
-    return;
-  }
+// leaves it before its bar rules, autoreverse replayed, and kept each move), each
+// creature's masses in file order as the reference meets them (creatures never
+// interact, so their order among each other is free). The bar rules of a mass read
+// and change only its own move and its own memory (its contacts and corner; the
+// contact list's order follows the calls, which are the reference's but for calls
+// that change nothing), so a mass that no bar remembers, no corner holds and whose
+// move touches no bar's box (may_touch_bars, in the pass) is left as the pass left
+// it. Until every mass of a creature has its corner entry all of them take the
+// rules (the reference's first call makes it). The move is the one
+// rules::move_mass makes: the end before the container is start + velocity, the
+// rest test on that velocity.
+void SceneData::bar_pass(State* const* st) {
   std::copy(bar_held.begin(), bar_held.end(), bar_due.begin());
   for (std::size_t b = 0; b < bar_touch.size(); ++b) {
     for (std::uint32_t lanes = bar_touch[b]; lanes != 0; lanes &= lanes - 1) {
@@ -107,33 +107,39 @@ void SceneData::bar_pass(State& s) {
       if (i < masses) set_bit(bar_due, file_of_work[static_cast<std::size_t>(i)], true);
     }
   }
+  for (int c : bar_creatures) {
+    const Creature& cr = creatures[static_cast<std::size_t>(c)];
+    if (st[c]->bar_memory.corners.size() >= static_cast<std::size_t>(cr.model->mass_count)) continue;
+    for (int p = 0; p < cr.model->mass_count; ++p) set_bit(bar_due, cr.mass_base + p, true);
+  }
   for (std::size_t w = 0; w < bar_due.size(); ++w) {
-    for (std::uint64_t due = bar_due[w]; due != 0; due &= due - 1) {
-      bar_rules(s, static_cast<int>(w * 64) + std::countr_zero(due));
+    for (std::uint64_t due = bar_due[w] & bar_scene_mask[w]; due != 0; due &= due - 1) {
+      const int g = static_cast<int>(w * 64) + std::countr_zero(due);
+      const int c = creature_of_mass[static_cast<std::size_t>(g)];
+      bar_rules(*st[c], c, g - creatures[static_cast<std::size_t>(c)].mass_base);
     }
   }
 }
 
-// The bar rules for mass p (file order) on its move of this frame; the mass then
-// keeps the tile of where it is.
-void SceneData::bar_rules(State& s, int p) {
-  const std::size_t i = static_cast<std::size_t>(creatures[0].work_of_point[static_cast<std::size_t>(p)]);
+// The bar rules for mass p (file order) of creature c on its move of this frame;
+// the mass then keeps the tile of where it is.
+void SceneData::bar_rules(State& s, int c, int p) {
+  const Creature& cr = creatures[static_cast<std::size_t>(c)];
+  const std::size_t i = static_cast<std::size_t>(cr.work_of_point[static_cast<std::size_t>(p)]);
   const double vx = move_velocity[2 * i], vy = move_velocity[2 * i + 1];
   if (!rules::is_at_rest(vx, vy)) { // else not moved: no bar rules
     const double x0 = move_start[2 * i], y0 = move_start[2 * i + 1];
-    collide_with_bars(s, p, static_cast<int>(i), rules::mass_move(x0, y0, x0 + vx, y0 + vy, vx, vy));
-    set_bit(bar_held, p, held_by_bars(s.bar_memory, p));
+    collide_with_bars(s, c, p, static_cast<int>(i), rules::mass_move(x0, y0, x0 + vx, y0 + vy, vx, vy));
+    set_bit(bar_held, cr.mass_base + p, held_by_bars(s.bar_memory, p));
   }
   keep_tile(static_cast<int>(i), px(static_cast<int>(i))); // where its next move starts
 }
 
 void SceneData::keep_tile(int i, double x) {
-  const int base = i - i % W;
-  const int j = i - base;
-  const int lane = j < W / 2 ? 2 * j : 2 * (j - W / 2) + 1; // kLaneLink inverted
-  double* to = mass_tile.data() + kTileValues * static_cast<std::size_t>(base) + lane;
+  double* to = mass_tile.data() + tile_at(i);
   if (x >= to[0] && x <= to[W]) return; // still in its tile
-  const double* tile = tile_of(creatures[0].model->fixed_bars, x);
+  const Model& m = *creatures[static_cast<std::size_t>(creature_of_mass[static_cast<std::size_t>(i)])].model;
+  const double* tile = tile_of(m.fixed_bars, x);
   for (int v = 0; v < kTileValues; ++v) to[v * W] = tile[v];
 }
 

@@ -65,7 +65,7 @@ void SceneData::place_points(const std::vector<const Model*>& models, long long 
     masses += models[c]->mass_count;
     any_wave = any_wave || cr.needs.wave;
     any_gravity = any_gravity || cr.needs.gravity;
-    bars = cr.needs.bars;
+    bars = std::max(bars, cr.needs.bars);
   }
   padded_masses = (masses + kMaxWidth - 1) / kMaxWidth * kMaxWidth;
   // A creature's masses get working indices [mass_base, mass_base + mass_count)
@@ -315,31 +315,43 @@ void SceneData::prepare_sine_rows() {
   argument_of_group.assign(static_cast<std::size_t>(groups), 0);
 }
 
-// Fixed bars (single-model scenes), as working offsets.
+// Fixed bars: which creatures have them, the scene mass index of each working
+// mass, and the tiles the masses start with.
 void SceneData::place_bars() {
-  if (creatures.size() == 1) {
-    const Model& m = *creatures[0].model;
-    for (int b = 0; b < m.bar_count(); ++b) {
-      bar_a.push_back(2 * creatures[0].work_of_point[m.bar_a[b]]);
-      bar_b.push_back(2 * creatures[0].work_of_point[m.bar_b[b]]);
-    }
-    if (m.bar_count() > 0) {
-      // No tile yet (an empty x range): every mass is due at first.
-      mass_tile.assign(kTileValues * static_cast<std::size_t>(padded_masses), 0.0);
-      for (int b = 0; b < padded_masses; b += W) {
-        for (int l = 0; l < W; ++l) {
-          mass_tile[kTileValues * b + l] = std::numeric_limits<double>::infinity();
-          mass_tile[kTileValues * b + W + l] = -std::numeric_limits<double>::infinity();
-        }
-      }
-      bar_touch.assign(static_cast<std::size_t>(padded_masses / W), 0);
-      file_of_work.assign(static_cast<std::size_t>(masses), 0);
-      for (int p = 0; p < masses; ++p) file_of_work[static_cast<std::size_t>(creatures[0].work_of_point[p])] = p;
-      const std::size_t words = (static_cast<std::size_t>(masses) + 63) / 64;
-      bar_held.assign(words, 0);
-      bar_due.assign(words, 0);
+  bar_creatures.clear();
+  for (std::size_t c = 0; c < creatures.size(); ++c) {
+    if (!creatures[c].model->fixed_bars.empty()) bar_creatures.push_back(static_cast<int>(c));
+  }
+  if (bar_creatures.empty()) return;
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  const std::size_t words = (static_cast<std::size_t>(masses) + 63) / 64;
+  bar_held.assign(words, 0);
+  bar_due.assign(words, 0);
+  bar_scene_mask.assign(words, 0);
+  file_of_work.assign(static_cast<std::size_t>(masses), 0);
+  creature_of_mass.assign(static_cast<std::size_t>(masses), 0);
+  // A tile's x range, then its box: a mass of a creature with bars starts with no
+  // tile (an empty x range: due at first); the others and the padding keep an
+  // endless tile with an empty box (never due; bar_scene_mask leaves them out anyway).
+  mass_tile.assign(kTileValues * static_cast<std::size_t>(padded_masses), 0.0);
+  auto set_tile = [&](int i, const double (&tile)[kTileValues]) {
+    for (int v = 0; v < kTileValues; ++v) mass_tile[tile_at(i) + static_cast<std::size_t>(v * W)] = tile[v];
+  };
+  for (int i = 0; i < padded_masses; ++i) set_tile(i, {-inf, inf, inf, -inf, inf, -inf});
+  for (std::size_t c = 0; c < creatures.size(); ++c) {
+    const Creature& cr = creatures[c];
+    const bool with_bars = !cr.model->fixed_bars.empty();
+    for (int p = 0; p < cr.model->mass_count; ++p) {
+      const int i = cr.work_of_point[static_cast<std::size_t>(p)];
+      const int g = cr.mass_base + p;
+      file_of_work[static_cast<std::size_t>(i)] = g;
+      creature_of_mass[static_cast<std::size_t>(g)] = static_cast<int>(c);
+      if (!with_bars) continue;
+      bar_scene_mask[static_cast<std::size_t>(g / 64)] |= std::uint64_t{1} << (g % 64);
+      set_tile(i, {inf, -inf, inf, -inf, inf, -inf});
     }
   }
+  bar_touch.assign(static_cast<std::size_t>(padded_masses / W), 0);
 }
 
 // The frame in registers: the register lane of working point (or link slot) p.

@@ -80,7 +80,7 @@ struct SceneData {
   };
   std::vector<Creature> creatures;
   bool any_wave = false, any_gravity = false;
-  BarKind bars = BarKind::None; ///< only with a single model
+  BarKind bars = BarKind::None; ///< the strongest kind among the creatures (KernelChoice::bars)
 
   // Working points, as (x, y) pairs: masses [0, masses) (the creatures' masses one
   // creature after the other), padding masses [masses, padded_masses) (at rest at (0, 0);
@@ -216,22 +216,36 @@ struct SceneData {
   AVec<std::int64_t> muscle_argument_lane;   ///< [padded_wave_muscles] muscle_argument as permute indices
   const std::int64_t* sine_lane = nullptr; ///< sine_index as permute indices (muscle_group_lane or muscle_argument_lane)
 
-  std::vector<int> bar_a, bar_b; ///< 2 * working index (offset of x in positions), file order
-  // Fixed bars after the SIMD mass pass (bar_pass, ordered.cpp): each mass's move
-  // as the pass made it (its start, and its velocity after friction: the end before
-  // the container is start + velocity), and which masses (file order) a bar
-  // remembers or a corner holds: those and the masses whose move may touch a bar's
-  // box take the bar rules; for the others the rules would change nothing.
+  // Fixed bars after the SIMD mass pass (bar_pass, ordered.cpp), each creature's
+  // bars with its own memory (its State's bar_memory): each mass's move as the pass
+  // made it (its start, and its velocity after friction: the end before the
+  // container is start + velocity), and which masses (file order) a bar remembers
+  // or a corner holds: those and the masses whose move may touch a bar's box take
+  // the bar rules; for the others the rules would change nothing.
+  // A scene mass index is a creature's mass_base + the mass's file index: ordered by
+  // creature, then file order within each (the order its bar rules run in).
+  std::vector<int> bar_creatures;        ///< creatures with fixed bars
   AVec<double> move_start, move_velocity; ///< [2*padded_masses] (x, y) pairs
   std::vector<std::uint32_t> bar_touch; ///< [padded_masses / W] lanes whose move may touch a bar (may_touch_bars)
   // Each mass keeps the tile (FixedBars::cell_tile) of where it was, as long as its
   // moves stay inside: per block of W masses, kTileValues vectors (the tile's x
-  // range, its box) in lane order.
+  // range, its box) in lane order. The masses of creatures without bars keep an
+  // endless tile with an empty box.
   static constexpr int kTileValues = 6;
   AVec<double> mass_tile; ///< [kTileValues * padded_masses]
   void keep_tile(int i, double x); ///< mass i (working) takes the tile of x
-  std::vector<std::uint64_t> bar_held, bar_due; ///< bits in file order: held; due for the rules this frame
-  std::vector<int> file_of_work;                 ///< [masses] working index -> file index
+  /// Where mass i's (working) first tile value sits in mass_tile (the next at + W...).
+  [[nodiscard]] std::size_t tile_at(int i) const {
+    const int base = i - i % W;
+    const int j = i - base;
+    const int lane = j < W / 2 ? 2 * j : 2 * (j - W / 2) + 1; // kLaneLink inverted
+    return kTileValues * static_cast<std::size_t>(base) + static_cast<std::size_t>(lane);
+  }
+  /// Bits by scene mass index: held by a bar or corner; due for the rules this
+  /// frame; of a creature with bars.
+  std::vector<std::uint64_t> bar_held, bar_due, bar_scene_mask;
+  std::vector<int> file_of_work;      ///< [masses] working index -> scene mass index
+  std::vector<int> creature_of_mass; ///< [masses] working (or scene) mass index -> creature
 
   std::vector<KernelChoice> used;
   KernelChoice last;
@@ -285,12 +299,12 @@ struct SceneData {
   void ordered_frame(State& s);
   void replay_side_hits(State* const* st);
   void ordered_masses(State& s);
-  void collide_with_bars(State& s, int p, int i, const MassMove& move);
+  void collide_with_bars(State& s, int c, int p, int i, const MassMove& move);
   rules::MassStepResult move_one_mass(const rules::MassConstants& k, int i, double& x, double& y, double& vx,
                                       double& vy) const;
-  void watch_bars(const State& s);
-  void bar_pass(State& s);
-  void bar_rules(State& s, int p);
+  void watch_bars(State* const* st);
+  void bar_pass(State* const* st);
+  void bar_rules(State& s, int c, int p);
   void record(const KernelChoice& k);
 };
 
