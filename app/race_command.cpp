@@ -157,29 +157,34 @@ void run_race_command(const RaceOptions& opt) {
     throw soda::InputError("race: --trace and --render draw one lane: expected one contender, got " +
                            std::to_string(entries.size()) + " (name one contender file)");
   }
-  for (Entry& e : entries) {
-    const soda::RaceLane lane = soda::build_lane(race.terrain, race.constraints, e.model, e.file);
-    const soda::Model model = soda::build_lane_model(lane);
-    std::ofstream trace_file;
-    std::optional<soda::TraceCsv> trace;
-    soda::State frame_state;
+  std::vector<soda::RaceLane> lanes;
+  std::vector<soda::Model> models;
+  for (const Entry& e : entries) {
+    lanes.push_back(soda::build_lane(race.terrain, race.constraints, e.model, e.file));
+    models.push_back(soda::build_lane_model(lanes.back()));
+  }
+  if (opt.trace.empty()) { // the contenders raced together (fused scenes: the same results as one by one)
+    std::vector<soda::State> states;
+    for (const soda::Model& m : models) states.push_back(soda::make_state(m));
+    std::vector<soda::LaneRace> races;
+    for (std::size_t k = 0; k < entries.size(); ++k) races.push_back({&lanes[k], &models[k], timeout, &states[k]});
+    const std::vector<soda::RaceOutcome> outcomes = soda::run_races_fused(races);
+    for (std::size_t k = 0; k < entries.size(); ++k) entries[k].outcome = outcomes[k];
+  }
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    Entry& e = entries[k];
+    const soda::RaceLane& lane = lanes[k];
+    const soda::Model& model = models[k];
     if (!opt.trace.empty()) {
-      trace_file.open(opt.trace, std::ios::binary | std::ios::trunc);
+      std::ofstream trace_file(opt.trace, std::ios::binary | std::ios::trunc);
       if (!trace_file) throw soda::InputError(opt.trace + ": cannot open the trace file for writing");
-      trace.emplace(trace_file, model);
-      trace->write_row(soda::make_state(model));
-    }
-    if (trace) {
-      e.outcome = soda::run_race(lane, model, timeout, [&](const soda::State& s) { trace->write_row(s); });
-    } else {
-      soda::State state = soda::make_state(model);
-      e.outcome = soda::run_race_fast(lane, model, timeout, state);
-    }
-    if (opt.replicas > 0) e.replicas = race_replicas(lane, model, timeout, e.model, opt);
-    if (trace) {
+      soda::TraceCsv trace(trace_file, model);
+      trace.write_row(soda::make_state(model));
+      e.outcome = soda::run_race(lane, model, timeout, [&](const soda::State& s) { trace.write_row(s); });
       trace_file.flush();
       if (!trace_file) throw soda::InputError(opt.trace + ": writing the trace failed (disk full?)");
     }
+    if (opt.replicas > 0) e.replicas = race_replicas(lane, model, timeout, e.model, opt);
     if (!opt.render.empty()) {
       const Motion motion = record_race_motion(lane, model, timeout, e.name);
       std::ofstream out(opt.render, std::ios::binary | std::ios::trunc);

@@ -4,12 +4,14 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <stdexcept>
 
 #include "formats/model_file.hpp"
 #include "formats/race_file.hpp"
+#include "core/batch_step.hpp"
 #include "core/fast_step.hpp"
 #include "core/race_lane.hpp"
 
@@ -104,6 +106,22 @@ namespace sodaevo::bench {
 
 namespace {
 
+/// A lane model without its bars: the creature on the container's floor.
+soda::ModelDef without_fixed_bars(soda::ModelDef def) {
+  std::erase_if(def.links, [](const soda::LinkDef& l) { return l.kind == soda::LinkKind::FixedBar; });
+  return def;
+}
+
+/// The contender files of a folder, sorted.
+std::vector<fs::path> contender_files(const fs::path& dir) {
+  std::vector<fs::path> files;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
+    if (e.path().extension() == ".xml") files.push_back(e.path());
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
 double best_fps(const soda::Model& model, long long frames, int repeats, soda::FastStepOptions options = {},
                 long long* bar_rules = nullptr) {
   double best = 0.0;
@@ -126,9 +144,7 @@ LaneSpeed measure_lane_speed(const fs::path& race_file, const fs::path& contende
   const soda::RaceLane lane =
       soda::build_lane(race.terrain, race.constraints, soda::read_model_file(contender).def, contender.string());
   const soda::Model with_bars = soda::build_lane_model(lane);
-  soda::ModelDef floor = lane.def;
-  std::erase_if(floor.links, [](const soda::LinkDef& l) { return l.kind == soda::LinkKind::FixedBar; });
-  const soda::Model without_bars = soda::build_model(floor);
+  const soda::Model without_bars = soda::build_model(without_fixed_bars(lane.def));
   LaneSpeed out;
   out.masses = with_bars.mass_count;
   soda::FastStepOptions ordered;
@@ -140,6 +156,79 @@ LaneSpeed measure_lane_speed(const fs::path& race_file, const fs::path& contende
     out.rules_per_frame = static_cast<double>(rules) / static_cast<double>(frames);
     out.floor_fps = std::max(out.floor_fps, best_fps(without_bars, frames, 1));
     out.ordered_fps = std::max(out.ordered_fps, best_fps(with_bars, frames, 1, ordered));
+  }
+  return out;
+}
+
+namespace {
+
+double seconds_of(const std::function<void()>& work) {
+  const auto t0 = std::chrono::steady_clock::now();
+  work();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+/// Lane-frames per second of `models` stepped `frames` frames, fused or one by one.
+double lanes_fps(const std::vector<soda::Model>& models, long long frames, bool fused) {
+  std::vector<const soda::Model*> pointers;
+  std::vector<soda::State> states;
+  for (const soda::Model& m : models) {
+    pointers.push_back(&m);
+    states.push_back(soda::make_state(m));
+  }
+  const double s = seconds_of([&] {
+    if (fused) {
+      std::vector<soda::State*> sp;
+      for (soda::State& st : states) sp.push_back(&st);
+      soda::BatchStepper batch(pointers, frames);
+      batch.run(sp, frames);
+    } else {
+      for (std::size_t k = 0; k < models.size(); ++k) {
+        soda::FastStepper stepper(models[k], frames);
+        stepper.run(states[k], frames);
+      }
+    }
+  });
+  return s > 0.0 ? static_cast<double>(models.size()) * static_cast<double>(frames) / s : 0.0;
+}
+
+} // namespace
+
+FusedLaneSpeed measure_fused_lanes(const fs::path& race_file, const fs::path& contenders_dir, long long frames,
+                                   int repeats) {
+  const soda::RaceDef race = soda::read_race_file(race_file);
+  std::vector<soda::RaceLane> lanes;
+  for (const fs::path& file : contender_files(contenders_dir)) {
+    lanes.push_back(soda::build_lane(race.terrain, race.constraints, soda::read_model_file(file).def, file.string()));
+  }
+  std::vector<soda::Model> with_bars, without_bars;
+  for (const soda::RaceLane& lane : lanes) {
+    with_bars.push_back(soda::build_lane_model(lane));
+    without_bars.push_back(soda::build_model(without_fixed_bars(lane.def)));
+  }
+  FusedLaneSpeed out;
+  out.lanes = static_cast<int>(lanes.size());
+  const auto best_time = [](double& best, double s) { best = best == 0.0 ? s : std::min(best, s); };
+  for (int r = 0; r < repeats; ++r) { // alternated, so that all see the same machine load
+    out.alone_fps = std::max(out.alone_fps, lanes_fps(with_bars, frames, false));
+    out.fused_fps = std::max(out.fused_fps, lanes_fps(with_bars, frames, true));
+    out.floor_alone_fps = std::max(out.floor_alone_fps, lanes_fps(without_bars, frames, false));
+    out.floor_fused_fps = std::max(out.floor_fused_fps, lanes_fps(without_bars, frames, true));
+    std::vector<soda::State> alone, together;
+    for (const soda::Model& m : with_bars) {
+      alone.push_back(soda::make_state(m));
+      together.push_back(alone.back());
+    }
+    long long updates = 0;
+    best_time(out.races_alone_s, seconds_of([&] {
+                for (std::size_t k = 0; k < lanes.size(); ++k) {
+                  updates += soda::run_race_fast(lanes[k], with_bars[k], race.timeout, alone[k]).updates;
+                }
+              }));
+    std::vector<soda::LaneRace> races;
+    for (std::size_t k = 0; k < lanes.size(); ++k) races.push_back({&lanes[k], &with_bars[k], race.timeout, &together[k]});
+    best_time(out.races_fused_s, seconds_of([&] { soda::run_races_fused(races); }));
+    out.race_frames = updates;
   }
   return out;
 }

@@ -51,4 +51,19 @@ struct LaneSpeed {
 LaneSpeed measure_lane_speed(const std::filesystem::path& race_file, const std::filesystem::path& contender,
                              long long frames, int repeats);
 
+/// Fused lanes: the contenders in `contenders_dir`, each in its own lane of
+/// `race_file`, stepped one by one (a FastStepper each) and together (BatchStepper:
+/// fused scenes), with the lanes' bars and without them; and their races, one by one
+/// (run_race_fast) and together (run_races_fused). Each figure the best of
+/// `repeats` alternated runs.
+struct FusedLaneSpeed {
+  int lanes = 0;
+  double alone_fps = 0.0, fused_fps = 0.0;             ///< lane-frames per second, with bars
+  double floor_alone_fps = 0.0, floor_fused_fps = 0.0; ///< the same lane models without their bars
+  double races_alone_s = 0.0, races_fused_s = 0.0;     ///< seconds for all the races
+  long long race_frames = 0;                           ///< updates of all the races
+};
+FusedLaneSpeed measure_fused_lanes(const std::filesystem::path& race_file, const std::filesystem::path& contenders_dir,
+                                   long long frames, int repeats);
+
 } // namespace sodaevo::bench

@@ -81,8 +81,8 @@ struct LaneRace {
 /// run_race_fast for each race, the same results and final states, bit for bit:
 /// different contenders (each its own lane model, on any terrains) raced together
 /// in one fused scene (fused_scene.hpp), each stopping at its own finish or
-/// timeout. When fewer than half are still running, the rest go on in a smaller
-/// scene; the last one alone.
+/// timeout. When fewer than three quarters are still running, the rest go on in a
+/// smaller scene; the last one alone.
 std::vector<RaceOutcome> run_races_fused(const std::vector<LaneRace>& races);
 
 } // namespace soda

@@ -191,6 +191,7 @@ long long FusedScene::run_until(State* const* states, long long frames, const St
       parked[c].frame += f;
       done[c] = f;
       stopped[c] = true;
+      s.park(static_cast<int>(c));
       --running;
     }
   }

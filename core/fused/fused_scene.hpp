@@ -74,7 +74,7 @@ class FusedScene {
   /// the scene ran. done[c]: the frames states[c] ran, stopped[c]: whether it
   /// stopped. With min_running > 0 it returns as soon as fewer than that are still
   /// running (the caller may go on with a smaller scene of the rest: a stopped
-  /// creature's masses are still stepped, their results dropped).
+  /// creature's masses are still stepped, without their bar rules, their results dropped).
   long long run_until(State* const* states, long long frames, const StopFn& stop, std::vector<long long>& done,
                       std::vector<bool>& stopped, int min_running = 0);
 

@@ -85,6 +85,13 @@ void SceneData::watch_bars(State* const* st) {
   }
   move_start.assign(2 * static_cast<std::size_t>(padded_masses), 0.0);
   move_velocity.assign(2 * static_cast<std::size_t>(padded_masses), 0.0);
+  bar_rules_mask = bar_scene_mask;
+}
+
+void SceneData::park(int c) {
+  if (bar_rules_mask.empty()) return;
+  const Creature& cr = creatures[static_cast<std::size_t>(c)];
+  for (int p = 0; p < cr.model->mass_count; ++p) set_bit(bar_rules_mask, cr.mass_base + p, false);
 }
 
 // Fixed bars after the SIMD mass pass (which left every mass as the reference
@@ -113,7 +120,7 @@ void SceneData::bar_pass(State* const* st) {
     for (int p = 0; p < cr.model->mass_count; ++p) set_bit(bar_due, cr.mass_base + p, true);
   }
   for (std::size_t w = 0; w < bar_due.size(); ++w) {
-    for (std::uint64_t due = bar_due[w] & bar_scene_mask[w]; due != 0; due &= due - 1) {
+    for (std::uint64_t due = bar_due[w] & bar_rules_mask[w]; due != 0; due &= due - 1) {
       const int g = static_cast<int>(w * 64) + std::countr_zero(due);
       const int c = creature_of_mass[static_cast<std::size_t>(g)];
       bar_rules(*st[c], c, g - creatures[static_cast<std::size_t>(c)].mass_base);

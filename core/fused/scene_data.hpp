@@ -244,6 +244,10 @@ struct SceneData {
   /// Bits by scene mass index: held by a bar or corner; due for the rules this
   /// frame; of a creature with bars.
   std::vector<std::uint64_t> bar_held, bar_due, bar_scene_mask;
+  std::vector<std::uint64_t> bar_rules_mask; ///< bar_scene_mask less the parked creatures (this run)
+  /// Creature c stopped in run_until: its results are dropped, so its masses no
+  /// longer take the bar rules (until the next run).
+  void park(int c);
   std::vector<int> file_of_work;      ///< [masses] working index -> scene mass index
   std::vector<int> creature_of_mass; ///< [masses] working (or scene) mass index -> creature
 
