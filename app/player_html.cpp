@@ -144,6 +144,9 @@ constexpr const char* kPlayerScript = R"js(
       return [data.fixed[2 * q] / 10, data.fixed[2 * q + 1] / 10];
     }
 
+    // A race's finish line (record_race_motion marks it where the racer's rule ends the race).
+    var finishMark = (data.marks || []).filter(function (m) { return m.label === 'finish'; })[0];
+
     function draw() {
       var xy = data.xy[index], cx = data.cx[index] / 10;
       var floorY = baseFloorY + Math.max(0, tops[index] - top) * scale; // below the canvas while it jumps high
@@ -207,8 +210,15 @@ constexpr const char* kPlayerScript = R"js(
         ctx.beginPath(); ctx.arc(sx(xy[m] / 10), sy(xy[m + 1] / 10), S.massRadius, 0, 2 * Math.PI); ctx.fill();
       }
       var frame = data.frames[index], moved = cx - x0;
-      var text = 'frame ' + frame + ' / ' + lastFrame + '   moved ' + signedPx(moved) +
-                 (frame > 0 ? ' (' + (moved / frame).toFixed(3) + ' px/frame)' : '');
+      var text = 'frame ' + frame + ' / ' + lastFrame + '   moved ' + signedPx(moved);
+      if (finishMark) { // a race: frames count, not speed; the finish rule takes the rearmost mass
+        var rear = Infinity;
+        for (var r = 0; r < xy.length; r += 2) rear = Math.min(rear, xy[r] / 10);
+        var due = finishMark.x / 10 - rear;
+        text += due > 0 ? '   ' + due.toFixed(1) + ' px to the finish' : '   past the finish';
+      } else if (frame > 0) {
+        text += ' (' + (moved / frame).toFixed(3) + ' px/frame)';
+      }
       if (scoredFrom > 0 && index >= scoredIndex) text += '   since scoring ' + signedPx(cx - scoredX);
       if (data.diverged && index === n - 1) text += '   ' + data.diverged;
       info.textContent = text;

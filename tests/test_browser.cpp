@@ -169,6 +169,25 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
     screenshot(chromium, url + "#frame=700", shots / "render_frame700.png", "800,520", work);
     CHECK(soda::read_whole_file(shots / "render_frame100.png") != soda::read_whole_file(shots / "render_frame700.png"));
   }
+  SECTION("race render: the info line counts down to the finish, then says it is past") {
+    const fs::path flat = fs::absolute(sodaevo::test::models_dir() / "terrains" / "TerrainFlat.xml");
+    const fs::path racer = fs::absolute(sodaevo::test::models_dir() / "wodka_ga109.xml"); // 118 frames
+    const auto r = run_sodaevo("race " + flat.string() + " " + racer.string() + " --render " + (work / "race.html").string());
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    const LoadedPage early = load(chromium, work / "race.html", 20, work);
+    const LoadedPage done = load(chromium, work / "race.html", 100000, work); // the last sample
+    require_clean(early);
+    require_clean(done);
+    const auto info_line = [](const std::string& dom) {
+      std::smatch m;
+      return std::regex_search(dom, m, std::regex("<div class=\"info\">([^<]*)</div>")) ? m[1].str() : std::string();
+    };
+    INFO("info lines: " << info_line(early.dom) << " | " << info_line(done.dom));
+    CHECK(info_line(early.dom).find(" px to the finish") != std::string::npos);
+    CHECK(info_line(early.dom).find("px/frame") == std::string::npos); // a race counts frames
+    CHECK(info_line(done.dom).find("past the finish") != std::string::npos);
+  }
   SECTION("filmstrip: opens without console messages") {
     const auto r = run_sodaevo("render " + dainty.string() + " --frames 800 -o " + (work / "dainty.svg").string());
     INFO(r.output);
