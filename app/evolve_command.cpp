@@ -1,5 +1,6 @@
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 #include <chrono>
@@ -219,9 +220,10 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
   std::signal(SIGINT, SIG_DFL);
   // The best creatures again on fresh replicas: claimed against checked, for the
   // report (RUN/champions.json).
+  std::vector<ReplicaCheck> checks;
   if (std::isfinite(outcome.best_fitness)) {
     try {
-      write_run_champions(store->dir(), kCheckedChampions, kCheckReplicas, opt.threads);
+      checks = write_run_champions(store->dir(), kCheckedChampions, kCheckReplicas, opt.threads);
     } catch (const std::exception& e) {
       std::cerr << "\nsodaevo: warning: champions not checked: " << e.what() << '\n';
     }
@@ -246,16 +248,34 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
 #endif
   }
   std::cout << "run folder   " << store->dir().string() << "\n";
-  if (std::isfinite(outcome.best_fitness) && store->config().fitness.kind == FitnessKind::Race) {
+  const RunConfig& config = store->config();
+  const bool race = config.fitness.kind == FitnessKind::Race;
+  // What the best's fitness stands on: the statistic of its replicas (a single
+  // rollout is one draw, not the creature's walk).
+  const auto it = std::find_if(checks.begin(), checks.end(), [&](const ReplicaCheck& c) { return c.id == outcome.best_id; });
+  std::string basis;
+  if (it != checks.end() && it->selection.rollouts > 1) {
+    basis = " (" + statistic_name(config.fitness.statistic) + " of " + std::to_string(it->selection.rollouts) +
+            " replicas, sd " + fixed(it->selection.sd, 2) + ")";
+  }
+  if (std::isfinite(outcome.best_fitness) && race) {
     std::cout << "best         " << outcome.best_id << "  fitness " << soda::format_double_plain(outcome.best_fitness)
-              << " (races in " << soda::format_double_plain(-outcome.best_fitness) << " frames)\n";
+              << basis << " (races in " << soda::format_double_plain(-outcome.best_fitness) << " frames)\n";
   } else if (std::isfinite(outcome.best_fitness)) {
     std::cout << "best         " << outcome.best_id << "  fitness " << soda::format_double_plain(outcome.best_fitness)
-              << " px in " << store->config().fitness.frames << " frames ("
-              << soda::format_double_plain(outcome.best_fitness / static_cast<double>(store->config().fitness.frames))
+              << basis << " px in " << config.fitness.frames << " frames ("
+              << soda::format_double_plain(outcome.best_fitness / static_cast<double>(config.fitness.frames))
               << " px/frame)\n";
   } else {
     std::cout << "best         none: no creature could be scored (the reasons are in the saved generations)\n";
+  }
+  if (it != checks.end() && it->ok) { // rounded for reading; champions.json keeps every digit
+    const std::string unit = race ? " frames" : " px";
+    const int digits = race ? 1 : 2;
+    std::cout << "             checked on " << it->check.n << " fresh replicas: median " << fixed(it->check.median, digits)
+              << unit << ", 95 % interval [" << fixed(it->check.interval95_low, digits) << ", "
+              << fixed(it->check.interval95_high, digits) << "]" << unit << "; exact engine "
+              << fixed(it->exact_distance, digits) << unit << "\n";
   }
   std::cout << "report       " << default_report_path(store->dir()).string() << "\n"
             << "export with  sodaevo export " << store->dir().string() << " --best 5 --out DIR\n";

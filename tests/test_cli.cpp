@@ -233,6 +233,20 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
   const ShellResult evolved = run_sodaevo("evolve " + (out / "ga.json").string() + " --quiet --out " + ga_run.string());
   INFO(evolved.output);
   REQUIRE(evolved.exit_code == 0);
+  {
+    // The summary names what the best's fitness stands on and what fresh replicas
+    // gave it, as champions.json records them (its first entry is the best).
+    const nlohmann::json champions = nlohmann::json::parse(soda::read_whole_file(ga_run / "champions.json"));
+    REQUIRE(!champions.empty());
+    const nlohmann::json& best = champions[0];
+    char median[64];
+    std::snprintf(median, sizeof median, "%.2f", best["check"]["median"].get<double>());
+    CHECK(evolved.output.find("best         " + best["id"].get<std::string>() + "  fitness ") != std::string::npos);
+    CHECK(evolved.output.find(" of " + std::to_string(best["selection"]["n"].get<int>()) + " replicas, sd ") !=
+          std::string::npos);
+    CHECK(evolved.output.find("checked on " + std::to_string(best["check"]["n"].get<int>()) +
+                              " fresh replicas: median " + median + " px") != std::string::npos);
+  }
   const ShellResult r = run_sodaevo("bench speed --quick --threads 2 --models " + (root / "models").string() +
                                     " --ga-run " + ga_run.string() + " --out " + out.string());
   INFO(r.output);
