@@ -116,6 +116,9 @@ void print_summary(const SimulateOptions& opt, const SimulateSummary& s) {
   std::printf("centroid dx, dy     %+.6f px, %+.6f px\n", s.centroid_dx, s.centroid_dy);
   std::printf("speed               %+.6f px/frame (%s)\n", px_per_frame,
               px_per_frame > 0 ? "walks right" : px_per_frame < 0 ? "walks left" : "stands");
+  if (s.masses > 0) { // a walk is chaotic: this exact run is one draw of it
+    std::printf("                    one exact run, as the original runs it; its spread: --replicas 16\n");
+  }
   std::printf("wall time           %.6f s%s\n", s.wall_seconds, opt.trace.empty() ? "" : " (includes writing the trace)");
   std::printf("frames per second   %.0f\n", fps);
   if (s.honesty) {
