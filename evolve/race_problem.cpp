@@ -232,6 +232,7 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
     std::map<std::size_t, std::size_t> replica_of_run;
     std::vector<std::vector<soda::State>> raced_states;
     std::vector<std::vector<soda::RaceOutcome>> raced;
+    bool race_failed = false; ///< racing its replicas together threw
   };
   std::vector<Lanes> built;
   std::vector<std::size_t> lanes_of_run(runs.size());
@@ -254,6 +255,7 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
       }
       if (l.error.empty() && describe_every_ == 0 && soda::lockstep_share(static_cast<int>(replicas.size())) > 0) {
         race_replicas(l.lanes, l.models, runs, replicas, l.raced_states, l.raced, l.replica_of_run);
+        l.race_failed = l.replica_of_run.empty(); // a race threw: its replicas race alone
       }
       built.push_back(std::move(l));
       it = built.end() - 1;
@@ -267,7 +269,7 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
   if (describe_every_ == 0) {
     for (std::size_t i = 0; i < runs.size(); ++i) {
       const Lanes& l = built[lanes_of_run[i]];
-      if (l.error.empty() && l.replica_of_run.count(i) == 0) together.runs.push_back(i);
+      if (l.error.empty() && !l.race_failed && l.replica_of_run.count(i) == 0) together.runs.push_back(i);
     }
     std::vector<std::pair<const std::vector<soda::RaceLane>*, const std::vector<soda::Model>*>> lanes;
     for (std::size_t i : together.runs) lanes.emplace_back(&built[lanes_of_run[i]].lanes, &built[lanes_of_run[i]].models);

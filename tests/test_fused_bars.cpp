@@ -14,6 +14,7 @@
 #include "formats/model_file.hpp"
 #include "formats/race_file.hpp"
 #include "core/race_lane.hpp"
+#include "core/simd_level.hpp"
 #include "core/step.hpp"
 #include "test_support.hpp"
 
@@ -64,30 +65,39 @@ TEST_CASE("fused bars: different creatures in lanes of different terrains, one w
     if (k == 2) models.push_back(&plain);
   }
   constexpr long long kFrames = 1200; // they fall onto their platforms and walk on
-  std::vector<soda::State> states;
-  for (std::size_t k = 0; k < models.size(); ++k) {
-    states.push_back(soda::make_state(*models[k]));
-    if (k % 2 == 1) states.back().jitter = {100 + k, 0.02};
-  }
-  soda::FusedScene scene(models, kFrames);
-  std::vector<soda::State*> pointers;
-  for (soda::State& s : states) pointers.push_back(&s);
-  // Stepped 20 frames at a time, noting which creatures a bar remembered meanwhile.
-  std::vector<bool> on_bars(models.size(), false);
-  const std::string diff = compare_in_pieces(models, states, kFrames, [&](long long n) {
-    for (long long done = 0; done < n; done += 20) {
-      scene.run(pointers.data(), std::min(20LL, n - done));
-      for (std::size_t k = 0; k < states.size(); ++k) on_bars[k] = on_bars[k] || !states[k].bar_memory.contacts.empty();
+  // Every instruction set this CPU has: lanes of 2, 4 and 8 masses map differently.
+  for (const soda::SimdLevel level : {soda::SimdLevel::Sse2, soda::SimdLevel::Avx2, soda::SimdLevel::Avx512}) {
+    if (!soda::simd_level_supported(level)) continue;
+    INFO("SIMD level " << static_cast<int>(level));
+    std::vector<soda::State> states;
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      states.push_back(soda::make_state(*models[k]));
+      if (k % 2 == 1) states.back().jitter = {100 + k, 0.02};
     }
-  });
-  INFO(diff);
-  CHECK(diff.empty());
-  // The bars acted: a bar remembered every lane's creature at some time.
-  for (std::size_t k = 0; k < models.size(); ++k) {
-    INFO("entry " << k);
-    CHECK(on_bars[k] == (models[k] != &plain));
+    soda::FastStepOptions options;
+    options.simd = level;
+    soda::FusedScene scene(models, kFrames, options);
+    std::vector<soda::State*> pointers;
+    for (soda::State& s : states) pointers.push_back(&s);
+    // Stepped 20 frames at a time, noting which creatures a bar remembered meanwhile.
+    std::vector<bool> on_bars(models.size(), false);
+    const std::string diff = compare_in_pieces(models, states, kFrames, [&](long long n) {
+      for (long long done = 0; done < n; done += 20) {
+        scene.run(pointers.data(), std::min(20LL, n - done));
+        for (std::size_t k = 0; k < states.size(); ++k) {
+          on_bars[k] = on_bars[k] || !states[k].bar_memory.contacts.empty();
+        }
+      }
+    });
+    INFO(diff);
+    CHECK(diff.empty());
+    // The bars acted: a bar remembered every lane's creature at some time.
+    for (std::size_t k = 0; k < models.size(); ++k) {
+      INFO("entry " << k);
+      CHECK(on_bars[k] == (models[k] != &plain));
+    }
+    CHECK(scene.bar_rules_run() > 100 * static_cast<long long>(lanes.size()));
   }
-  CHECK(scene.bar_rules_run() > 100 * static_cast<long long>(lanes.size()));
 }
 
 TEST_CASE("fused bars: BatchStepper fuses models with bars, apart from those without", "[fused_bars][batch_step]") {
@@ -118,6 +128,7 @@ TEST_CASE("fused bars: races of different contenders run together give run_race_
   for (std::size_t k = 0; k < lanes.size(); ++k) {
     alone.push_back(soda::make_state(lanes[k].model));
     if (k >= 4) alone.back().jitter = {7 + k, 0.05};
+    if (k == 2) soda::run(lanes[k].model, alone.back(), 60); // partway: it goes on from update 60
     together.push_back(alone.back());
   }
   std::vector<soda::RaceOutcome> expected;
@@ -176,6 +187,39 @@ TEST_CASE("fused bars: run_until stops each creature at its own frame and can ha
     CHECK(done[c] == (c <= 3 ? 100 + 90 * static_cast<long long>(c) : 370));
     CHECK(states[c].frame == done[c]);
     if (c <= 3) CHECK(compare_states(*models[c], expected[c], states[c]).empty());
+  }
+  // Parked creatures took no bar rules: a twin scene that runs all six to frame
+  // 370 runs more of them.
+  {
+    std::vector<soda::State> twin_states;
+    std::vector<soda::State*> twin;
+    for (const soda::Model* m : models) twin_states.push_back(soda::make_state(*m));
+    for (soda::State& s : twin_states) twin.push_back(&s);
+    soda::FusedScene unparked(models, kFrames);
+    unparked.run(twin.data(), 370);
+    CHECK(scene.bar_rules_run() < unparked.bar_rules_run());
+  }
+  // The scene runs other states after parking (every creature's bar rules again),
+  // then all of them stopping on their first frame.
+  {
+    std::vector<soda::State> fresh, reference;
+    std::vector<soda::State*> fresh_pointers;
+    for (const soda::Model* m : models) fresh.push_back(soda::make_state(*m));
+    reference = fresh;
+    for (soda::State& s : fresh) fresh_pointers.push_back(&s);
+    scene.run(fresh_pointers.data(), 200);
+    for (std::size_t c = 0; c < n; ++c) {
+      soda::run(*models[c], reference[c], 200);
+      INFO("creature " << c << " after parking");
+      CHECK(compare_states(*models[c], reference[c], fresh[c]).empty());
+    }
+    const auto at_once = [](int, double, double) { return true; };
+    CHECK(scene.run_until(fresh_pointers.data(), kFrames, at_once, done, stopped) == 1);
+    CHECK(done == std::vector<long long>(n, 1));
+    for (std::size_t c = 0; c < n; ++c) {
+      soda::run(*models[c], reference[c], 1);
+      CHECK(compare_states(*models[c], reference[c], fresh[c]).empty());
+    }
   }
   // The rest go on in a scene of their own, to the end.
   std::vector<const soda::Model*> rest = {models[4], models[5]};

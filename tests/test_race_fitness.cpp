@@ -555,6 +555,43 @@ TEST_CASE("race problem: replicas raced together give each replica's race alone,
   }
 }
 
+// Issue 27: a batch of different creatures races together in fused lanes
+// (run_races_fused), among them a creature's replicas in lockstep lanes and a
+// creature whose lane cannot be built; each run's evaluation is the one it gets alone.
+TEST_CASE("race problem: different creatures raced together give each run's race alone, bit for bit",
+          "[race][fused_bars]") {
+  RunConfig config = race_config({"TerrainFlat", "TerrainHilly"}, 500);
+  config.limits.min_masses = 2; // the slug has 2, the GA racer 60
+  config.limits.max_masses = 60;
+  config.limits.max_links = 400;
+  const RaceProblem problem(config);
+  const soda::ModelDef walker = problem.prepare(dainty_walker());
+  const soda::ModelDef racer = problem.prepare(soda::read_model_file(models_dir() / "wodka_ga109.xml").def);
+  const soda::ModelDef slug = problem.prepare(soda::read_model_file(models_dir() / "carefulslug.xml").def);
+  soda::ModelDef unlinked = walker; // no spring or muscle between masses: no lane
+  unlinked.links.clear();
+  std::vector<Rollout> runs;
+  for (std::uint64_t seed = 0; seed < 8; ++seed) { // 8 replicas of the walker: lockstep lanes
+    runs.emplace_back(&walker, soda::SineJitter{seed, 0.2});
+    if (seed % 3 == 0) runs.emplace_back(&racer, soda::SineJitter{seed, 0.2});
+    if (seed == 4) runs.emplace_back(&unlinked, soda::SineJitter{});
+    if (seed == 5) runs.emplace_back(&slug, soda::SineJitter{});
+  }
+  const std::vector<Evaluation> together = problem.rollouts(runs);
+  REQUIRE(together.size() == runs.size());
+  int ok = 0;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const std::vector<Evaluation> alone = problem.rollouts({runs[i]});
+    INFO("run " << i);
+    CHECK(together[i].status == alone[0].status);
+    CHECK(together[i].reason == alone[0].reason);
+    CHECK(same_bits(together[i].distance, alone[0].distance));
+    CHECK(same_bits(together[i].fitness, alone[0].fitness));
+    ok += alone[0].ok() ? 1 : 0;
+  }
+  CHECK(ok == static_cast<int>(runs.size()) - 1); // all but the one without a lane
+}
+
 TEST_CASE("run_races_fast: each replica's result and final state as run_race_fast's, bar memory included",
           "[race][lockstep]") {
   const soda::RaceDef race = soda::read_race_file(terrain("TerrainHilly"));

@@ -164,46 +164,57 @@ long long FusedScene::run_until(State* const* states, long long frames, const St
   std::vector<State> parked;
   int running = static_cast<int>(n);
   long long f = 0;
-  while (f < frames && running > 0 && running >= min_running) {
-    if (k.ordered) {
-      s.ordered_frame(*states[0]);
-    } else {
-      one_frame(s, states, 1);
-    }
-    ++f;
+  // Every state as after the frames it ran: the running ones after f, the stopped
+  // ones as parked (also when `stop` throws: the states are then left there).
+  const auto finish = [&] {
+    s.store_state(states);
     for (std::size_t c = 0; c < n; ++c) {
-      if (stopped[c]) continue;
-      const SceneData::Creature& cr = s.creatures[c];
-      const int masses = cr.model->mass_count;
-      const std::vector<int>& work = cr.work_of_point;
-      const auto [lo, hi] =
-          x_extent(std::max(masses, 1), [&](int p) { return masses > 0 ? s.px(work[static_cast<std::size_t>(p)]) : 0.0; });
-      if (!stop(static_cast<int>(c), lo, hi)) continue;
-      if (parked.empty()) parked.resize(n);
-      parked[c] = *states[c];
-      for (int p = 0; p < masses; ++p) {
-        const int w = work[static_cast<std::size_t>(p)];
-        parked[c].x[p] = s.px(w);
-        parked[c].y[p] = s.py(w);
-        parked[c].vx[p] = s.pvx(w);
-        parked[c].vy[p] = s.pvy(w);
+      if (stopped[c]) {
+        *states[c] = std::move(parked[c]);
+      } else {
+        states[c]->frame += f;
+        done[c] = f;
       }
-      parked[c].frame += f;
-      done[c] = f;
-      stopped[c] = true;
-      s.park(static_cast<int>(c));
-      --running;
     }
-  }
-  s.store_state(states);
-  for (std::size_t c = 0; c < n; ++c) {
-    if (stopped[c]) {
-      *states[c] = std::move(parked[c]);
-    } else {
-      states[c]->frame += f;
-      done[c] = f;
+  };
+  try {
+    while (f < frames && running > 0 && running >= min_running) {
+      if (k.ordered) {
+        s.ordered_frame(*states[0]);
+      } else {
+        one_frame(s, states, 1);
+      }
+      ++f;
+      for (std::size_t c = 0; c < n; ++c) {
+        if (stopped[c]) continue;
+        const SceneData::Creature& cr = s.creatures[c];
+        const int masses = cr.model->mass_count;
+        const std::vector<int>& work = cr.work_of_point;
+        const auto [lo, hi] = x_extent(std::max(masses, 1), [&](int p) {
+          return masses > 0 ? s.px(work[static_cast<std::size_t>(p)]) : 0.0;
+        });
+        if (!stop(static_cast<int>(c), lo, hi)) continue;
+        if (parked.empty()) parked.resize(n);
+        parked[c] = *states[c];
+        for (int p = 0; p < masses; ++p) {
+          const int w = work[static_cast<std::size_t>(p)];
+          parked[c].x[p] = s.px(w);
+          parked[c].y[p] = s.py(w);
+          parked[c].vx[p] = s.pvx(w);
+          parked[c].vy[p] = s.pvy(w);
+        }
+        parked[c].frame += f;
+        done[c] = f;
+        stopped[c] = true;
+        s.park(static_cast<int>(c));
+        --running;
+      }
     }
+  } catch (...) {
+    finish();
+    throw;
   }
+  finish();
   return f;
 }
 

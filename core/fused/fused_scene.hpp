@@ -75,6 +75,8 @@ class FusedScene {
   /// stopped. With min_running > 0 it returns as soon as fewer than that are still
   /// running (the caller may go on with a smaller scene of the rest: a stopped
   /// creature's masses are still stepped, without their bar rules, their results dropped).
+  /// If `stop` throws, every state is left as after the frames it ran, and the
+  /// exception goes on.
   long long run_until(State* const* states, long long frames, const StopFn& stop, std::vector<long long>& done,
                       std::vector<bool>& stopped, int min_running = 0);
 
