@@ -14,13 +14,12 @@ namespace soda::fused {
 // on the pair arrays, with its state's bar memory.
 void SceneData::collide_with_bars(State& s, int c, int p, int i, const MassMove& move) {
   ++bar_rules_run;
-  const Model& m = *creatures[static_cast<std::size_t>(c)].model;
+  const Creature& cr = creatures[static_cast<std::size_t>(c)];
   MassMove clamped = move;
   clamped.x = px(i);
   clamped.y = py(i);
   MassEnd end;
-  const Surface surface{m.surface_friction, m.surface_reflection, m.width, m.height};
-  if (!collide_with_fixed_bars(m.fixed_bars, s.bar_memory, p, clamped, surface, end)) return;
+  if (!collide_with_fixed_bars(cr.model->fixed_bars, s.bar_memory, p, clamped, cr.bar_surface, end)) return;
   px(i) = end.x;
   py(i) = end.y;
   pvx(i) = end.vx;

@@ -339,7 +339,9 @@ void SceneData::place_bars() {
   };
   for (int i = 0; i < padded_masses; ++i) set_tile(i, {-inf, inf, inf, -inf, inf, -inf});
   for (std::size_t c = 0; c < creatures.size(); ++c) {
-    const Creature& cr = creatures[c];
+    Creature& cr = creatures[c];
+    const Model& m = *cr.model;
+    cr.bar_surface = Surface{m.surface_friction, m.surface_reflection, m.width, m.height};
     const bool with_bars = !cr.model->fixed_bars.empty();
     for (int p = 0; p < cr.model->mass_count; ++p) {
       const int i = cr.work_of_point[static_cast<std::size_t>(p)];

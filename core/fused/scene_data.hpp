@@ -77,6 +77,7 @@ struct SceneData {
     WaveDirection rows_mode = WaveDirection::Forward; ///< the direction its rows assume
     std::uint64_t targets_phase_bits = 0;             ///< the phase its targets are for
     SineJitter jitter; ///< the sine jitter its rows and targets were made with (run sets it)
+    Surface bar_surface; ///< what its bars respond with (its surface and container), for collide_with_fixed_bars
   };
   std::vector<Creature> creatures;
   bool any_wave = false, any_gravity = false;
@@ -236,8 +237,8 @@ struct SceneData {
   void keep_tile(int i, double x); ///< mass i (working) takes the tile of x
   /// Where mass i's (working) first tile value sits in mass_tile (the next at + W...).
   [[nodiscard]] std::size_t tile_at(int i) const {
-    const int base = i - i % W;
-    const int j = i - base;
+    const int j = i & (W - 1); // W is 2, 4 or 8 (no division on the bar rules' path)
+    const int base = i - j;
     const int lane = j < W / 2 ? 2 * j : 2 * (j - W / 2) + 1; // kLaneLink inverted
     return kTileValues * static_cast<std::size_t>(base) + static_cast<std::size_t>(lane);
   }
