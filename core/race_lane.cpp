@@ -186,12 +186,16 @@ Model build_lane_model(const RaceLane& lane) {
   return model;
 }
 
+bool passed_finish(const RaceLane& lane, double min_x) {
+  return static_cast<double>(java_int(min_x)) > lane.finish_x + 6.0;
+}
+
 bool race_ends(const RaceLane& lane, int timeout, long long updates, double min_x, double max_x,
                RaceOutcome& out) {
   const int left = java_int(min_x);
   const int right = java_int(max_x);
   out.updates = updates;
-  if (static_cast<double>(left) > lane.finish_x + 6.0) {
+  if (passed_finish(lane, min_x)) {
     out.result = static_cast<double>(updates - 2);
     out.finished = true;
     return true;
@@ -241,19 +245,26 @@ RaceOutcome run_race(const RaceLane& lane, const Model& model, int timeout,
   racer_limit();
 }
 
-RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout, State& state) {
+RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout, State& state, long long every,
+                          const std::function<void(const State&)>& observe) {
   RaceOutcome out;
   // The timeout ends the race at update timeout + 3; the finish is watched after
   // every frame inside the stepper (same extremes as ends_after takes). A state
   // partway through its race goes on from its update state.frame.
   const long long left = std::max(0LL, last_update(timeout) - state.frame);
   FastStepper stepper(model, left);
-  stepper.run_until(state, left, [&](double min_x, double max_x) {
-    RaceOutcome ignored;
-    return race_ends(lane, timeout, 0, min_x, max_x, ignored) && ignored.finished;
-  });
-  if (ends_after(lane, model, timeout, state.frame, state, out)) return out;
-  racer_limit();
+  const auto finished = [&](double min_x, double) { return passed_finish(lane, min_x); };
+  if (every <= 0 || !observe) {
+    stepper.run_until(state, left, finished);
+    if (ends_after(lane, model, timeout, state.frame, state, out)) return out;
+    racer_limit();
+  }
+  for (long long done = 0;;) { // in chunks, observed after each
+    done += stepper.run_until(state, std::min(every, left - done), finished);
+    observe(state);
+    if (ends_after(lane, model, timeout, state.frame, state, out)) return out;
+    if (done >= left) racer_limit();
+  }
 }
 
 std::vector<RaceOutcome> run_races_fast(const RaceLane& lane, const Model& model, int timeout,
@@ -269,10 +280,7 @@ std::vector<RaceOutcome> run_races_fast(const RaceLane& lane, const Model& model
   if (lockstep) {
     LockstepBatch batch(std::vector<const Model*>(static_cast<std::size_t>(share), &model));
     std::vector<long long> done;
-    batch.run_until(states.data(), last, [&](int, double min_x, double max_x) {
-      RaceOutcome ignored;
-      return race_ends(lane, timeout, 0, min_x, max_x, ignored) && ignored.finished;
-    }, done);
+    batch.run_until(states.data(), last, [&](int, double min_x, double) { return passed_finish(lane, min_x); }, done);
     for (int c = 0; c < share; ++c) {
       if (!ends_after(lane, model, timeout, done[static_cast<std::size_t>(c)], *states[static_cast<std::size_t>(c)],
                       out[static_cast<std::size_t>(c)])) {
@@ -312,13 +320,10 @@ void race_group_fused(const std::vector<LaneRace>& races, const std::vector<std:
     }
     FusedScene scene(models, longest);
     // stop(c) is called once per frame while c runs: calls[c] counts its frames here.
-    const auto stop = [&](int c, double min_x, double max_x) {
+    const auto stop = [&](int c, double min_x, double) {
       const std::size_t k = static_cast<std::size_t>(c);
       const LaneRace& race = races[active[k]];
-      const long long u = start[k] + ++calls[k];
-      RaceOutcome ignored;
-      return u >= last_update(race.timeout) ||
-             (race_ends(*race.lane, race.timeout, 0, min_x, max_x, ignored) && ignored.finished);
+      return start[k] + ++calls[k] >= last_update(race.timeout) || passed_finish(*race.lane, min_x);
     };
     std::vector<long long> done;
     std::vector<bool> stopped;

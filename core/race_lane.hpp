@@ -45,6 +45,10 @@ struct RaceOutcome {
 /// Java's (int) of a double: truncation toward zero, NaN to 0, saturated.
 int java_int(double v);
 
+/// The racer's finish rule (spec 3.2): the contender's least x, as Java's (int),
+/// is past the finish node's x + 6.
+bool passed_finish(const RaceLane& lane, double min_x);
+
 /// The race result after update `updates` if the race ends there (spec 3.2), given
 /// the contender's min and max x. Finish first: (int)min x > finish.x + 6 gives
 /// updates - 2; else updates - 2 > timeout gives (float)(timeout + fraction).
@@ -59,8 +63,11 @@ RaceOutcome run_race(const RaceLane& lane, const Model& model, int timeout,
 /// jitter) until the race ends, with the same result and final state as run_race
 /// (the reference step) gives that state: the fast stepper, the finish watched
 /// after every frame (FastStepper::run_until). A state partway through its race
-/// (state.frame updates run) goes on from there.
-RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout, State& state);
+/// (state.frame updates run) goes on from there. With `every` > 0 and `observe`,
+/// `observe` sees the state after every `every` frames and after the last one (the
+/// same result and final state).
+RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout, State& state, long long every = 0,
+                          const std::function<void(const State&)>& observe = {});
 
 /// run_race_fast for each of `states` (fresh states of `model`: race replicas, each
 /// with its own sine jitter), the same results and final states, bit for bit: the

@@ -57,35 +57,6 @@ bool evolves(const WorldConfig& world, const char* name) {
   return std::find(world.evolve.begin(), world.evolve.end(), name) != world.evolve.end();
 }
 
-/// run_race_fast in chunks of `every` frames, `meter` observing the state after
-/// each chunk and after the last frame. The finish is watched after every frame as
-/// in one run, and the chunks' ends are checked with the same rule, so the result
-/// and the final state are run_race_fast's.
-soda::RaceOutcome race_described(const soda::RaceLane& lane, const soda::Model& model, int timeout, long long every,
-                                 soda::State& state, DescriptorMeter& meter) {
-  constexpr long long kUpdateLimit = 50000; // the racer's (core/race_lane.cpp)
-  const long long last = std::min<long long>(kUpdateLimit, static_cast<long long>(timeout) + 3);
-  soda::FastStepper stepper(model, last);
-  const auto finished = [&](double min_x, double max_x) {
-    soda::RaceOutcome ignored;
-    return soda::race_ends(lane, timeout, 0, min_x, max_x, ignored) && ignored.finished;
-  };
-  long long u = 0;
-  for (;;) {
-    const long long chunk = std::min(every, last - u);
-    u += stepper.run_until(state, chunk, finished);
-    meter.observe(state);
-    double min_x = state.x[0], max_x = state.x[0];
-    for (int i = 1; i < model.mass_count; ++i) {
-      min_x = std::min(min_x, state.x[static_cast<std::size_t>(i)]);
-      max_x = std::max(max_x, state.x[static_cast<std::size_t>(i)]);
-    }
-    soda::RaceOutcome out;
-    if (soda::race_ends(lane, timeout, u, min_x, max_x, out)) return out;
-    if (u >= last) throw soda::InputError("race: still in progress after 50000 updates (the racer's limit)");
-  }
-}
-
 /// Runs raced together on each terrain (run_races_fused), and what each gave.
 struct Together {
   std::vector<std::size_t> runs;                        ///< run indices, ascending
@@ -305,8 +276,8 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
           state = std::move(together.states[t][k]);
           o = together.outcomes[t][k];
         } else {
-          o = meter ? race_described(it->lanes[t], model, timeout_of(t), describe_every_, state, *meter)
-                    : soda::run_race_fast(it->lanes[t], model, timeout_of(t), state);
+          o = soda::run_race_fast(it->lanes[t], model, timeout_of(t), state, describe_every_,
+                                  [&](const soda::State& s) { meter->observe(s); });
         }
       } catch (const std::exception& ex) {
         e.status = EvaluationStatus::Diverged;

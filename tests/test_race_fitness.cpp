@@ -592,6 +592,32 @@ TEST_CASE("race problem: different creatures raced together give each run's race
   CHECK(ok == static_cast<int>(runs.size()) - 1); // all but the one without a lane
 }
 
+// MAP-Elites races observe the state every few frames (the descriptors): the race
+// must end where it ends unobserved, also when the finish falls on a chunk's last frame.
+TEST_CASE("run_race_fast observed in chunks ends as unobserved, the finish on a chunk's end included", "[race]") {
+  const soda::RaceDef race = soda::read_race_file(terrain("TerrainFlat"));
+  const soda::RaceLane lane = soda::build_lane(race.terrain, race.constraints,
+                                               soda::read_model_file(models_dir() / "wodka_ga109.xml").def, "racer");
+  const soda::Model model = soda::build_lane_model(lane);
+  soda::State plain = soda::make_state(model);
+  const soda::RaceOutcome expected = soda::run_race_fast(lane, model, 2000, plain);
+  REQUIRE(expected.finished);
+  for (const long long every : {1LL, 7LL, expected.updates - 1, expected.updates, expected.updates + 5}) {
+    INFO("every " << every);
+    soda::State state = soda::make_state(model);
+    long long seen = 0, last_seen = -1;
+    const soda::RaceOutcome o = soda::run_race_fast(lane, model, 2000, state, every, [&](const soda::State& s) {
+      ++seen;
+      last_seen = s.frame;
+    });
+    CHECK(same_bits(o.result, expected.result));
+    CHECK(o.updates == expected.updates);
+    CHECK(compare_states(model, plain, state).empty());
+    CHECK(seen == (expected.updates + every - 1) / every);
+    CHECK(last_seen == expected.updates);
+  }
+}
+
 TEST_CASE("run_races_fast: each replica's result and final state as run_race_fast's, bar memory included",
           "[race][lockstep]") {
   const soda::RaceDef race = soda::read_race_file(terrain("TerrainHilly"));
