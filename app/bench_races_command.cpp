@@ -55,7 +55,7 @@ void run_bench_races(const BenchRacesOptions& opt) {
         "FastStepper each), %.2fM fused (BatchStepper: different creatures with their bars in one scene), "
         "**%.2fx**. The same lane models without their bars: %.2fM one by one, %.2fM fused (%.2fx); fused lanes "
         "against fused floors: **%.2fx**. Their races (timeout 10,000, %lld updates in all): %.3f s one by one "
-        "(run_race_fast), %.3f s together (run_races_fused), **%.2fx**.\n\n"
+        "(run_race_fast), %.3f s together (run_races_together), **%.2fx**.\n\n"
         "Why fusing gains little here: fusing shares the SIMD batches of the links and masses and the frame's "
         "overhead, but not the bar rules, which run mass by mass on their own arithmetic and are most of a "
         "lane-frame's time (above).\n",

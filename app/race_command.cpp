@@ -168,7 +168,7 @@ void run_race_command(const RaceOptions& opt) {
     for (const soda::Model& m : models) states.push_back(soda::make_state(m));
     std::vector<soda::LaneRace> races;
     for (std::size_t k = 0; k < entries.size(); ++k) races.push_back({&lanes[k], &models[k], timeout, &states[k]});
-    const std::vector<soda::RaceOutcome> outcomes = soda::run_races_fused(races);
+    const std::vector<soda::RaceOutcome> outcomes = soda::run_races_together(races);
     for (std::size_t k = 0; k < entries.size(); ++k) entries[k].outcome = outcomes[k];
   }
   for (std::size_t k = 0; k < entries.size(); ++k) {

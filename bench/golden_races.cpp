@@ -227,7 +227,7 @@ FusedLaneSpeed measure_fused_lanes(const fs::path& race_file, const fs::path& co
               }));
     std::vector<soda::LaneRace> races;
     for (std::size_t k = 0; k < lanes.size(); ++k) races.push_back({&lanes[k], &with_bars[k], race.timeout, &together[k]});
-    best_time(out.races_fused_s, seconds_of([&] { soda::run_races_fused(races); }));
+    best_time(out.races_fused_s, seconds_of([&] { soda::run_races_together(races); }));
     out.race_frames = updates;
   }
   return out;

@@ -54,7 +54,7 @@ LaneSpeed measure_lane_speed(const std::filesystem::path& race_file, const std::
 /// Fused lanes: the contenders in `contenders_dir`, each in its own lane of
 /// `race_file`, stepped one by one (a FastStepper each) and together (BatchStepper:
 /// fused scenes), with the lanes' bars and without them; and their races, one by one
-/// (run_race_fast) and together (run_races_fused). Each figure the best of
+/// (run_race_fast) and together (run_races_together). Each figure the best of
 /// `repeats` alternated runs.
 struct FusedLaneSpeed {
   int lanes = 0;

@@ -90,7 +90,7 @@ inline bool starts_new_scene(int scene_links, int links) { return scene_links + 
 /// Consecutive batches of at most `max_models` models (links[i]: model i's links),
 /// cut where BatchStepper starts a new fused scene anyway (for models alike in
 /// having fixed bars or not: BatchStepper packs those with bars apart, and
-/// run_races_fused, whose lanes all have bars, cuts its scenes by this too). Returns each batch's
+/// run_races_together, whose lanes all have bars, cuts its scenes by this too). Returns each batch's
 /// end index. Why: a work item for a thread pool should be as small as fusing
 /// allows; a batch of 16 mixed creatures holds several scenes run one after the
 /// other, and 12 such batches on 2 threads leave one thread idle for up to a

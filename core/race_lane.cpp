@@ -227,6 +227,15 @@ bool ends_after(const RaceLane& lane, const Model& model, int timeout, long long
 /// The update that ends a race of `timeout` at the latest (the timeout's, or the racer's limit).
 long long last_update(int timeout) { return std::min<long long>(kRacerUpdateLimit, static_cast<long long>(timeout) + 3); }
 
+/// Whether races of `model` can run in lockstep lanes: the CPU has them, the model
+/// fits them, and the timeout ends every race by update timeout + 3 (else the
+/// racer's limit may come first: then one by one, run_race_fast throwing for the
+/// state it reaches).
+bool races_in_lockstep(const Model& model, int timeout) {
+  return LockstepBatch::usable() && LockstepBatch::can_take(model) &&
+         static_cast<long long>(timeout) + 3 <= kRacerUpdateLimit;
+}
+
 [[noreturn]] void racer_limit() {
   throw InputError("race: still in progress after 50000 updates (the racer's limit)");
 }
@@ -272,10 +281,7 @@ std::vector<RaceOutcome> run_races_fast(const RaceLane& lane, const Model& model
   const long long last = last_update(timeout);
   std::vector<RaceOutcome> out(states.size());
   const int share = lockstep_share(static_cast<int>(states.size()));
-  // The timeout ends every race by update `last` unless the racer's limit comes
-  // first: then one by one (run_race_fast throws for the state it reaches).
-  const bool lockstep = share > 0 && LockstepBatch::usable() && LockstepBatch::can_take(model) &&
-                        static_cast<long long>(timeout) + 3 <= kRacerUpdateLimit;
+  const bool lockstep = share > 0 && races_in_lockstep(model, timeout);
   std::size_t first_alone = 0;
   if (lockstep) {
     LockstepBatch batch(std::vector<const Model*>(static_cast<std::size_t>(share), &model));
@@ -295,7 +301,7 @@ std::vector<RaceOutcome> run_races_fast(const RaceLane& lane, const Model& model
 
 namespace {
 
-/// run_races_fused for races[group], the ones that can go on (update limit and
+/// run_races_together for races[group], the ones that can go on (update limit and
 /// state allow) in fused scenes while two or more run; sets their outcomes and
 /// marks them decided.
 void race_group_fused(const std::vector<LaneRace>& races, const std::vector<std::size_t>& group,
@@ -351,17 +357,49 @@ void race_group_fused(const std::vector<LaneRace>& races, const std::vector<std:
 
 } // namespace
 
-std::vector<RaceOutcome> run_races_fused(const std::vector<LaneRace>& races) {
+std::vector<RaceOutcome> run_races_together(const std::vector<LaneRace>& races) {
   std::vector<RaceOutcome> out(races.size());
   std::vector<bool> decided(races.size(), false);
-  // Scenes of at most kMaxFusedLinks links, as BatchStepper packs them.
+  // Replicas: fresh states of one lane model (the same lane, model and timeout), in
+  // lockstep lanes by whole groups (run_races_fast), as BatchStepper takes them.
+  std::vector<std::vector<std::size_t>> replicas;
+  for (std::size_t r = 0; r < races.size(); ++r) {
+    if (races[r].state->frame != 0) continue;
+    auto same = std::find_if(replicas.begin(), replicas.end(), [&](const std::vector<std::size_t>& g) {
+      const LaneRace& a = races[g[0]];
+      return a.lane == races[r].lane && a.model == races[r].model && a.timeout == races[r].timeout;
+    });
+    if (same == replicas.end()) {
+      replicas.push_back({r});
+    } else {
+      same->push_back(r);
+    }
+  }
+  for (std::vector<std::size_t>& group : replicas) {
+    const LaneRace& first = races[group[0]];
+    group.resize(static_cast<std::size_t>(lockstep_share(static_cast<int>(group.size()))));
+    if (group.empty() || !races_in_lockstep(*first.model, first.timeout)) continue;
+    std::vector<State*> states;
+    for (std::size_t r : group) states.push_back(races[r].state);
+    const std::vector<RaceOutcome> raced = run_races_fast(*first.lane, *first.model, first.timeout, states);
+    for (std::size_t k = 0; k < group.size(); ++k) {
+      out[group[k]] = raced[k];
+      decided[group[k]] = true;
+    }
+  }
+  // The others in fused scenes of at most kMaxFusedLinks links, as BatchStepper packs them.
+  std::vector<std::size_t> rest;
   std::vector<int> links;
-  for (const LaneRace& race : races) links.push_back(race.model->link_count());
+  for (std::size_t r = 0; r < races.size(); ++r) {
+    if (decided[r]) continue;
+    rest.push_back(r);
+    links.push_back(races[r].model->link_count());
+  }
   std::size_t first = 0;
-  for (std::size_t end : fused_batch_ends(links, races.size())) {
-    std::vector<std::size_t> group;
-    for (std::size_t r = first; r < end; ++r) group.push_back(r);
-    race_group_fused(races, group, out, decided);
+  for (std::size_t end : fused_batch_ends(links, rest.size())) {
+    race_group_fused(races, std::vector<std::size_t>(rest.begin() + static_cast<std::ptrdiff_t>(first),
+                                                     rest.begin() + static_cast<std::ptrdiff_t>(end)),
+                     out, decided);
     first = end;
   }
   for (std::size_t r = 0; r < races.size(); ++r) { // the last of a group, or past the racer's limit

@@ -76,7 +76,7 @@ RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout,
 std::vector<RaceOutcome> run_races_fast(const RaceLane& lane, const Model& model, int timeout,
                                         const std::vector<State*>& states);
 
-/// One race of run_races_fused: a contender's lane, the lane's model, the
+/// One race of run_races_together: a contender's lane, the lane's model, the
 /// timeout, and a fresh state of the model (possibly with sine jitter).
 struct LaneRace {
   const RaceLane* lane = nullptr;
@@ -85,11 +85,13 @@ struct LaneRace {
   State* state = nullptr;
 };
 
-/// run_race_fast for each race, the same results and final states, bit for bit:
-/// different contenders (each its own lane model, on any terrains) raced together
-/// in one fused scene (fused_scene.hpp), each stopping at its own finish or
-/// timeout. When fewer than three quarters are still running, the rest go on in a
-/// smaller scene; the last one alone.
-std::vector<RaceOutcome> run_races_fused(const std::vector<LaneRace>& races);
+/// run_race_fast for each race, the same results and final states, bit for bit,
+/// the races run together: replicas (fresh states of one lane model: the same lane,
+/// model and timeout) in lockstep lanes by whole groups where the CPU has AVX-512
+/// (run_races_fast), the others, different contenders on any terrains, in fused
+/// scenes (fused_scene.hpp), each stopping at its own finish or timeout. When fewer
+/// than three quarters of a scene are still running, the rest go on in a smaller
+/// scene; the last one alone.
+std::vector<RaceOutcome> run_races_together(const std::vector<LaneRace>& races);
 
 } // namespace soda

@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <exception>
 #include <filesystem>
-#include <map>
 #include <optional>
 #include <utility>
 
@@ -57,7 +56,7 @@ bool evolves(const WorldConfig& world, const char* name) {
   return std::find(world.evolve.begin(), world.evolve.end(), name) != world.evolve.end();
 }
 
-/// Runs raced together on each terrain (run_races_fused), and what each gave.
+/// Runs raced together on each terrain (run_races_together), and what each gave.
 struct Together {
   std::vector<std::size_t> runs;                        ///< run indices, ascending
   std::vector<std::vector<soda::State>> states;         ///< [terrain][k] final state of runs[k]
@@ -81,7 +80,7 @@ bool race_together(const std::vector<Rollout>& runs,
       for (std::size_t k = 0; k < together.runs.size(); ++k) {
         races.push_back({&(*lanes[k].first)[t], &(*lanes[k].second)[t], timeouts[t], &states[k]});
       }
-      together.outcomes.push_back(soda::run_races_fused(races));
+      together.outcomes.push_back(soda::run_races_together(races));
       together.states.push_back(std::move(states));
     }
   } catch (const std::exception&) {
@@ -160,35 +159,6 @@ soda::ModelDef RaceProblem::prepare(const soda::ModelDef& creature) const {
   return m;
 }
 
-// The replicas `replicas` (run indices, one prepared model) raced together on
-// every terrain (run_races_fast: the same outcomes and final states as one by
-// one). Nothing is kept if a race throws: each replica then races alone, where
-// the error is reported for the one it concerns.
-void RaceProblem::race_replicas(const std::vector<soda::RaceLane>& lanes, const std::vector<soda::Model>& models,
-                                const std::vector<Rollout>& runs, const std::vector<std::size_t>& replicas,
-                                std::vector<std::vector<soda::State>>& states,
-                                std::vector<std::vector<soda::RaceOutcome>>& outcomes,
-                                std::map<std::size_t, std::size_t>& replica_of_run) const {
-  try {
-    for (std::size_t t = 0; t < lanes.size(); ++t) {
-      std::vector<soda::State> raced;
-      for (std::size_t run : replicas) {
-        raced.push_back(soda::make_state(models[t]));
-        raced.back().jitter = runs[run].jitter;
-      }
-      std::vector<soda::State*> pointers;
-      for (soda::State& s : raced) pointers.push_back(&s);
-      outcomes.push_back(soda::run_races_fast(lanes[t], models[t], timeout_of(t), pointers));
-      states.push_back(std::move(raced));
-    }
-  } catch (const std::exception&) {
-    states.clear();
-    outcomes.clear();
-    return;
-  }
-  for (std::size_t k = 0; k < replicas.size(); ++k) replica_of_run[replicas[k]] = k;
-}
-
 std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) const {
   std::vector<Evaluation> results(runs.size());
   // The lanes and their models of each distinct prepared model (replicas share them).
@@ -197,13 +167,6 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
     std::vector<soda::RaceLane> lanes;
     std::vector<soda::Model> models;
     std::string error;
-    // Its replicas raced together (run_races_fast: lockstep lanes), when there are
-    // enough of them and no descriptors are measured: run index -> replica k, and
-    // per terrain each replica's final state and outcome.
-    std::map<std::size_t, std::size_t> replica_of_run;
-    std::vector<std::vector<soda::State>> raced_states;
-    std::vector<std::vector<soda::RaceOutcome>> raced;
-    bool race_failed = false; ///< racing its replicas together threw
   };
   std::vector<Lanes> built;
   std::vector<std::size_t> lanes_of_run(runs.size());
@@ -220,33 +183,25 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
       } catch (const std::exception& ex) {
         l.error = ex.what();
       }
-      std::vector<std::size_t> replicas;
-      for (std::size_t j = i; j < runs.size(); ++j) {
-        if (runs[j].prepared == l.prepared) replicas.push_back(j);
-      }
-      if (l.error.empty() && describe_every_ == 0 && soda::lockstep_share(static_cast<int>(replicas.size())) > 0) {
-        race_replicas(l.lanes, l.models, runs, replicas, l.raced_states, l.raced, l.replica_of_run);
-        l.race_failed = l.replica_of_run.empty(); // a race threw: its replicas race alone
-      }
       built.push_back(std::move(l));
       it = built.end() - 1;
     }
     lanes_of_run[i] = static_cast<std::size_t>(it - built.begin());
   }
-  // The other runs (other creatures, or too few replicas for lockstep lanes) raced
-  // together, each terrain in fused scenes (run_races_fused: the same outcomes and
-  // final states as one by one), when no descriptors are measured.
+  // The runs whose lanes were built raced together on each terrain
+  // (run_races_together: a creature's replicas in lockstep lanes, the others in
+  // fused scenes; the same outcomes and final states as one by one), when no
+  // descriptors are measured.
   Together together;
   if (describe_every_ == 0) {
     for (std::size_t i = 0; i < runs.size(); ++i) {
-      const Lanes& l = built[lanes_of_run[i]];
-      if (l.error.empty() && !l.race_failed && l.replica_of_run.count(i) == 0) together.runs.push_back(i);
+      if (built[lanes_of_run[i]].error.empty()) together.runs.push_back(i);
     }
     std::vector<std::pair<const std::vector<soda::RaceLane>*, const std::vector<soda::Model>*>> lanes;
     for (std::size_t i : together.runs) lanes.emplace_back(&built[lanes_of_run[i]].lanes, &built[lanes_of_run[i]].models);
     std::vector<int> timeouts;
     for (std::size_t t = 0; t < terrains_.size(); ++t) timeouts.push_back(timeout_of(t));
-    if (together.runs.size() < 2 || !race_together(runs, lanes, timeouts, together)) together = Together{};
+    if (!race_together(runs, lanes, timeouts, together)) together = Together{};
   }
   for (std::size_t i = 0; i < runs.size(); ++i) {
     const auto it = built.begin() + static_cast<std::ptrdiff_t>(lanes_of_run[i]);
@@ -265,13 +220,9 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
       soda::RaceOutcome o;
       std::optional<DescriptorMeter> meter;
       if (describe_every_ > 0) meter.emplace(model);
-      const auto replica = it->replica_of_run.find(i);
       const auto with_others = std::lower_bound(together.runs.begin(), together.runs.end(), i);
       try {
-        if (replica != it->replica_of_run.end()) { // raced with its replicas
-          state = std::move(it->raced_states[t][replica->second]);
-          o = it->raced[t][replica->second];
-        } else if (with_others != together.runs.end() && *with_others == i) { // raced with the others
+        if (with_others != together.runs.end() && *with_others == i) { // raced with the others
           const std::size_t k = static_cast<std::size_t>(with_others - together.runs.begin());
           state = std::move(together.states[t][k]);
           o = together.outcomes[t][k];

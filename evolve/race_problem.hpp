@@ -25,7 +25,6 @@
 #pragma once
 
 #include <cstddef>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -65,7 +64,8 @@ class RaceProblem final : public Problem {
   [[nodiscard]] std::string kind() const override { return "race"; }
   [[nodiscard]] soda::ModelDef prepare(const soda::ModelDef& creature) const override;
   /// Each run on every terrain; the lanes of one prepared model are built once and
-  /// shared by its replicas, each raced with the fast stepper (run_race_fast). A
+  /// shared by its replicas; all race together (run_races_together: the results of
+  /// run_race_fast one by one), or one by one when descriptors are measured. A
   /// lane that cannot be built is Invalid; a non-finite state at the end of a race
   /// is Diverged.
   [[nodiscard]] std::vector<Evaluation> rollouts(const std::vector<Rollout>& runs) const override;
@@ -86,10 +86,6 @@ class RaceProblem final : public Problem {
   [[nodiscard]] RaceProblem with_adaptive_timeout(int frames) const;
 
  private:
-  void race_replicas(const std::vector<soda::RaceLane>& lanes, const std::vector<soda::Model>& models,
-                     const std::vector<Rollout>& runs, const std::vector<std::size_t>& replicas,
-                     std::vector<std::vector<soda::State>>& states, std::vector<std::vector<soda::RaceOutcome>>& outcomes,
-                     std::map<std::size_t, std::size_t>& replica_of_run) const;
   RaceFitnessConfig race_;
   std::vector<RaceTerrain> terrains_;
   WorldConfig world_;

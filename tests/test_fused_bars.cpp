@@ -1,7 +1,7 @@
 // Issue 27: fixed bars in fused scenes. Different creatures, each with its own bars
 // (a race lane's terrain is part of its lane model), stepped in one FusedScene must
 // each equal soda::run of its model alone, bar memory included (compare_states
-// compares it); races of different contenders run together (run_races_fused) must
+// compares it); races of different contenders run together (run_races_together) must
 // give what run_race_fast gives each alone.
 #include <catch2/catch.hpp>
 
@@ -137,7 +137,7 @@ TEST_CASE("fused bars: races of different contenders run together give run_race_
     expected.push_back(soda::run_race_fast(lanes[k].lane, lanes[k].model, timeouts[k], alone[k]));
     races.push_back({&lanes[k].lane, &lanes[k].model, timeouts[k], &together[k]});
   }
-  const std::vector<soda::RaceOutcome> got = soda::run_races_fused(races);
+  const std::vector<soda::RaceOutcome> got = soda::run_races_together(races);
   REQUIRE(got.size() == lanes.size());
   int finished = 0;
   for (std::size_t k = 0; k < lanes.size(); ++k) {

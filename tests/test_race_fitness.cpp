@@ -556,7 +556,7 @@ TEST_CASE("race problem: replicas raced together give each replica's race alone,
 }
 
 // Issue 27: a batch of different creatures races together in fused lanes
-// (run_races_fused), among them a creature's replicas in lockstep lanes and a
+// (run_races_together), among them a creature's replicas in lockstep lanes and a
 // creature whose lane cannot be built; each run's evaluation is the one it gets alone.
 TEST_CASE("race problem: different creatures raced together give each run's race alone, bit for bit",
           "[race][fused_bars]") {
