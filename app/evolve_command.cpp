@@ -269,13 +269,8 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
   } else {
     std::cout << "best         none: no creature could be scored (the reasons are in the saved generations)\n";
   }
-  if (it != checks.end() && it->ok) { // rounded for reading; champions.json keeps every digit
-    const std::string unit = race ? " frames" : " px";
-    const int digits = race ? 1 : 2;
-    std::cout << "             checked on " << it->check.n << " fresh replicas: median " << fixed(it->check.median, digits)
-              << unit << ", 95 % interval [" << fixed(it->check.interval95_low, digits) << ", "
-              << fixed(it->check.interval95_high, digits) << "]" << unit << "; exact engine "
-              << fixed(it->exact_distance, digits) << unit << "\n";
+  if (it != checks.end()) { // rounded for reading; champions.json keeps every digit
+    std::cout << "             " << check_comment(*it, race ? "frames" : "px", race ? 1 : 2) << "\n";
   }
   std::cout << "report       " << default_report_path(store->dir()).string() << "\n"
             << "export with  sodaevo export " << store->dir().string() << " --best 5 --out DIR\n";

@@ -1,5 +1,6 @@
 #include "evolve/replica_check.hpp"
 
+#include <cstdio>
 #include <exception>
 #include <vector>
 
@@ -96,13 +97,17 @@ std::vector<ReplicaCheck> write_run_champions(const std::filesystem::path& run_d
   return checks;
 }
 
-std::string check_comment(const ReplicaCheck& c, const std::string& unit) {
-  using soda::format_double_plain;
+std::string check_comment(const ReplicaCheck& c, const std::string& unit, int digits) {
   if (!c.ok) return "check on fresh replicas failed: " + c.reason;
-  return "checked on " + std::to_string(c.check.n) + " fresh replicas: median " + format_double_plain(c.check.median) +
-         " " + unit + ", 95 % interval [" + format_double_plain(c.check.interval95_low) + ", " +
-         format_double_plain(c.check.interval95_high) + "] " + unit + " (exact engine " +
-         format_double_plain(c.exact_distance) + " " + unit + ")";
+  const auto number = [digits](double v) {
+    if (digits < 0) return soda::format_double_plain(v);
+    char text[64];
+    std::snprintf(text, sizeof text, "%.*f", digits, v);
+    return std::string(text);
+  };
+  return "checked on " + std::to_string(c.check.n) + " fresh replicas: median " + number(c.check.median) + " " + unit +
+         ", 95 % interval [" + number(c.check.interval95_low) + ", " + number(c.check.interval95_high) + "] " + unit +
+         " (exact engine " + number(c.exact_distance) + " " + unit + ")";
 }
 
 } // namespace sodaevo

@@ -63,7 +63,8 @@ std::vector<ReplicaCheck> write_run_champions(const std::filesystem::path& run_d
                                               int threads);
 
 /// One line for the exported XML's comment: the checked median and interval, in
-/// `unit` (the score's: px for a walk, frames for a race).
-std::string check_comment(const ReplicaCheck& c, const std::string& unit = "px");
+/// `unit` (the score's: px for a walk, frames for a race); numbers round-trip, or
+/// with `digits` decimals for reading (digits >= 0).
+std::string check_comment(const ReplicaCheck& c, const std::string& unit = "px", int digits = -1);
 
 } // namespace sodaevo
