@@ -223,15 +223,8 @@ void LockstepBatch::Data::bar_pass(int g) {
       double& x = point_row(g, 0, p)[l];
       double& y = point_row(g, 1, p)[l];
       ++bar_rules_run;
-      MassMove clamped = rules::mass_move(x0, y0, x0 + vx, y0 + vy, vx, vy);
-      clamped.x = x;
-      clamped.y = y;
-      MassEnd end;
-      if (!collide_with_fixed_bars(fixed, memory, p, clamped, surface, end)) continue;
-      x = end.x;
-      y = end.y;
-      point_row(g, 2, p)[l] = end.vx;
-      point_row(g, 3, p)[l] = end.vy;
+      rules::apply_fixed_bars(fixed, memory, p, rules::mass_move(x0, y0, x0 + vx, y0 + vy, vx, vy), surface, x, y,
+                              point_row(g, 2, p)[l], point_row(g, 3, p)[l]);
     }
     for (const BarContact& c : memory.contacts) {
       if (c.mass >= 0 && c.mass < G.masses) bar_held[static_cast<std::size_t>(c.mass)] = 0;

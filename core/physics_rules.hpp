@@ -223,6 +223,25 @@ inline double advance_wave_phase(double phase, double speed, WaveDirection mode)
 /// (fixed_bars.hpp) test the move `move` (its start, its end before the clamp and the
 /// velocity before the container's response; (x, y) is the clamped end). A bar hit
 /// replaces the container's velocity response; the autoreverse test stays.
+/// The fixed bars' rules for mass `p` after its move: `move` has its start, its end
+/// before the container and its velocity before the container's response; (x, y)
+/// and (vx, vy) are where the container left the mass. A bar's hit replaces them
+/// (collide_with_fixed_bars); returns whether one did. Every stepper's bar step is
+/// this function (complete_move, the fused scenes' bar pass, the lockstep lanes').
+inline bool apply_fixed_bars(const FixedBars& bars, BarMemory& memory, int p, const MassMove& move,
+                             const Surface& surface, double& x, double& y, double& vx, double& vy) {
+  MassMove clamped = move;
+  clamped.x = x;
+  clamped.y = y;
+  MassEnd end;
+  if (!collide_with_fixed_bars(bars, memory, p, clamped, surface, end)) return false;
+  x = end.x;
+  y = end.y;
+  vx = end.vx;
+  vy = end.vy;
+  return true;
+}
+
 inline void complete_move(const Model& m, State& s, int i, SideWall hit, double surface_friction,
                           const MassMove& move, double x, double y, double vx, double vy) {
   autoreverse_on_wall_hit(hit, m.autoreverse, s.wave_mode, s.last_side_wall);
@@ -231,16 +250,8 @@ inline void complete_move(const Model& m, State& s, int i, SideWall hit, double 
   s.vx[i] = vx;
   s.vy[i] = vy;
   if (m.fixed_bars.empty()) return;
-  MassMove clamped = move;
-  clamped.x = x;
-  clamped.y = y;
-  MassEnd end;
   const Surface surface{surface_friction, m.surface_reflection, m.width, m.height};
-  if (!collide_with_fixed_bars(m.fixed_bars, s.bar_memory, i, clamped, surface, end)) return;
-  s.x[i] = end.x;
-  s.y[i] = end.y;
-  s.vx[i] = end.vx;
-  s.vy[i] = end.vy;
+  apply_fixed_bars(m.fixed_bars, s.bar_memory, i, move, surface, s.x[i], s.y[i], s.vx[i], s.vy[i]);
 }
 
 /// The move of a mass from (x0, y0) to (x, y) with velocity (vx, vy), before the container.

@@ -15,15 +15,7 @@ namespace soda::fused {
 void SceneData::collide_with_bars(State& s, int c, int p, int i, const MassMove& move) {
   ++bar_rules_run;
   const Creature& cr = creatures[static_cast<std::size_t>(c)];
-  MassMove clamped = move;
-  clamped.x = px(i);
-  clamped.y = py(i);
-  MassEnd end;
-  if (!collide_with_fixed_bars(cr.model->fixed_bars, s.bar_memory, p, clamped, cr.bar_surface, end)) return;
-  px(i) = end.x;
-  py(i) = end.y;
-  pvx(i) = end.vx;
-  pvy(i) = end.vy;
+  rules::apply_fixed_bars(cr.model->fixed_bars, s.bar_memory, p, move, cr.bar_surface, px(i), py(i), pvx(i), pvy(i));
 }
 
 // Mass i's step from (x, y, vx, vy) (its working position and velocity before its
