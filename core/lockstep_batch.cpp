@@ -345,7 +345,9 @@ template <int N, bool Bars>
               may_meet_bars(group_bars[static_cast<std::size_t>(g0 + n)], x0, y0, x[n][i], y[n][i], move_v[0], move_v[1]));
         }
       }
-      inside[n] = O::m_and(inside[n], O::m_and(O::gt(x[n][i], left[n]), O::m_and(O::lt(x[n][i], right[n]), O::lt(y[n][i], top[n]))));
+      if (!Bars || !bars[n]) { // a group with bars tests every wall next frame anyway (below)
+        inside[n] = O::m_and(inside[n], O::m_and(O::gt(x[n][i], left[n]), O::m_and(O::lt(x[n][i], right[n]), O::lt(y[n][i], top[n]))));
+      }
       if (O::any(hits.hit)) [[unlikely]] {
         hit_wall[n] = true;
         const int g = g0 + n;
