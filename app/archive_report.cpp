@@ -271,7 +271,7 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   // A race's elite races on the first terrain (to its finish or the timeout).
   const long long frames = config.fitness.settle_frames + config.fitness.frames;
   const int every = sample_interval(frames, options.max_samples);
-  const std::unique_ptr<Problem> problem = race ? problem_of(config, false) : nullptr;
+  const std::unique_ptr<Problem> problem = race ? problem_of(config, 0) : nullptr;
   const auto* racing = dynamic_cast<const RaceProblem*>(problem.get());
   json motions = json::object();
   Motion example;

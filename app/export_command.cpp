@@ -43,7 +43,7 @@ void export_archive(const std::filesystem::path& run, const ExportOptions& opt) 
   }
   const RunConfig config = read_run_config(run / "config.json");
   const GridArchive archive = read_run_archive(run, config);
-  const std::unique_ptr<Problem> problem = problem_of(config, false);
+  const std::unique_ptr<Problem> problem = problem_of(config, 0);
   const CheckedArchive checked = check_archive(archive, *problem, replica_plan(config), opt.check_replicas,
                                                opt.threads, config.map_elites.qd_offset);
   const std::filesystem::path out(opt.out);

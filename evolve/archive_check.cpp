@@ -65,7 +65,7 @@ CheckedArchive write_checked_archive(const std::filesystem::path& run_dir, int t
   const RunConfig config = read_run_config(run_dir / "config.json");
   const MapElitesConfig& me = config.map_elites;
   const GridArchive archive = read_run_archive(run_dir, config);
-  const std::unique_ptr<Problem> problem = problem_of(config, false);
+  const std::unique_ptr<Problem> problem = problem_of(config, 0);
   const CheckedArchive c =
       check_archive(archive, *problem, replica_plan(config), me.check_replicas, threads, me.qd_offset);
   nlohmann::json cells = nlohmann::json::array();

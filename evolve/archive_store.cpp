@@ -132,7 +132,7 @@ void ArchiveStore::write_archive(const GridArchive& archive, const RunConfig& co
   const fs::path elites = dir_ / "elites";
   fs::remove_all(elites);
   fs::create_directories(elites);
-  const std::unique_ptr<Problem> problem = problem_of(config, false);
+  const std::unique_ptr<Problem> problem = problem_of(config, 0);
   for (const auto& [cell, e] : archive.elites()) {
     const soda::ModelDef prepared = problem->export_form(e.creature, e.id, elite_evaluation(e, config));
     soda::write_model_file(dir_ / elite_file(e.id), prepared);

@@ -8,7 +8,7 @@
 
 #include "evolve/evolution_run.hpp"
 #include "evolve/genetic_algorithm.hpp"
-#include "evolve/race_problem.hpp"
+#include "evolve/run_roles.hpp"
 
 namespace sodaevo {
 
@@ -16,10 +16,6 @@ WalkProblem map_elites_problem(const RunConfig& config, const MapElitesConfig& m
   return WalkProblem(config.fitness, config.world, config.limits, me.sample_every);
 }
 
-std::unique_ptr<Problem> map_elites_run_problem(const RunConfig& config, const MapElitesConfig& me) {
-  if (config.fitness.kind == FitnessKind::Race) return std::make_unique<RaceProblem>(config, me.sample_every);
-  return std::make_unique<WalkProblem>(map_elites_problem(config, me));
-}
 
 ResamplePlan map_elites_resample_plan(const RunConfig& config) {
   return {config.fitness.replicas_max, config.fitness.replicas};
@@ -63,7 +59,7 @@ MapElitesOutcome run_map_elites(const std::filesystem::path& dir, const RunConfi
   const auto started = Clock::now();
   ArchiveStore store(dir);
   GridArchive archive(me.axes);
-  const std::unique_ptr<Problem> scored = map_elites_run_problem(config, me);
+  const std::unique_ptr<Problem> scored = problem_of(config, me.sample_every);
   const Problem& problem = *scored;
   const ReplicaEstimator estimator(replica_plan(config));
   const ResamplePlan resample = map_elites_resample_plan(config);

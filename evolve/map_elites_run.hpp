@@ -24,9 +24,6 @@ namespace sodaevo {
 /// The problem MAP-Elites scores: the run's, measuring descriptors every
 /// /map_elites/sample_every scored frames.
 WalkProblem map_elites_problem(const RunConfig& config, const MapElitesConfig& me);
-/// map_elites_problem, or for /fitness/kind "race" the RaceProblem measuring
-/// descriptors every /map_elites/sample_every frames of its races.
-std::unique_ptr<Problem> map_elites_run_problem(const RunConfig& config, const MapElitesConfig& me);
 
 /// How insertion samples under the run's /fitness: new creatures on
 /// /fitness/replicas, at most /fitness/replicas_max a side, /fitness/replicas more

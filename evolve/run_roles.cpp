@@ -7,12 +7,13 @@
 
 namespace sodaevo {
 
-std::unique_ptr<Problem> problem_of(const RunConfig& config, bool describe) {
-  if (config.fitness.kind == FitnessKind::Race) {
-    return describe ? std::make_unique<RaceProblem>(config) : std::make_unique<RaceProblem>(config, 0);
-  }
-  return describe ? std::make_unique<WalkProblem>(config)
-                  : std::make_unique<WalkProblem>(config.fitness, config.world, config.limits);
+std::unique_ptr<Problem> problem_of(const RunConfig& config, long long describe_every) {
+  if (config.fitness.kind == FitnessKind::Race) return std::make_unique<RaceProblem>(config, describe_every);
+  return std::make_unique<WalkProblem>(config.fitness, config.world, config.limits, describe_every);
+}
+
+std::unique_ptr<Problem> problem_of(const RunConfig& config) {
+  return problem_of(config, config.algorithm == AlgorithmKind::MapElites ? config.map_elites.sample_every : 0);
 }
 
 RunRoles roles_of(const RunConfig& config) {

@@ -22,9 +22,12 @@ struct RunRoles {
 };
 
 /// The run's Problem: a WalkProblem, or a RaceProblem for /fitness/kind "race",
-/// measuring descriptors with /algorithm "map-elites" unless `describe` is false
-/// (a check or an export of an archive needs only the score).
-std::unique_ptr<Problem> problem_of(const RunConfig& config, bool describe = true);
+/// measuring descriptors every `describe_every` frames (0: none; a check or an
+/// export needs only the score).
+std::unique_ptr<Problem> problem_of(const RunConfig& config, long long describe_every);
+/// problem_of measuring descriptors as the run does: every /map_elites/sample_every
+/// frames with /algorithm "map-elites", else not.
+std::unique_ptr<Problem> problem_of(const RunConfig& config);
 
 /// problem_of(config); a ReplicaEstimator
 /// (/fitness/replicas...) and a GeneticAlgorithm.
