@@ -167,7 +167,6 @@ void LockstepBatch::Data::lay_out() {
   inline_sines = vector_sines_usable(SimdLevel::Avx512);
   sine_table = &glibc_sine::glibc_table();
   autoreverse.assign(static_cast<std::size_t>(group_total) * kW, 0);
-  std::size_t most_work = 0;
   for (int g = 0; g < group_total; ++g) {
     const Group& G = groups[static_cast<std::size_t>(g)];
     const std::vector<int>& column_link = group_column_links[static_cast<std::size_t>(g)];
@@ -199,10 +198,8 @@ void LockstepBatch::Data::lay_out() {
     if (G.uniform) {
       for (int q = 0; q < G.columns; ++q) pool(pool_phase, g)[q] = column_row(g, q)[0];
     }
-    most_work = std::max(most_work, static_cast<std::size_t>(G.columns));
   }
   sine_work.reserve(row_count + static_cast<std::size_t>(pool_rows));
-  (void)most_work;
   lane_models.clear();
   group_column_links.clear();
   for (int g = 0; g < group_total; g += kSideBySide) {
