@@ -110,8 +110,7 @@ class Reader {
   void read_curriculum(const json& v) {
     const auto it = v.find("curriculum");
     if (it == v.end()) return;
-    constexpr std::size_t kMaxStages = 64;
-    if (!it->is_array() || it->empty() || it->size() > kMaxStages) {
+    if (!it->is_array() || it->empty() || it->size() > static_cast<std::size_t>(kMaxCurriculumStages)) {
       return expected("/curriculum", "an array of 1 to 64 stages {\"terrain\": ..., \"threshold\": frames}", *it);
     }
     std::vector<CurriculumStage> stages;

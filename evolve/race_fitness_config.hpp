@@ -36,6 +36,9 @@ struct CurriculumStage {
   bool operator==(const CurriculumStage&) const = default;
 };
 
+/// Most stages /fitness/race/curriculum takes (stage indices 0 to 63).
+inline constexpr int kMaxCurriculumStages = 64;
+
 struct RaceFitnessConfig {
   std::vector<std::string> terrains; ///< /fitness/race/terrains: race files, absolute paths once resolved
   RaceCombine combine = RaceCombine::Mean;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "core/race_def.hpp"
 #include "evolve/race_problem.hpp"
@@ -10,13 +11,21 @@
 
 namespace sodaevo {
 
+namespace {
+/// The race result (frames) of the best creature of `evaluated`, or nothing when none was scored.
+std::optional<double> best_frames(const Generation& evaluated) {
+  const GenerationStats stats = summarize(evaluated, 0);
+  if (stats.best_index < 0) return std::nullopt;
+  return evaluated.individuals[static_cast<std::size_t>(stats.best_index)].evaluation.distance;
+}
+} // namespace
+
 int next_race_timeout(const RunConfig& config, const Generation& evaluated) {
   const double factor = config.fitness.race.timeout_factor;
   if (config.fitness.kind != FitnessKind::Race || !(factor > 0.0)) return 0;
-  const GenerationStats stats = summarize(evaluated, 0);
-  if (stats.best_index < 0) return evaluated.race_timeout;
-  const double frames = evaluated.individuals[static_cast<std::size_t>(stats.best_index)].evaluation.distance;
-  const double timeout = std::ceil(factor * frames);
+  const std::optional<double> frames = best_frames(evaluated);
+  if (!frames) return evaluated.race_timeout;
+  const double timeout = std::ceil(factor * *frames);
   return static_cast<int>(std::clamp(timeout, 1.0, static_cast<double>(soda::kMaxRaceTimeout)));
 }
 
@@ -24,10 +33,9 @@ int next_race_stage(const RunConfig& config, const Generation& evaluated) {
   const std::vector<CurriculumStage>& stages = config.fitness.race.curriculum;
   const std::size_t stage = static_cast<std::size_t>(evaluated.race_stage);
   if (config.fitness.kind != FitnessKind::Race || stage + 1 >= stages.size()) return evaluated.race_stage;
-  const GenerationStats stats = summarize(evaluated, 0);
-  if (stats.best_index < 0) return evaluated.race_stage;
-  const double frames = evaluated.individuals[static_cast<std::size_t>(stats.best_index)].evaluation.distance;
-  return frames < stages[stage].threshold ? evaluated.race_stage + 1 : evaluated.race_stage;
+  const std::optional<double> frames = best_frames(evaluated);
+  if (!frames) return evaluated.race_stage;
+  return *frames < stages[stage].threshold ? evaluated.race_stage + 1 : evaluated.race_stage;
 }
 
 void schedule_race(const RunConfig& config, const Generation& evaluated, Generation& next) {

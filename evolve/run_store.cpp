@@ -205,7 +205,7 @@ Generation generation_from_xml(const std::string& text, const std::string& sourc
     g.race_timeout = static_cast<int>(*t);
   }
   if (const std::string stage = xml.root_attribute("race_stage"); !stage.empty()) {
-    constexpr long long kMaxStage = 63; // /fitness/race/curriculum has at most 64 stages
+    constexpr long long kMaxStage = kMaxCurriculumStages - 1;
     const std::optional<long long> s = soda::parse_integer(stage);
     if (!s || *s < 1 || *s > kMaxStage) {
       throw soda::InputError(xml.where() + ": <generation> attribute 'race_stage': expected an integer in [1, " +
