@@ -48,6 +48,12 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
   }
   auto wall = [&] { return previous_wall + std::chrono::duration<double>(Clock::now() - started).count(); };
 
+  // The evaluation budget stops the run before a generation it has no room for
+  // (its children, then the final confirmation, /fitness/confirm).
+  const long long limit = config.budget.max_evaluations;
+  const auto no_room_after = [&](long long spent) {
+    return limit > 0 && spent + roles.algorithm->evaluations_per_generation() + config.fitness.confirm > limit;
+  };
   outcome.stopped_because = "completed";
   for (;;) {
     if (need_evaluation) {
@@ -60,10 +66,7 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
       // evaluations: known now, so that a resumed run does the same) hands over its
       // best: they are confirmed on more replicas first, within the budget (the
       // last generation leaves room for the confirmation's first round).
-      const long long limit = config.budget.max_evaluations;
-      const bool last = current.index + 1 >= config.budget.generations ||
-                        (limit > 0 && evaluations + done + roles.algorithm->evaluations_per_generation() +
-                                              config.fitness.confirm > limit);
+      const bool last = current.index + 1 >= config.budget.generations || no_room_after(evaluations + done);
       if (last) {
         done += confirm_best(evaluator, current, problem, *roles.estimator, config.fitness.confirm,
                              limit > 0 ? std::max(0LL, limit - evaluations - done) : -1);
@@ -90,13 +93,9 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
     need_evaluation = true;
 
     const int next_index = current.index + 1;
-    const long long next_cost = roles.algorithm->evaluations_per_generation();
     std::string stop;
     if (next_index >= config.budget.generations) stop = "completed";
-    else if (config.budget.max_evaluations > 0 &&
-             evaluations + next_cost + config.fitness.confirm > config.budget.max_evaluations) {
-      stop = "evaluation budget"; // as `last` above foresaw
-    }
+    else if (no_room_after(evaluations)) stop = "evaluation budget"; // as `last` above foresaw
     else if (config.budget.max_wall_seconds > 0 && wall() >= config.budget.max_wall_seconds) stop = "wall-time budget";
     else if (options.stop_requested && options.stop_requested->load()) stop = "interrupted";
     if (!stop.empty()) {

@@ -81,6 +81,29 @@ void require_same_results(const fs::path& a, const fs::path& b) {
 
 } // namespace
 
+// /budget/evaluations: the run stops before a generation it has no room for (its
+// children plus the final confirmation's /fitness/confirm). Worked out by hand for
+// 10 creatures, 2 elites (8 children a generation), confirm 2, a budget of 43:
+// spent after generations 0..3 is 10, 18, 26, 34; after 26 there is room
+// (26 + 8 + 2 = 36), after 34 not (34 + 8 + 2 = 44; without the confirmation's
+// reserve there would be). No resampling (replicas = replicas_max), so nothing
+// else is spent.
+TEST_CASE("the evaluation budget ends the run at the generation worked out by hand", "[evolve]") {
+  RunConfig c = test::walker_run_config("budget", 7, 10, 100, 200, 20);
+  c.selection.elites = 2;
+  c.fitness.replicas = c.fitness.replicas_max = 1;
+  c.fitness.confirm = 2;
+  c.budget.max_evaluations = 43;
+  const fs::path dir = fresh_dir("budget");
+  RunStore store = RunStore::create(dir, c, false, "test");
+  ThreadEvaluator evaluator(2);
+  const EvolutionOutcome o = run_evolution(store, evaluator, {});
+  CHECK(o.stopped_because == "evaluation budget");
+  CHECK(o.last_generation == 3);
+  CHECK(o.evaluations == 34);
+  fs::remove_all(dir);
+}
+
 TEST_CASE("SplitMix64 matches the reference sequence", "[evolve]") {
   // Published test vector of SplitMix64 (Vigna's splitmix64.c) for seed 1234567.
   Rng rng(1234567);
