@@ -14,6 +14,7 @@
 #include "charts/fixed_text.hpp"
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
+#include "app/score_unit.hpp"
 #include "charts/svg_chart.hpp"
 #include "formats/atomic_file.hpp"
 #include "core/input_error.hpp"
@@ -171,10 +172,10 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   }
   const json& metrics = archive.at("metrics");
   const json& cells = archive.at("cells");
-  // A race's fitness is minus its frames: shown as frames, fewer is better.
-  const bool race = config.fitness.kind == FitnessKind::Race;
-  const auto shown = [race](double fitness) { return number(race ? -fitness : fitness); };
-  const std::string unit = race ? " frames" : " px";
+  const ScoreUnit score = ScoreUnit::of(config);
+  const bool race = score.race;
+  const auto shown = [score](double fitness) { return number(score.shown(fitness)); };
+  const std::string unit = std::string(" ") + score.unit();
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const json& c : cells) {
     lo = std::min(lo, c.at("fitness").at("mean").get<double>());

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "app/commands.hpp"
+#include "app/score_unit.hpp"
 #include "app/evolve_map_elites.hpp"
 #include "app/run_report.hpp"
 #include "charts/fixed_text.hpp"
@@ -249,7 +250,7 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
   }
   std::cout << "run folder   " << store->dir().string() << "\n";
   const RunConfig& config = store->config();
-  const bool race = config.fitness.kind == FitnessKind::Race;
+  const ScoreUnit score = ScoreUnit::of(config);
   // What the best's fitness stands on: the statistic of its replicas (a single
   // rollout is one draw, not the creature's walk).
   const auto it = std::find_if(checks.begin(), checks.end(), [&](const ReplicaCheck& c) { return c.id == outcome.best_id; });
@@ -258,7 +259,7 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     basis = " (" + statistic_name(config.fitness.statistic) + " of " + std::to_string(it->selection.rollouts) +
             " replicas, sd " + fixed(it->selection.sd, 2) + ")";
   }
-  if (std::isfinite(outcome.best_fitness) && race) {
+  if (std::isfinite(outcome.best_fitness) && score.race) {
     std::cout << "best         " << outcome.best_id << "  fitness " << soda::format_double_plain(outcome.best_fitness)
               << basis << " (races in " << soda::format_double_plain(-outcome.best_fitness) << " frames)\n";
   } else if (std::isfinite(outcome.best_fitness)) {
@@ -270,7 +271,7 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     std::cout << "best         none: no creature could be scored (the reasons are in the saved generations)\n";
   }
   if (it != checks.end()) { // rounded for reading; champions.json keeps every digit
-    std::cout << "             " << check_comment(*it, race ? "frames" : "px", race ? 1 : 2) << "\n";
+    std::cout << "             " << check_comment(*it, score.unit(), score.race ? 1 : 2) << "\n";
   }
   std::cout << "report       " << default_report_path(store->dir()).string() << "\n"
             << "export with  sodaevo export " << store->dir().string() << " --best 5 --out DIR\n";

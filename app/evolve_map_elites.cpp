@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "app/archive_report.hpp"
+#include "app/score_unit.hpp"
 #include "charts/fixed_text.hpp"
 #include "evolve/archive_check.hpp"
 #include "evolve/map_elites_run.hpp"
@@ -34,10 +35,10 @@ void evolve_map_elites(const RunStore& store, Evaluator& evaluator, int threads,
       std::cerr << "\nsodaevo: warning: archive report not written: " << e.what() << '\n';
     }
   };
-  // A race's fitness is minus its frames: shown as frames.
-  const bool race = config.fitness.kind == FitnessKind::Race;
-  const auto shown = [race](double fitness) { return fixed(race ? -fitness : fitness, 2); };
-  const char* unit = race ? " frames" : " px";
+  const ScoreUnit score = ScoreUnit::of(config);
+  const auto shown = [score](double fitness) { return fixed(score.shown(fitness), 2); };
+  const std::string unit_text = std::string(" ") + score.unit();
+  const char* unit = unit_text.c_str();
   MapElitesOptions options;
   options.stop_requested = stop;
   options.on_iteration = [&](const MapElitesProgress& p) {

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
+#include "app/score_unit.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "evolve/archive_check.hpp"
@@ -48,10 +49,10 @@ void export_archive(const std::filesystem::path& run, const ExportOptions& opt) 
                                                opt.threads, config.map_elites.qd_offset);
   const std::filesystem::path out(opt.out);
   nlohmann::json champions = nlohmann::json::array();
-  // A race's fitness is minus its frames; its check is in frames.
-  const char* unit = config.fitness.kind == FitnessKind::Race ? "frames" : "px";
+  const ScoreUnit score = ScoreUnit::of(config);
+  const char* unit = score.unit();
   std::printf("cell    id            fitness (%s)   replicas   checked median [95 %% interval] (%s)   file\n",
-              config.fitness.kind == FitnessKind::Race ? "-frames" : "px", unit);
+              score.fitness_unit(), unit);
   for (std::size_t i = 0; i < checked.cells.size(); ++i) {
     const std::size_t cell = checked.cells[i];
     const ArchiveEntry& e = *archive.elite(cell);
@@ -88,11 +89,10 @@ void run_export(const ExportOptions& opt) {
   // claims against what it walks (evolve/replica_check.hpp).
   const std::vector<ReplicaCheck> checks =
       check_all_on_fresh_replicas(*problem, best, replica_plan(config), opt.check_replicas, opt.threads);
-  // A race's score is its result in frames (fitness = -frames), a walk's a distance.
-  const bool race = config.fitness.kind == FitnessKind::Race;
-  const std::string unit = race ? "frames" : "px";
+  const ScoreUnit score = ScoreUnit::of(config);
+  const std::string unit = score.unit();
   std::printf("rank  id            fitness (%s)   replicas   checked median [95 %% interval] (%s)   file\n",
-              race ? "-frames" : "px", unit.c_str());
+              score.fitness_unit(), unit.c_str());
   nlohmann::json champions = nlohmann::json::array();
   for (std::size_t i = 0; i < best.size(); ++i) {
     const Individual& ind = best[i];

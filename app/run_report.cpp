@@ -17,6 +17,7 @@
 #include "app/designer_page.hpp"
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
+#include "app/score_unit.hpp"
 #include "charts/fixed_text.hpp"
 #include "charts/svg_chart.hpp"
 #include "core/input_error.hpp"
@@ -110,14 +111,6 @@ std::vector<GenerationRow> read_generations_csv(const fs::path& path) {
 std::string table_number(double v, int digits) { return std::isfinite(v) ? fixed(v, digits) : "&#8211;"; }
 
 std::string esc(const std::string& s) { return html_escape(s); }
-
-/// How the run's scores read. A walk's fitness is px walked (more is better); a
-/// race's is minus its result, shown as frames to the finish (fewer is better).
-struct ScoreUnit {
-  bool race = false;
-  [[nodiscard]] double shown(double fitness) const { return race ? -fitness : fitness; }
-  [[nodiscard]] std::string unit() const { return race ? "frames" : "px"; }
-};
 
 /// "TerrainFlat, TerrainHilly" for the run's race files; a curriculum's stages
 /// joined by "then".
@@ -269,7 +262,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     }
   }
   const std::vector<GenerationRow> rows = read_generations_csv(run_dir / "generations.csv");
-  const ScoreUnit score{config.fitness.kind == FitnessKind::Race};
+  const ScoreUnit score = ScoreUnit::of(config);
 
   std::ostringstream o;
   o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>sodaevo run " << esc(config.name)
