@@ -95,6 +95,21 @@ void LockstepBatch::Data::sines_now(int g) {
   for (int q = 0; q < G.columns; ++q) sine_work.emplace_back(arguments_row(g, q), sines_row(g, q));
 }
 
+// The lanes whose jitter (seed_mix, threshold per lane) moves a sine of these
+// arguments: PreparedJitter::steps's hash, mix64 (mix64.hpp), for 8 lanes at once
+// (64-bit multiplies: AVX-512DQ).
+namespace {
+[[gnu::always_inline]] inline unsigned jitter_hits(__m512d arguments, __m512i seed_mix, __m512i threshold) {
+  const __m512i m1 = _mm512_set1_epi64(static_cast<long long>(0xbf58476d1ce4e5b9ULL));
+  const __m512i m2 = _mm512_set1_epi64(static_cast<long long>(0x94d049bb133111ebULL));
+  __m512i z = _mm512_xor_si512(_mm512_castpd_si512(arguments), seed_mix);
+  z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 30)), m1);
+  z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 27)), m2);
+  z = _mm512_xor_si512(z, _mm512_srli_epi64(z, 31));
+  return _mm512_cmplt_epu64_mask(_mm512_srli_epi64(z, 11), threshold);
+}
+} // namespace
+
 // Group g's sines moved by each lane's jitter, as rules::muscle_sine moves them:
 // the arguments row still holds the arguments these sines were computed from
 // (inline for the predicted phase, or again by sines_now). The hash of
@@ -104,15 +119,9 @@ void LockstepBatch::Data::jitter_sines(int g) {
   const std::size_t first = static_cast<std::size_t>(g) * kW;
   const __m512i seed_mix = _mm512_loadu_si512(lane_seed_mix.data() + first);
   const __m512i threshold = _mm512_loadu_si512(lane_threshold.data() + first);
-  const __m512i m1 = _mm512_set1_epi64(static_cast<long long>(0xbf58476d1ce4e5b9ULL));
-  const __m512i m2 = _mm512_set1_epi64(static_cast<long long>(0x94d049bb133111ebULL));
   for (int q = 0; q < groups[static_cast<std::size_t>(g)].columns; ++q) {
     const double* argument = arguments_row(g, q);
-    __m512i z = _mm512_xor_si512(_mm512_castpd_si512(_mm512_loadu_pd(argument)), seed_mix);
-    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 30)), m1);
-    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 27)), m2);
-    z = _mm512_xor_si512(z, _mm512_srli_epi64(z, 31));
-    unsigned hits = _mm512_cmplt_epu64_mask(_mm512_srli_epi64(z, 11), threshold);
+    unsigned hits = jitter_hits(_mm512_loadu_pd(argument), seed_mix, threshold);
     if (hits == 0) [[likely]] continue;
     double* sine = sines_row(g, q);
     for (; hits != 0; hits &= hits - 1) {
@@ -131,16 +140,10 @@ void LockstepBatch::Data::jitter_sines(int g) {
   const std::size_t first = static_cast<std::size_t>(g) * kW;
   const __m512i seed_mix = _mm512_loadu_si512(lane_seed_mix.data() + first);
   const __m512i threshold = _mm512_loadu_si512(lane_threshold.data() + first);
-  const __m512i m1 = _mm512_set1_epi64(static_cast<long long>(0xbf58476d1ce4e5b9ULL));
-  const __m512i m2 = _mm512_set1_epi64(static_cast<long long>(0x94d049bb133111ebULL));
   const double* argument = pool(pool_arguments, g);
   unsigned hits = 0;
   for (int q = 0; q < groups[static_cast<std::size_t>(g)].columns; ++q) {
-    __m512i z = _mm512_xor_si512(_mm512_castpd_si512(_mm512_set1_pd(argument[q])), seed_mix);
-    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 30)), m1);
-    z = _mm512_mullo_epi64(_mm512_xor_si512(z, _mm512_srli_epi64(z, 27)), m2);
-    z = _mm512_xor_si512(z, _mm512_srli_epi64(z, 31));
-    hits |= _mm512_cmplt_epu64_mask(_mm512_srli_epi64(z, 11), threshold);
+    hits |= jitter_hits(_mm512_set1_pd(argument[q]), seed_mix, threshold);
   }
   return hits != 0;
 }
