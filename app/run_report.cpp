@@ -24,8 +24,8 @@
 #include "core/number_text.hpp"
 #include "evolve/race_problem.hpp"
 #include "evolve/race_schedule.hpp"
+#include "evolve/replica_estimator.hpp"
 #include "evolve/run_config.hpp"
-#include "evolve/run_roles.hpp"
 #include "evolve/run_store.hpp"
 #include "evolve/variation.hpp"
 #include "formats/atomic_file.hpp"
@@ -250,7 +250,7 @@ fs::path default_report_path(const fs::path& run_dir) { return run_dir / "report
 std::string run_report_html(const fs::path& run_dir, const ReportOptions& options) {
   if (!fs::is_directory(run_dir)) throw soda::InputError(run_dir.string() + ": no such run folder");
   const RunConfig config = read_run_config(run_dir / "config.json");
-  const RunRoles roles = roles_of(config);
+  const ReplicaEstimator estimator(replica_plan(config)); // the run's estimator (its problem is `scored`)
   // What the table and the players race: a curriculum's last saved stage.
   const std::unique_ptr<Problem> scored = final_problem(run_dir, config);
   nlohmann::json manifest = nlohmann::json::object();
@@ -375,7 +375,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   try {
     const soda::ModelDef dainty = soda::read_model_text(dainty_walker_xml(), "built-in models/dainty_walker.xml").def;
     const soda::ModelDef creature = creature_from_seed(dainty, config);
-    classic_evaluation = roles.estimator->estimate(*scored, {&creature}).front();
+    classic_evaluation = estimator.estimate(*scored, {&creature}).front();
     if (classic_evaluation->status == EvaluationStatus::Invalid) {
       classic_problem = classic_evaluation->reason;
     } else {
