@@ -20,7 +20,7 @@ cd "$(dirname "$0")"
 BUILD_DIR=${SODAEVO_BUILD_DIR:-build}
 ASAN_DIR=${SODAEVO_ASAN_DIR:-build-asan}
 FUZZ_DIR=${SODAEVO_FUZZ_DIR:-build-fuzz}
-PACKAGES=(g++ cmake make libpugixml-dev libcli11-dev nlohmann-json3-dev catch2 libeigen3-dev libopenmpi-dev openmpi-bin)
+PACKAGES=(g++ cmake make libpugixml-dev libcli11-dev nlohmann-json3-dev catch2 libeigen3-dev libopenmpi-dev openmpi-bin zlib1g-dev)
 # Only the test suite needs these: headless Chromium opens the rendered pages.
 TEST_PACKAGES=(chromium)
 # The designer's WebAssembly engine (web/, `sodaevo designer`): Debian's Emscripten.

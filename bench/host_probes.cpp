@@ -38,7 +38,7 @@ double divider_passes(std::size_t i) {
 // Compiled for each instruction set (called only where the CPU has it), as
 // core/exact_sines.cpp does.
 #pragma GCC push_options
-#pragma GCC target("avx2,fma")
+#pragma GCC target("avx2")
 template double divider_passes<soda::simd::Avx2Ops>(std::size_t);
 double divider_avx2(std::size_t i) { return divider_passes<soda::simd::Avx2Ops>(i); }
 #pragma GCC pop_options

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <bit>
 
-#include "detail/glibc_sine.hpp"
+#include "detail/java_sine_simd.hpp"
 #include "detail/simd_ops.hpp"
 #include "sine.hpp"
 
@@ -13,11 +13,10 @@ namespace {
 using simd::Avx2Ops;
 using simd::Avx512Ops;
 using simd::kMaxWidth;
-using namespace glibc_sine;
+using simd::Sse2Ops;
 
 template <class O>
 void vector_sines(const double* a, double* out, int n) {
-  const GlibcTable& t = glibc_table();
   // Vector pass first, then the calls for lanes out of range (a call inside the
   // vector loop would spill every vector register around it).
   constexpr int kChunk = 256;
@@ -27,8 +26,8 @@ void vector_sines(const double* a, double* out, int n) {
     // Two vectors at a time (the arrays are padded to a multiple of 8 lanes; a
     // vector past n computes the padding and is not read).
     int i = base;
-    for (; i + O::W < end; i += 2 * O::W) glibc_sin<O, 2>(t, a + i, out + i, rest + (i - base) / O::W);
-    if (i < end) glibc_sin<O, 1>(t, a + i, out + i, rest + (i - base) / O::W);
+    for (; i + O::W < end; i += 2 * O::W) java_sine::java_sin<O, 2>(a + i, out + i, rest + (i - base) / O::W);
+    if (i < end) java_sine::java_sin<O, 1>(a + i, out + i, rest + (i - base) / O::W);
     for (int i = base; i < end; i += O::W) {
       for (unsigned r = rest[(i - base) / O::W]; r != 0; r &= r - 1) {
         const int l = std::countr_zero(r);
@@ -38,13 +37,11 @@ void vector_sines(const double* a, double* out, int n) {
   }
 }
 
-void scalar_sines(const double* a, double* out, int n) {
-  for (int i = 0; i < n; ++i) out[i] = sine(a[i]);
-}
-
 // Compiled for the instruction set (called only where the CPU has it).
+template void vector_sines<Sse2Ops>(const double*, double*, int);
+
 #pragma GCC push_options
-#pragma GCC target("avx2,fma")
+#pragma GCC target("avx2")
 template void vector_sines<Avx2Ops>(const double*, double*, int);
 #pragma GCC pop_options
 
@@ -55,15 +52,23 @@ template void vector_sines<Avx512Ops>(const double*, double*, int);
 
 } // namespace
 
+void scalar_sines(const double* a, double* out, int n) {
+  for (int i = 0; i < n; ++i) out[i] = sine(a[i]);
+}
+
 bool vector_sines_usable(SimdLevel level) {
   if (level == SimdLevel::Auto) level = best_simd_level();
-  return (level == SimdLevel::Avx2 || level == SimdLevel::Avx512) && simd_level_supported(level);
+  return simd_level_supported(level);
 }
 
 SinFn exact_sin_fn(SimdLevel level) {
   if (level == SimdLevel::Auto) level = best_simd_level();
   if (!vector_sines_usable(level)) return &scalar_sines;
-  return level == SimdLevel::Avx512 ? &vector_sines<Avx512Ops> : &vector_sines<Avx2Ops>;
+  switch (level) {
+  case SimdLevel::Avx512: return &vector_sines<Avx512Ops>;
+  case SimdLevel::Avx2: return &vector_sines<Avx2Ops>;
+  default: return &vector_sines<Sse2Ops>;
+  }
 }
 
 void exact_sines(const double* args, double* out, int n, SimdLevel level) {

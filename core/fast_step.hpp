@@ -11,7 +11,7 @@
 //  - muscle targets: one sin per distinct muscle phase per frame (shared), computed
 //    for the next frames in one SIMD batch (the phases the wave will have if its
 //    direction holds; a row is used only when the phase matches bit for bit), with
-//    glibc's sin repeated in SIMD (exact_sines.hpp); the target update is skipped
+//    Java's Math.sin repeated in SIMD (exact_sines.hpp); the target update is skipped
 //    while the wave phase does not change (manual mode, speed 0);
 //  - links: impulses of all links computed in SIMD (SSE2, AVX2 or AVX-512, chosen
 //    at run time; all bit-exact, no FMA in the physics) from positions only -
@@ -66,7 +66,7 @@ struct FastStepOptions {
   bool adaptive_walls = true;
   /// Force the per-mass ordered kernel (masses one by one in file order); for tests.
   bool force_ordered = false;
-  /// Muscle sines in SIMD, glibc's sin repeated operation for operation
+  /// Muscle sines in SIMD, Java's Math.sin repeated operation for operation
   /// (exact_sines.hpp). Off: soda::sine one by one. Both give the same bits.
   bool vector_sines = true;
   /// Scenes of at most 16 points and 32 links (AVX-512) keep the whole frame in

@@ -267,7 +267,6 @@ template <int N, bool Bars>
     links = std::max(links, G.links);
     masses = std::max(masses, G.masses);
   }
-  const glibc_sine::GlibcTable& table = *sine_table;
   // Links in file order (step.cpp apply_links): each impulse goes into both
   // ends' velocities at once; a zero-length link adds nothing (masked).
   for (int j = 0; j < links; ++j) {
@@ -275,7 +274,7 @@ template <int N, bool Bars>
     for (sine_credit += sine_rows; sine_credit >= total_links; sine_credit -= total_links, ++sines_done) {
       unsigned far = 0;
       const auto& [in, out] = sine_work[static_cast<std::size_t>(sines_done)];
-      glibc_sine::glibc_sin<O, 1>(table, in, out, &far);
+      java_sine::java_sin<O, 1>(in, out, &far);
       far_lanes |= far;
     }
 #pragma GCC unroll 4

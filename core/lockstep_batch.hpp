@@ -27,7 +27,7 @@
 // so that their chains interleave (measured ~25 % faster than one at a time).
 //
 // Muscle sines: one per frame per distinct muscle phase of a lane (a column of
-// links whose phases agree in every lane of the group shares it), glibc's sin in
+// links whose phases agree in every lane of the group shares it), Java's Math.sin in
 // SIMD (exact_sines.hpp), for all lanes at once. Where every lane of a group has
 // the same phase in each column and the same wave phase (replicas of one
 // creature, until a wall turns one lane's wave), the lanes' arguments are equal:

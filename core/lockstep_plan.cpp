@@ -165,7 +165,6 @@ void LockstepBatch::Data::lay_out() {
   walls_far.assign(static_cast<std::size_t>(group_total), 0);
   sine_fn = exact_sin_fn(SimdLevel::Avx512);
   inline_sines = vector_sines_usable(SimdLevel::Avx512);
-  sine_table = &glibc_sine::glibc_table();
   autoreverse.assign(static_cast<std::size_t>(group_total) * kW, 0);
   for (int g = 0; g < group_total; ++g) {
     const Group& G = groups[static_cast<std::size_t>(g)];

@@ -249,7 +249,9 @@ ModelDef def_with_state(const ModelDef& def, const Model& model, const State& st
     // The original's writer puts a mass lying on a bar 1e-4 off it (FixedBar.TWEAK).
     if (p < model.mass_count) tweak_for_writing(model.fixed_bars, state.bar_memory, p, node.x, node.y);
   }
-  out.wave.phase = state.wave_phase;
+  // A running wave can stand at exactly 1.0 (rules::wrap_moved_wave_phase); a file's
+  // phase lies in [0, 1) and the original's reader wraps 1.0 to 0: written as read.
+  out.wave.phase = state.wave_phase == 1.0 ? 0.0 : state.wave_phase;
   out.settings.wave_direction = state.wave_mode;
   return out;
 }

@@ -76,7 +76,7 @@ struct Model {
 struct State {
   std::vector<double> x, y;   ///< [point_count] positions (fixed nodes never change)
   std::vector<double> vx, vy; ///< [point_count] velocities (0 for fixed nodes)
-  double wave_phase = 0.0;    ///< cycles, in [0, 1)
+  double wave_phase = 0.0;    ///< cycles, in [0, 1] (a running wave keeps 1.0: rules::wrap_moved_wave_phase)
   WaveDirection wave_mode = WaveDirection::Forward;
   SideWall last_side_wall = SideWall::None; ///< autoreverse memory (docs/physics.md, part 2)
   long long frame = 0;        ///< frames stepped since the state was made

@@ -211,11 +211,26 @@ inline void autoreverse_on_wall_hit(SideWall hit, bool autoreverse, WaveDirectio
   mode = (mode == WaveDirection::Forward) ? WaveDirection::Reverse : WaveDirection::Forward;
 }
 
-/// Wave advance after the physics (spec 5.1): phase += speed*mode, wrapped into [0, 1).
+/// The wave's wrap after a move (spec 5.1): Java's `moved % 1.0` (fmod: exact, the
+/// sign of the dividend), plus 1 when negative. The result lies in [0, 1] and 1.0
+/// is kept: a reverse-running phase that lands on -3.1e-17 becomes 1 - 3.1e-17,
+/// which rounds to 1.0, and the next sines are those of phase 1.0, not 0.0 (golden
+/// wave_wrap/). Not the loader's wrap_phase, which maps 1.0 to 0. Inline, with the
+/// usual one-cycle moves found by comparisons (std::fmod is a library call); the
+/// same bits as fmod: moved - 1 is exact on [1, 2) (Sterbenz).
+inline double wrap_moved_wave_phase(double moved) {
+  if (moved >= 0.0 && moved < 1.0) return moved; // -0.0 stays -0.0, as fmod keeps it
+  if (moved >= 1.0 && moved < 2.0) return moved - 1.0;
+  if (moved > -1.0 && moved < 0.0) return moved + 1.0;
+  const double r = std::fmod(moved, 1.0);
+  return r < 0.0 ? r + 1.0 : r;
+}
+
+/// Wave advance after the physics (spec 5.1): phase += speed*mode, then the wrap above.
 inline double advance_wave_phase(double phase, double speed, WaveDirection mode) {
   if (mode == WaveDirection::Manual) return phase;
   const double moved = phase + speed * static_cast<double>(static_cast<int>(mode));
-  return wrap_phase(moved);
+  return wrap_moved_wave_phase(moved);
 }
 
 /// The end of a mass's move (spec 5.3 steps 5-6), after the container: autoreverse

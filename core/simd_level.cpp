@@ -6,7 +6,7 @@ bool simd_level_supported(SimdLevel level) {
   switch (level) {
     case SimdLevel::Auto:
     case SimdLevel::Sse2: return true;
-    case SimdLevel::Avx2: return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+    case SimdLevel::Avx2: return __builtin_cpu_supports("avx2");
     case SimdLevel::Avx512: return __builtin_cpu_supports("avx512f");
   }
   return false;

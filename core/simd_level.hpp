@@ -9,7 +9,7 @@ enum class SimdLevel { Auto, Sse2, Avx2, Avx512 };
 /// The best level this CPU runs.
 SimdLevel best_simd_level();
 const char* simd_level_name(SimdLevel level);
-/// AVX2 counts only with FMA (the sine needs it; Intel and AMD CPUs with AVX2 have both).
+/// Whether this CPU runs `level` (no level needs fused multiply-add: the engine uses none).
 bool simd_level_supported(SimdLevel level);
 
 } // namespace soda

@@ -1,6 +1,8 @@
-// The engine's scalar sine (sine.hpp says what and why). The operations and the
-// fused ones are those of the vector kernel (detail/glibc_sine.hpp), one lane at a time
-// and taking only its own branch.
+// The engine's scalar sine (sine.hpp says what and why): HotSpot's x86-64 Math.sin,
+// one operation per line in the routine's order. Its machine code evaluates some
+// steps two lanes at a time (a "sin" and a "cos" lane of the polynomial); each lane
+// is one line here. The vector kernel (detail/java_sine_simd.hpp) is the same
+// sequence over several arguments; the tests hold both to the JVM's bits.
 #include "sine.hpp"
 
 #include <bit>
@@ -8,110 +10,73 @@
 #include <cstdint>
 #include <limits>
 
-#include "sine_table.hpp"
+#include "java_sine_table.hpp"
 
 namespace soda {
 namespace {
 
-using namespace glibc_sine;
+using namespace java_sine;
 
-/// The table row nearest |a| (i/128, exact) and its index.
-[[gnu::always_inline]] inline double table_point(double abs_a, int& row) {
-  const double point = (abs_a + kBig) - kBig;
-  row = static_cast<int>(point * 128.0);
-  return point;
+/// The main path, 2^-252 <= |x| < 90112.
+double main_path(double x) {
+  // 1. Reduction: N = (int)(x*32/pi + copysign(0.5, x)), truncated; r = x - N*pi/32
+  // in three parts, and c, the part of the reduction r leaves out.
+  const double y = x * kThirtyTwoOverPi;
+  const int n = static_cast<int>(y + std::copysign(0.5, x));
+  const double nd = static_cast<double>(n);
+  const double m1 = nd * kPiOver32Part1;
+  const double m2 = nd * kPiOver32Part2;
+  const double m3 = nd * kPiOver32Part3;
+  const double r1 = x - m1;
+  const double r = r1 - m2;
+  const double c1 = r1 - r;
+  const double c2 = c1 - m2;
+  const double minus_c = m3 - c2;
+  const TableRow& t = kTable.row[n & 63];
+
+  // 2. Polynomial, both lanes: psc4 = SC4*r1, msc4 = psc4*r, psc3 = SC3 + msc4,
+  // psc1 = SC1 + SC2*r^2, sincospols = psc1 + psc3*r^4.
+  const double r2 = r * r;
+  const double r4 = r2 * r2;
+  const double sigma_plus_cos = t.cos_minus_sigma + t.sigma; // cos(B)
+  const double sin_weight = (sigma_plus_cos * r) * r2;       // cos(B) r^3
+  const double cos_weight = t.sin_high * r2;                 // sin(B) r^2
+  const double psc3_sin = (kSc4Sin * r1) * r + kSc3Sin;
+  const double psc3_cos = (kSc4Cos * r1) * r + kSc3Cos;
+  const double psc1_sin = kSc2Sin * r2 + kSc1Sin;
+  const double psc1_cos = kSc2Cos * r2 + kSc1Cos;
+  const double pols_sin = (psc1_sin + psc3_sin * r4) * sin_weight;
+  const double pols_cos = (psc1_cos + psc3_cos * r4) * cos_weight;
+
+  // 3. Correction for c: corr = -c * (S_hi*r - cos(B)) + S_lo.
+  const double corr = minus_c * (t.sin_high * r - sigma_plus_cos) + t.sin_low;
+
+  // 4. Two compensated sums: res_hi = (S_hi + sigma*r) + (cos(B) - sigma)*r, with
+  // the rounding errors k_2 and k_3 of each sum kept.
+  const double rs = t.sigma * r;
+  const double med = r * t.cos_minus_sigma;
+  const double res_int = rs + t.sin_high;
+  const double res_hi = med + res_int;
+  const double k2 = (t.sin_high - res_int) + rs;
+  const double k3 = (res_int - res_hi) + med;
+
+  // 5. The small parts, in the routine's order, then the whole.
+  const double res_lo = (((corr + k2) + k3) + pols_sin) + pols_cos;
+  return res_hi + res_lo;
 }
-
-/// glibc's do_sin(a, da): the Taylor polynomial for |a| < 0.126, else the table
-/// row nearest |a| and short polynomials in the distance to it.
-[[gnu::always_inline]] inline double do_sin(double a, double da) {
-  const double abs_a = std::fabs(a);
-  if (abs_a < kTaylorBound) { // a + ((P(a^2)*a - da/2)*a^2 + da)
-    const double aa = a * a;
-    double p = std::fma(aa, kS5, kS4);
-    p = std::fma(aa, p, kS3);
-    p = std::fma(aa, p, kS2);
-    p = std::fma(aa, p, kS1);
-    return a + std::fma(aa, std::fma(p, a, -(da * 0.5)), da);
-  }
-  int row = 0;
-  const double point = table_point(abs_a, row);
-  const double dx = a <= 0.0 ? -da : da;
-  const double xr = abs_a - point;
-  const double xx = xr * xr;
-  const double p1 = std::fma(xx, kSn5, kSn3);
-  const double p2 = std::fma(xx, std::fma(xx, kCs6, kCs4), kCs2);
-  const double* r = glibc_table().row[row];
-  const double sn = r[0], ssn = r[1], cs = r[2], ccs = r[3];
-  // s = xr + (dx + xr^3 p1), c = xr*dx + xx*p2, cor = (ssn + s*ccs - sn*c) + cs*s.
-  const double s = xr + std::fma(xr * xx, p1, dx);
-  const double c = std::fma(xr, dx, xx * p2);
-  const double cor = std::fma(s, cs, std::fma(-c, sn, std::fma(s, ccs, ssn)));
-  return std::copysign(sn + cor, a);
-}
-
-/// glibc's do_cos(a, da): cos(a + da) from the table row nearest |a|.
-[[gnu::always_inline]] inline double do_cos(double a, double da) {
-  const double abs_a = std::fabs(a);
-  int row = 0;
-  const double point = table_point(abs_a, row);
-  const double dx = a < 0.0 ? -da : da;
-  const double xr = (abs_a - point) + dx;
-  const double xx = xr * xr;
-  const double p1 = std::fma(xx, kSn5, kSn3);
-  const double p2 = std::fma(xx, std::fma(xx, kCs6, kCs4), kCs2);
-  const double* r = glibc_table().row[row];
-  const double sn = r[0], ssn = r[1], cs = r[2], ccs = r[3];
-  // s = xr + xr^3 p1, c = xx*p2, cor = (ccs - s*ssn - cs*c) - sn*s.
-  const double s = std::fma(xr * xx, p1, xr);
-  const double c = xx * p2;
-  const double cor = std::fma(-s, sn, std::fma(-c, cs, std::fma(-s, ssn, ccs)));
-  return cs + cor;
-}
-
-[[gnu::always_inline]] inline double sine_kernel(double x) {
-  const double ax = std::fabs(x);
-  if (!(ax < kReduceBound)) return std::numeric_limits<double>::quiet_NaN(); // sine.hpp: Range
-  if (ax < kTinyBound) return x;
-  if (ax < kSinBound) return do_sin(x, 0.0);
-  if (ax < kCosBound) return std::copysign(do_cos(kHalfPiHigh - ax, kHalfPiLow), x);
-  // reduce_sincos: n = round(x * 2/pi), x - n*pi/2 in four parts as b + db.
-  const double tn = std::fma(x, kHalfPiInverse, kToInt);
-  const double xn = tn - kToInt;
-  double y = std::fma(-xn, kHalfPi1, x);
-  y = std::fma(-xn, kHalfPi2, y);
-  const double t2 = std::fma(-xn, kHalfPi3, y);
-  double db = std::fma(-kHalfPi3, xn, y - t2);
-  const double b = std::fma(-xn, kHalfPi4, t2);
-  db = db + std::fma(-xn, kHalfPi4, t2 - b);
-  const std::uint64_t n = std::bit_cast<std::uint64_t>(tn); // the quadrant in its low bits
-  const double r = (n & 1) != 0 ? do_cos(b, db) : do_sin(b, db);
-  return (n & 2) != 0 ? -r : r;
-}
-
-#if defined(__x86_64__) && defined(__GNUC__)
-// With the instruction, std::fma is one vfmadd; without, a correctly rounded
-// library call. Same bits, several times the speed.
-[[gnu::target("fma")]] double sine_with_fma_instructions(double x) { return sine_kernel(x); }
-
-bool cpu_has_fma() {
-  __builtin_cpu_init();
-  return __builtin_cpu_supports("fma");
-}
-#endif
 
 } // namespace
 
-double detail::sine_portable(double x) { return sine_kernel(x); }
-
 double sine(double x) {
-#if defined(__x86_64__) && defined(__GNUC__)
-  static const bool fma = cpu_has_fma();
-  if (fma) return sine_with_fma_instructions(x);
-#endif
-  return sine_kernel(x);
+  const double ax = std::fabs(x);
+  if (ax >= kMainPathLow && ax < kMainPathEnd) return main_path(x);
+  if (ax < kMainPathLow) return x; // the routine's tiny-argument paths give x back
+  const std::uint64_t b = std::bit_cast<std::uint64_t>(x);
+  if (std::isinf(x)) return std::bit_cast<double>(std::uint64_t{0xfff8000000000000}); // x * -0.0 on x86
+  if (std::isnan(x)) return std::bit_cast<double>(b | 0x0008000000000000); // quieted
+  return std::numeric_limits<double>::quiet_NaN(); // sine.hpp: Range
 }
 
-double sine_range_end() { return std::nextafter(kReduceBound, 0.0); }
+double sine_range_end() { return std::nextafter(kMainPathEnd, 0.0); }
 
 } // namespace soda

@@ -19,7 +19,7 @@
 #include <vector>
 
 #include "core/detail/aligned_vector.hpp"
-#include "core/detail/glibc_sine.hpp"
+#include "core/detail/java_sine_simd.hpp"
 #include "core/detail/simd_ops.hpp"
 #include "core/exact_sines.hpp"
 #include "core/fixed_bars.hpp"
@@ -74,7 +74,6 @@ struct LockstepBatch::Data {
   std::vector<std::uint8_t> bar_due;  ///< [masses of bar groups] lanes whose move may meet a bar (may_meet_bars)
   long long bar_rules_run = 0;        ///< lane-moves that took the bar rules
   SinFn sine_fn = nullptr;
-  const glibc_sine::GlibcTable* sine_table = nullptr; ///< for the sines inlined into the link pass
 
   // kLeft, kRight, kTop: the walls are out of reach this frame where every mass
   // is right of kLeft, left of kRight and below kTop (walls_far).
@@ -98,7 +97,7 @@ struct LockstepBatch::Data {
   std::vector<std::uint8_t> redo;   ///< [groups] the wave turned: sines again after the frame
   int total_links = 0;              ///< the link passes of a frame, over all steps
   int sine_rows = 0, sines_done = 0, sine_credit = 0; ///< a frame's sines, spread over its link passes
-  unsigned far_lanes = 0; ///< lanes glibc's sin takes elsewhere (|x| >= 105414336, NaN): none from phases in [0, 1)
+  unsigned far_lanes = 0; ///< lanes the vector sine leaves to soda::sine (|x| >= 90112, NaN): none from phases in [0, 1)
   AVec<double> predicted;        ///< [groups] rows: the phase the sines are for
   std::vector<std::uint8_t> packed; ///< [groups] the group's sines are the packed ones
   /// [groups] no mass of any lane can reach the ceiling or a side wall this frame

@@ -20,10 +20,8 @@ namespace soda::simd {
 // are correctly rounded in every instruction set, so all levels give the same
 // bits); comparisons are the ordered ones, false for NaN, as C++'s < and >. No
 // fused multiply-add in the physics (the build has -ffp-contract=off and the
-// kernels only use separate mul and add intrinsics). The fused operations (fma,
-// fnma, fms) exist for the sine only, which must repeat glibc's FMA build
-// operation for operation (exact_sines.cpp); SSE2 has none, so it has no vector
-// sine.
+// kernels only use separate mul and add intrinsics), none in the sine either
+// (java_sine_simd.hpp): there are no fused operations here on purpose.
 // ---------------------------------------------------------------------------
 
 struct Sse2Ops {
@@ -57,6 +55,7 @@ struct Sse2Ops {
   static V abs(V a) { return _mm_andnot_pd(_mm_set1_pd(-0.0), a); }
   static V bits_and(V a, V b) { return _mm_and_pd(a, b); }
   static V bits_xor(V a, V b) { return _mm_xor_pd(a, b); }
+  static V bits_or(V a, V b) { return _mm_or_pd(a, b); }
   static M le(V a, V b) { return _mm_cmple_pd(a, b); }
   static M ge(V a, V b) { return _mm_cmpge_pd(a, b); }
   static M ne(V a, V b) { return _mm_cmpneq_pd(a, b); }
@@ -104,7 +103,7 @@ struct Sse2Ops {
 };
 
 #pragma GCC push_options
-#pragma GCC target("avx2,fma")
+#pragma GCC target("avx2")
 struct Avx2Ops {
   static constexpr int W = 4;
   static constexpr bool kPointRegisters = false;
@@ -135,9 +134,6 @@ struct Avx2Ops {
   static V bits_and(V a, V b) { return _mm256_and_pd(a, b); }
   static V bits_xor(V a, V b) { return _mm256_xor_pd(a, b); }
   static V bits_or(V a, V b) { return _mm256_or_pd(a, b); }
-  static V fma(V a, V b, V c) { return _mm256_fmadd_pd(a, b, c); }   ///< a*b + c, one rounding
-  static V fnma(V a, V b, V c) { return _mm256_fnmadd_pd(a, b, c); } ///< c - a*b, one rounding
-  static V fms(V a, V b, V c) { return _mm256_fmsub_pd(a, b, c); }   ///< a*b - c, one rounding
   /// Lanes whose bit pattern has `bit` set.
   static M has_bit(V a, std::int64_t bit) {
     const __m256i b = _mm256_set1_epi64x(bit);
@@ -267,9 +263,6 @@ struct Avx512Ops {
   static V bits_or(V a, V b) {
     return _mm512_castsi512_pd(_mm512_or_si512(_mm512_castpd_si512(a), _mm512_castpd_si512(b)));
   }
-  static V fma(V a, V b, V c) { return _mm512_fmadd_pd(a, b, c); }   ///< a*b + c, one rounding
-  static V fnma(V a, V b, V c) { return _mm512_fnmadd_pd(a, b, c); } ///< c - a*b, one rounding
-  static V fms(V a, V b, V c) { return _mm512_fmsub_pd(a, b, c); }   ///< a*b - c, one rounding
   /// Lanes whose bit pattern has `bit` set.
   static M has_bit(V a, std::int64_t bit) {
     return _mm512_test_epi64_mask(_mm512_castpd_si512(a), _mm512_set1_epi64(bit));
@@ -277,7 +270,7 @@ struct Avx512Ops {
   static M le(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LE_OQ); }
   static M ge(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
   static M ne(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_NEQ_UQ); }
-  static V floor(V a) { return _mm512_roundscale_pd(a, _MM_FROUND_TO_NEG_INF | _MM_FROUND_NO_EXC); }
+  static V trunc(V a) { return _mm512_roundscale_pd(a, _MM_FROUND_TO_ZERO | _MM_FROUND_NO_EXC); }
   /// a + b in lanes m, a elsewhere (and a - b): one masked instruction.
   static V add_where(M m, V a, V b) { return _mm512_mask_add_pd(a, m, a, b); }
   static V sub_where(M m, V a, V b) { return _mm512_mask_sub_pd(a, m, a, b); }

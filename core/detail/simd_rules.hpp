@@ -143,15 +143,18 @@ template <class O, bool Gravity, bool Floor, bool Ceiling, bool Sides>
 }
 
 /// rules::advance_wave_phase per lane, mode as a double (-1, 0 manual, +1):
-/// phase + speed * mode, wrapped into [0, 1) as wrap_phase does (floor, then the
-/// rounding case 1.0 -> 0); a manual lane keeps its phase.
+/// phase + speed * mode, then Java's fmod(moved, 1) (moved - trunc(moved), exact,
+/// with moved's sign) plus 1 when negative, 1.0 kept (wrap_moved_wave_phase); a
+/// manual lane keeps its phase.
 template <class O>
 [[gnu::always_inline]] inline typename O::V advance_wave_phase(typename O::V phase, typename O::V speed,
                                                                typename O::V mode) {
-  const typename O::V zero = O::set1(0.0);
-  const typename O::V moved = O::add(phase, O::mul(speed, mode));
-  typename O::V wrapped = O::sub(moved, O::floor(moved));
-  wrapped = O::select(O::ge(wrapped, O::set1(1.0)), zero, wrapped);
+  using V = typename O::V;
+  const V zero = O::set1(0.0);
+  const V moved = O::add(phase, O::mul(speed, mode));
+  V wrapped = O::sub(moved, O::trunc(moved));
+  wrapped = O::bits_or(O::abs(wrapped), O::bits_and(moved, O::set1(-0.0)));
+  wrapped = O::select(O::lt(wrapped, zero), O::add(wrapped, O::set1(1.0)), wrapped);
   return O::select(O::eq(mode, zero), phase, wrapped);
 }
 

@@ -74,7 +74,7 @@ SODA_KERNELS(Sse2Ops)
 // Instantiated under the target pragma so that they are compiled for that
 // instruction set (they are only called when the CPU has it).
 #pragma GCC push_options
-#pragma GCC target("avx2,fma")
+#pragma GCC target("avx2")
 SODA_KERNELS(Avx2Ops)
 #pragma GCC pop_options
 

@@ -39,7 +39,7 @@ void SceneData::build(const std::vector<const Model*>& models, long long budget,
   simd = opt.simd == SimdLevel::Auto ? best_simd_level() : opt.simd;
   if (!simd_level_supported(simd)) simd = best_simd_level();
   W = width_of(simd);
-  sine_fn = exact_sin_fn(opt.vector_sines ? simd : SimdLevel::Sse2);
+  sine_fn = opt.vector_sines ? exact_sin_fn(simd) : &scalar_sines;
   place_points(models, budget);
   set_mass_parameters();
   std::vector<ActingLink> acting = order_links();
