@@ -22,6 +22,8 @@
 #include "core/contender_filter.hpp"
 #include "core/race_lane.hpp"
 #include "core/step.hpp"
+#include "evolve/race_problem.hpp"
+#include "evolve/run_config.hpp"
 #include "formats/model_file.hpp"
 #include "formats/race_file.hpp"
 #include "test_support.hpp"
@@ -338,5 +340,29 @@ TEST_CASE("contender filter: a contender in pieces races as its kept walker alon
       CHECK(soda::run_race_fast(a, ma, 10000, sa).result == soda::run_race_fast(b, mb, 10000, sb).result);
       CHECK(compare_states(ma, sa, sb).empty());
     }
+  }
+}
+
+// The race fitness races lanes built by the same filter: a rollout of a contender in
+// pieces, or of one scaled by +inf (NaN from the first update), scores the racer's
+// result, not an error. (The GA itself refuses creatures in pieces, check_creature;
+// a rollout of a prepared model does not check.)
+TEST_CASE("race problem: rollouts of filtered contenders score the racer's results", "[race][golden][components][evolve]") {
+  sodaevo::RunConfig config = walker_run_config("race", 1, 8, 2, 100, 0);
+  config.fitness.kind = sodaevo::FitnessKind::Race;
+  config.fitness.race.terrains = {terrain_file("TerrainFlat.xml").string()};
+  config.fitness.race.timeout = 10000;
+  const sodaevo::RaceProblem problem(config);
+  std::map<std::string, double> golden;
+  for (const auto& row : read_tsv(components_dir() / "races.tsv")) golden[row.at(0)] = std::strtod(row.at(1).c_str(), nullptr);
+  const std::vector<std::string> names = {"c01_walker_plus_far_pair", "c13_zero_length_only", "c05_no_links"};
+  std::vector<soda::ModelDef> contenders;
+  for (const std::string& n : names) contenders.push_back(soda::read_model_file(components_dir() / (n + ".xml")).def);
+  const std::vector<sodaevo::Evaluation> e =
+      problem.rollouts({sodaevo::Rollout(&contenders[0]), sodaevo::Rollout(&contenders[1]), sodaevo::Rollout(&contenders[2])});
+  for (std::size_t i = 0; i < names.size(); ++i) {
+    INFO(names[i] << ": " << e[i].reason);
+    REQUIRE(e[i].ok());
+    CHECK(e[i].distance == golden.at(names[i]));
   }
 }
