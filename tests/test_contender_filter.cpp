@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
 #include <pugixml.hpp>
 
 #include "core/contender_filter.hpp"
@@ -365,4 +366,30 @@ TEST_CASE("race problem: rollouts of filtered contenders score the racer's resul
     REQUIRE(e[i].ok());
     CHECK(e[i].distance == golden.at(names[i]));
   }
+}
+
+TEST_CASE("race command: a rejected contender gets no result, the others race; pieces are warned about",
+          "[race][components][cli]") {
+  const std::string flat = terrain_file("TerrainFlat.xml").string();
+  const std::string c07 = (components_dir() / "c07_fixed_node_last_rejected.xml").string();
+  const std::string c01 = (components_dir() / "c01_walker_plus_far_pair.xml").string();
+  const ShellResult both = run_sodaevo("race " + flat + " " + c07 + " " + c01 + " --timeout 800 --json");
+  INFO(both.output);
+  REQUIRE(both.exit_code == 0);
+  CHECK_THAT(both.output, Catch::Contains("c01_walker_plus_far_pair.xml: not one connected piece") &&
+                              Catch::Contains("largest piece: 4 of 6 masses"));
+  const auto j = nlohmann::json::parse(both.output.substr(both.output.find('{')));
+  REQUIRE(j["contenders"].size() == 2);
+  CHECK(j["contenders"][0]["frames"].is_null());
+  CHECK(j["contenders"][0]["place"].is_null());
+  CHECK_THAT(j["contenders"][0]["no_result"].get<std::string>(), Catch::Contains("c07") && Catch::Contains("no result"));
+  CHECK(j["contenders"][1]["frames"].get<double>() == 769.0); // races.tsv: c01 on TerrainFlat.xml
+  CHECK(j["contenders"][1]["place"] == 1);
+  const ShellResult table = run_sodaevo("race " + flat + " " + c07 + " " + c01 + " --timeout 800");
+  CHECK_THAT(table.output, Catch::Contains("no result"));
+  // Alone: an error naming it, no table.
+  const ShellResult alone = run_sodaevo("race " + flat + " " + c07);
+  CHECK(alone.exit_code != 0);
+  CHECK_THAT(alone.output, Catch::Contains("c07_fixed_node_last_rejected.xml") && Catch::Contains("no result") &&
+                               Catch::Contains("fixed node"));
 }
