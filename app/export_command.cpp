@@ -8,6 +8,7 @@
 
 #include "app/commands.hpp"
 #include "app/score_unit.hpp"
+#include "core/contender_filter.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "evolve/archive_check.hpp"
@@ -32,6 +33,17 @@ struct ExportOptions {
   int check_replicas = 16;
   int threads = 0;
 };
+
+/// A race run's creature that falls apart: the GA may keep evolving it, but the
+/// racer (and so the run's race fitness) races its largest piece alone.
+void warn_if_in_pieces(const RunConfig& config, const soda::ModelDef& creature, const std::filesystem::path& file) {
+  if (config.fitness.kind != FitnessKind::Race) return;
+  const soda::ContenderPieces p = soda::contender_pieces(creature);
+  if (p.connected()) return;
+  std::cerr << "sodaevo: warning: " << file.string() << ": not one connected piece (" << p.pieces
+            << " pieces): the original racer would race only its largest piece: " << p.kept.size() << " of "
+            << p.masses << " masses\n";
+}
 
 /// Every elite of a MAP-Elites run's archive, as the run wrote it to RUN/elites/
 /// (prepared as evaluated), named by cell, with the archive's index beside them,
@@ -61,6 +73,7 @@ void export_archive(const std::filesystem::path& run, const ExportOptions& opt) 
     soda::ModelDef prepared = soda::read_model_file(run / elite_file(e.id)).def;
     prepared.comment += "; " + check_comment(c, unit);
     soda::write_model_file(out / name, prepared);
+    warn_if_in_pieces(config, prepared, out / name);
     nlohmann::json j = champion_json(c, name, config);
     j["cell"] = cell;
     champions.push_back(std::move(j));
@@ -102,6 +115,7 @@ void run_export(const ExportOptions& opt) {
     std::snprintf(name, sizeof name, "rank%02d_%s.xml", static_cast<int>(i + 1), ind.id.c_str());
     const std::filesystem::path file = std::filesystem::path(opt.out) / name;
     soda::write_model_file(file, prepared);
+    warn_if_in_pieces(config, prepared, file);
     champions.push_back(champion_json(checks[i], name, config));
     const ReplicaCheck& c = checks[i];
     std::printf("%4zu  %-12s  %12.3f   %8d   %10.3f [%.3f, %.3f]%s   %s\n", i + 1, ind.id.c_str(), ind.evaluation.fitness,

@@ -2,6 +2,7 @@
 // runs them (core/race_lane.hpp): each contender in its own lane on the race's
 // terrain, its result in frames (a timeout as timeout + fraction) and its place.
 // A contender argument may be another race file: its contenders race this terrain.
+// A contender the racer rejects (a fixed node last in <nodes>) gets "no result".
 // With --replicas K each contender also races K replicas with sine jitter
 // (core/sine_jitter.hpp: another machine's sine), which gives the distribution of
 // its result: the original racer's run is one more draw from it.
@@ -10,6 +11,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -52,12 +54,14 @@ struct Entry {
   std::string name;
   soda::ModelDef model;
   soda::RaceOutcome outcome;
+  std::string no_result; ///< why the racer gives this contender no result (contender_filter.hpp); empty: raced
   int place = 0;
   SampleSummary replicas; ///< --replicas: the results of the jittered replicas
 };
 
 std::string result_text(const soda::RaceOutcome& o) {
   char text[64];
+  if (std::isnan(o.result)) return "no result";
   if (o.finished) {
     std::snprintf(text, sizeof text, "%.0f", o.result);
   } else {
@@ -141,11 +145,13 @@ std::string distribution_text(const SampleSummary& s) {
   return text;
 }
 
-/// Places: 1 for the lowest result; equal results share a place.
+/// Places: 1 for the lowest result; equal results share a place; no result, no place (0).
 void assign_places(std::vector<Entry>& entries) {
   for (Entry& e : entries) {
+    e.place = 0;
+    if (!e.no_result.empty()) continue;
     e.place = 1;
-    for (const Entry& other : entries) e.place += other.outcome.result < e.outcome.result ? 1 : 0;
+    for (const Entry& other : entries) e.place += other.no_result.empty() && other.outcome.result < e.outcome.result ? 1 : 0;
   }
 }
 
@@ -157,22 +163,46 @@ void run_race_command(const RaceOptions& opt) {
     throw soda::InputError("race: --trace and --render draw one lane: expected one contender, got " +
                            std::to_string(entries.size()) + " (name one contender file)");
   }
-  std::vector<soda::RaceLane> lanes;
-  std::vector<soda::Model> models;
-  for (const Entry& e : entries) {
-    lanes.push_back(soda::build_lane(race.terrain, race.constraints, e.model, e.file));
-    models.push_back(soda::build_lane_model(lanes.back()));
+  // Lanes of the contenders the racer races (by entry; an empty lane for one it
+  // rejects: no result, as the original racer gives none).
+  std::vector<soda::RaceLane> lanes(entries.size());
+  std::vector<soda::Model> models(entries.size());
+  for (std::size_t k = 0; k < entries.size(); ++k) {
+    Entry& e = entries[k];
+    try {
+      lanes[k] = soda::build_lane(race.terrain, race.constraints, e.model, e.file);
+    } catch (const soda::ContenderRejected& ex) {
+      if (!opt.trace.empty() || !opt.render.empty()) throw; // nothing to draw
+      e.no_result = ex.what();
+      e.outcome.result = std::nan("");
+      if (entries.size() > 1) std::cerr << "sodaevo: " << e.no_result << '\n';
+      continue;
+    }
+    models[k] = soda::build_lane_model(lanes[k]);
+    if (lanes[k].contender_pieces > 1) {
+      std::cerr << "sodaevo: warning: " << e.file << ": not one connected piece: the original racer races only its "
+                << "largest piece: " << models[k].mass_count << " of " << lanes[k].contender_masses << " masses\n";
+    }
+  }
+  if (std::all_of(entries.begin(), entries.end(), [](const Entry& e) { return !e.no_result.empty(); })) {
+    throw soda::InputError(entries.size() == 1 ? entries[0].no_result
+                                               : "race: no contender can be raced (the reasons are above)");
   }
   if (opt.trace.empty()) { // the contenders raced together (fused scenes: the same results as one by one)
+    std::vector<std::size_t> raced;
+    for (std::size_t k = 0; k < entries.size(); ++k) {
+      if (entries[k].no_result.empty()) raced.push_back(k);
+    }
     std::vector<soda::State> states;
-    for (const soda::Model& m : models) states.push_back(soda::make_state(m));
+    for (std::size_t k : raced) states.push_back(soda::make_state(models[k]));
     std::vector<soda::LaneRace> races;
-    for (std::size_t k = 0; k < entries.size(); ++k) races.push_back({&lanes[k], &models[k], timeout, &states[k]});
+    for (std::size_t i = 0; i < raced.size(); ++i) races.push_back({&lanes[raced[i]], &models[raced[i]], timeout, &states[i]});
     const std::vector<soda::RaceOutcome> outcomes = soda::run_races_together(races);
-    for (std::size_t k = 0; k < entries.size(); ++k) entries[k].outcome = outcomes[k];
+    for (std::size_t i = 0; i < raced.size(); ++i) entries[raced[i]].outcome = outcomes[i];
   }
   for (std::size_t k = 0; k < entries.size(); ++k) {
     Entry& e = entries[k];
+    if (!e.no_result.empty()) continue;
     const soda::RaceLane& lane = lanes[k];
     const soda::Model& model = models[k];
     if (!opt.trace.empty()) {
@@ -205,7 +235,12 @@ void run_race_command(const RaceOptions& opt) {
                              {"frames", e.outcome.result},
                              {"finished", e.outcome.finished},
                              {"place", e.place}};
-      if (opt.replicas > 0) {
+      if (!e.no_result.empty()) { // the racer gives none (contender_filter.hpp)
+        item["frames"] = nullptr;
+        item["place"] = nullptr;
+        item["no_result"] = e.no_result;
+      }
+      if (opt.replicas > 0 && e.no_result.empty()) {
         const SampleSummary& s = e.replicas;
         item["replicas"] = {{"n", s.n},     {"jitter", opt.jitter}, {"mean", s.mean}, {"median", s.median},
                             {"sd", s.sd},   {"min", s.min},         {"max", s.max},
@@ -228,8 +263,13 @@ void run_race_command(const RaceOptions& opt) {
   }
   std::vector<const Entry*> order;
   for (const Entry& e : entries) order.push_back(&e);
-  std::stable_sort(order.begin(), order.end(), [](const Entry* a, const Entry* b) { return a->place < b->place; });
+  const auto rank = [](const Entry* e) { return e->place > 0 ? e->place : std::numeric_limits<int>::max(); };
+  std::stable_sort(order.begin(), order.end(), [&](const Entry* a, const Entry* b) { return rank(a) < rank(b); });
   for (const Entry* e : order) {
+    if (!e->no_result.empty()) {
+      std::printf("%-6s %-22s %s (%s)\n", "-", "no result", e->name.c_str(), e->file.c_str());
+      continue;
+    }
     if (replicas) {
       std::printf("%-6d %-22s %-30s %s (%s)\n", e->place, result_text(e->outcome).c_str(),
                   distribution_text(e->replicas).c_str(), e->name.c_str(), e->file.c_str());
@@ -246,9 +286,10 @@ void add_race_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "race",
       "Race contenders on a Sodarace race file's terrain exactly as the original racer (2004) does:\n"
-      "each scaled to half its container's height, placed left of the start, run until it passes\n"
-      "the finish or the timeout. Prints each result in frames (a timeout as timeout + fraction of\n"
-      "the way left to go) and its place; fewer frames is better.");
+      "each one's largest connected piece (fixed nodes dropped) scaled to half its container's\n"
+      "height, placed left of the start, run until it passes the finish or the timeout. Prints\n"
+      "each result in frames (a timeout as timeout + fraction of the way left to go) and its\n"
+      "place; fewer frames is better. A fixed node last in <nodes>: no result, as the racer.");
   cmd->add_option("race", opt->race, "Race file (<!DOCTYPE sodarace>, e.g. models/terrains/TerrainFlat.xml)")
       ->required()
       ->check(non_empty_path())
@@ -260,7 +301,9 @@ void add_race_command(CLI::App& app) {
       ->check(CLI::ExistingFile);
   cmd->add_flag("--json", opt->json,
                 "Print {\"race\", \"timeout\", \"bar_engine\", \"contenders\": [{\"file\", \"name\", \"frames\",\n"
-                "\"finished\", \"place\"}]}; with --replicas each entry also has \"replicas\"");
+                "\"finished\", \"place\"}]}; with --replicas each entry also has \"replicas\"; a contender\n"
+                "the racer gives no result (a fixed node last in <nodes>) has \"frames\" and \"place\" null\n"
+                "and \"no_result\": the reason");
   cmd->add_option("--trace", opt->trace,
                   "Write the lane's CSV trace (one contender): frame,wave_phase,wave_mode,x0,y0,vx0,vy0,...");
   cmd->add_option("--render", opt->render,

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "batch_step.hpp"
+#include "contender_filter.hpp"
 #include "fast_step.hpp"
 #include "fused/fused_scene.hpp"
 #include "input_error.hpp"
@@ -21,62 +22,6 @@ int java_int(double v) {
 }
 
 namespace {
-
-/// The contender after FilterScaledSquare: its masses and the springs and muscles
-/// between them, scaled by s = (H/2) / sqrt(sum of Lmax^2) about the middle of its
-/// top (spec 3.2 step 4).
-struct ScaledContender {
-  std::vector<NodeDef> masses;
-  std::vector<LinkDef> links; ///< ends index `masses`
-  double scale = 1.0;
-};
-
-ScaledContender scale_contender(const ModelDef& c, const std::string& name) {
-  ScaledContender out;
-  std::vector<int> index(c.nodes.size(), -1);
-  for (std::size_t i = 0; i < c.nodes.size(); ++i) {
-    if (c.nodes[i].fixed) continue;
-    index[i] = static_cast<int>(out.masses.size());
-    out.masses.push_back(c.nodes[i]);
-  }
-  double sum = 0.0;
-  for (const LinkDef& l : c.links) {
-    if (l.kind == LinkKind::FixedBar || index[static_cast<std::size_t>(l.a)] < 0 ||
-        index[static_cast<std::size_t>(l.b)] < 0) {
-      continue;
-    }
-    LinkDef kept = l;
-    kept.a = index[static_cast<std::size_t>(l.a)];
-    kept.b = index[static_cast<std::size_t>(l.b)];
-    out.links.push_back(kept);
-    const double lmax =
-        l.kind == LinkKind::Muscle ? l.rest_length * (1.0 + l.amplitude * c.wave.amplitude) : l.rest_length;
-    sum += lmax * lmax;
-  }
-  if (out.masses.empty() || out.links.empty() || !(sum > 0.0)) {
-    throw InputError(name + ": cannot race this contender: expected free masses joined by springs or muscles "
-                            "(the racer scales a contender by their lengths), got " +
-                     std::to_string(out.masses.size()) + " masses and " + std::to_string(out.links.size()) +
-                     " springs and muscles between them" + (out.links.empty() ? "" : " of total length 0"));
-  }
-  out.scale = (static_cast<double>(c.height) / 2.0) / std::sqrt(sum);
-  double min_x = out.masses[0].x, max_x = min_x, max_y = out.masses[0].y;
-  for (const NodeDef& m : out.masses) {
-    min_x = std::min(min_x, m.x);
-    max_x = std::max(max_x, m.x);
-    max_y = std::max(max_y, m.y);
-  }
-  const double cx = (min_x + max_x) / 2.0;
-  const double cy = max_y;
-  for (NodeDef& m : out.masses) {
-    m.x = cx + (m.x - cx) * out.scale;
-    m.y = cy + (m.y - cy) * out.scale;
-    m.vx = m.vx * out.scale;
-    m.vy = m.vy * out.scale;
-  }
-  for (LinkDef& l : out.links) l.rest_length = l.rest_length * out.scale;
-  return out;
-}
 
 template <typename T>
 T pick(RaceSource source, const T& contender, const T& racer) {
@@ -121,9 +66,12 @@ RaceLane build_lane(const ModelDef& terrain, const RaceConstraints& rc, const Mo
   bars.push_back({LinkKind::FixedBar, left_platform, static_cast<int>(start), 0.0, 0.0, 0.0});
   bars.push_back({LinkKind::FixedBar, static_cast<int>(finish), left_platform + 1, 0.0, 0.0, 0.0});
 
-  // Contender (FilterScaledSquare), placed 6 px left of the start and 7 px above it.
-  ScaledContender sc = scale_contender(contender, contender_name);
+  // Contender (FilterScaledSquare: contender_filter.hpp), placed 6 px left of the
+  // start and 7 px above it, by the kept masses only.
+  const FilteredContender sc = filter_contender(contender, contender_name);
   lane.scale = sc.scale;
+  lane.contender_masses = sc.pieces.masses;
+  lane.contender_pieces = sc.pieces.pieces;
   double min_y = sc.masses[0].y, max_x = sc.masses[0].x;
   for (const NodeDef& m : sc.masses) {
     min_y = std::min(min_y, m.y);
@@ -137,12 +85,15 @@ RaceLane build_lane(const ModelDef& terrain, const RaceConstraints& rc, const Mo
     m.y = m.y + py;
     d.nodes.push_back(m);
   }
+  // Links as the racer's lane lists them: terrain bars, the two platforms, then the
+  // contender's kept links (its mass-to-mass bars among them). Bars are tested in
+  // link order, so the contender's bars come after the terrain's.
+  d.links = std::move(bars);
   for (LinkDef l : sc.links) {
     l.a += first_mass;
     l.b += first_mass;
     d.links.push_back(l);
   }
-  d.links.insert(d.links.end(), bars.begin(), bars.end());
   for (std::size_t i = 0; i < d.nodes.size(); ++i) {
     d.nodes[i].id = (d.nodes[i].fixed ? "n" : "m") + std::to_string(i);
   }
@@ -172,14 +123,47 @@ RaceLane build_lane(const ModelDef& terrain, const RaceConstraints& rc, const Mo
 }
 
 Model build_lane_model(const RaceLane& lane) {
-  // The racer multiplies the contender's gravity by its scale and checks no range,
-  // so a lane's gravity may exceed the editor's limit of 4 (a contender scaled up).
   ModelDef def = lane.def;
+  // A link from a mass to itself has length 0, and the engine skips such a link;
+  // build_model refuses one.
+  std::erase_if(def.links, [](const LinkDef& l) { return l.a == l.b && l.kind != LinkKind::FixedBar; });
+  // The racer multiplies the contender's gravity by its scale and checks no range:
+  // gravity may exceed the editor's limit of 4 (a contender scaled up), and a scale
+  // of +inf makes gravity, positions, velocities and rest lengths infinite or NaN.
+  // build_model refuses those, so it gets stand-ins and the lane's values go in after.
   const double gravity = def.environment.gravity;
-  const bool above = std::isfinite(gravity) && gravity > kGravityRange.max;
-  if (above) def.environment.gravity = kGravityRange.max;
+  const bool gravity_out = !kGravityRange.contains(gravity);
+  if (gravity_out) def.environment.gravity = kGravityRange.max;
+  const auto finite_or_zero = [](double& v) {
+    if (std::isfinite(v)) return false;
+    v = 0.0;
+    return true;
+  };
+  bool nodes_out = false, links_out = false;
+  for (NodeDef& n : def.nodes) {
+    for (double* v : {&n.x, &n.y, &n.vx, &n.vy}) nodes_out = finite_or_zero(*v) || nodes_out;
+  }
+  for (LinkDef& l : def.links) links_out = finite_or_zero(l.rest_length) || links_out;
   Model model = build_model(def, BarEngine::Racer2004);
-  if (above) {
+  if (nodes_out) {
+    for (int p = 0; p < model.point_count; ++p) {
+      const NodeDef& n = lane.def.nodes[static_cast<std::size_t>(model.node_of_point[static_cast<std::size_t>(p)])];
+      const auto k = static_cast<std::size_t>(p);
+      model.x0[k] = n.x;
+      model.y0[k] = n.y;
+      model.vx0[k] = model.is_mass(p) ? n.vx : 0.0;
+      model.vy0[k] = model.is_mass(p) ? n.vy : 0.0;
+    }
+    model.fixed_bars = make_fixed_bars(model.bar_a, model.bar_b, model.x0.data(), model.y0.data(), BarEngine::Racer2004);
+  }
+  if (links_out) { // the model's links are def's springs and muscles, in order
+    std::size_t k = 0;
+    for (const LinkDef& l : lane.def.links) {
+      if (l.kind == LinkKind::FixedBar || l.a == l.b) continue;
+      model.link_rest[k++] = l.rest_length;
+    }
+  }
+  if (gravity_out) {
     model.gravity = gravity;
     set_constants(model);
   }

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "contender_filter.hpp"
 #include "model.hpp"
 #include "race_def.hpp"
 
@@ -24,16 +25,23 @@ struct RaceLane {
   ModelDef def;          ///< nodes: terrain, two platform nodes, the contender's masses
   double start_x = 0, start_y = 0;   ///< the start node, lane coordinates
   double finish_x = 0, finish_y = 0; ///< the finish node, lane coordinates
-  double scale = 1.0;    ///< the contender's scale factor s
+  double scale = 1.0;    ///< the contender's scale factor s (+inf: the kept links' lengths sum to 0)
+  int contender_masses = 0; ///< free masses in the contender's file
+  int contender_pieces = 0; ///< its connected pieces; the lane holds the largest (contender_filter.hpp)
 };
 
 /// Builds the lane for `contender` on `terrain` (a race's terrain model) under the
-/// race constraints. Throws InputError naming `contender_name` for a contender that
-/// has no free mass or no spring or muscle between masses (the scale needs one).
+/// race constraints, the contender filtered as the racer does (contender_filter.hpp:
+/// its largest piece, scaled). Throws ContenderRejected naming `contender_name`
+/// where the racer gives no result (a fixed node last in <nodes>).
 RaceLane build_lane(const ModelDef& terrain, const RaceConstraints& constraints, const ModelDef& contender,
                     const std::string& contender_name);
 
-/// The lane's model, stepped with the racer's (2004) fixed-bar rule.
+/// The lane's model, stepped with the racer's (2004) fixed-bar rule. The racer
+/// checks no range: the lane's gravity may exceed 4 and a contender scaled by +inf
+/// has infinite or NaN numbers; the model keeps them (the race then gives the
+/// racer's timeout formula). Links from a mass to itself are left out of the model:
+/// the engine skips a link of length 0.
 Model build_lane_model(const RaceLane& lane);
 
 struct RaceOutcome {

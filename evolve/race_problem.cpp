@@ -236,10 +236,13 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
         healthy = false;
         break;
       }
-      if (const int m = soda::first_non_finite_mass(model, state); m >= 0) {
+      // A non-finite state still has the racer's result (a contender scaled by +inf
+      // is NaN from the first update: the timeout formula), as the original reports
+      // it; only descriptors cannot be measured on one.
+      if (const int m = soda::first_non_finite_mass(model, state); m >= 0 && meter) {
         e.status = EvaluationStatus::Diverged;
-        e.reason = terrains_[t].file + ": non-finite state of mass " + std::to_string(m) + " at update " +
-                   std::to_string(o.updates);
+        e.reason = terrains_[t].file + ": no descriptors: non-finite state of mass " + std::to_string(m) +
+                   " at update " + std::to_string(o.updates);
         healthy = false;
         break;
       }

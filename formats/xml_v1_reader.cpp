@@ -279,10 +279,12 @@ void read_links(ReadContext& ctx, pugi::xml_node links, ModelDef& def,
     };
     link.a = endpoint("a");
     link.b = endpoint("b");
+    // The original reads a link from a node to itself: the engine skips it (length
+    // 0), the Sodarace racer keeps it and counts its rest length in the scale.
     if (link.a == link.b) {
-      ctx.fail(child, "b",
-               "expected a node other than a, got " + quote(a.find("b")) +
-                   " (a link must join two different nodes)");
+      ctx.warn(child, "b",
+               "a link from " + quote(a.find("b")) + " to itself: kept (no force; the Sodarace racer counts its "
+               "rest length in its scale), but simulate refuses it");
     }
     if (link.kind != LinkKind::FixedBar) link.rest_length = a.required_number("restlength");
     if (link.kind == LinkKind::Muscle) {

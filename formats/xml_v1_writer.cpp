@@ -74,7 +74,7 @@ void check_writable(const ModelDef& def) {
       refuse(what + "joins nodes " + std::to_string(l.a) + " and " + std::to_string(l.b) +
              ", expected indices in [0, " + std::to_string(node_count - 1) + "]");
     }
-    if (l.a == l.b) refuse(what + "joins node " + std::to_string(l.a) + " to itself");
+    // A link from a node to itself is written (the reader keeps it, as the original).
     if (l.kind != LinkKind::Spring && l.kind != LinkKind::Muscle && l.kind != LinkKind::FixedBar) {
       refuse(what + "has an unknown kind " + std::to_string(static_cast<int>(l.kind)));
     }
