@@ -60,8 +60,9 @@ struct Scene {
   soda::Model model;
 };
 Scene load_scene(const std::filesystem::path& path);
-/// load_scene, or nullopt for a Sodarace race file (it holds no model); other
-/// errors still throw.
+/// load_scene, or nullopt for a Sodarace race file (it holds no model) and for the
+/// racer-only contender-filter golden set (terrain/components: see
+/// test_contender_filter.cpp); other errors still throw.
 std::optional<Scene> load_scene_unless_race(const std::filesystem::path& path);
 
 /// Runs a shell command; its exit code and stdout+stderr together.
