@@ -48,17 +48,15 @@ void add_report_command(CLI::App& app) {
       ->default_val(400)
       ->check(CLI::Range(2, 100000));
   cmd->callback([opt] {
-    // Said in the terminal too: a user comparing figures should not have to find it in the page.
+    const bool archive = has_archive(opt->run); // a MAP-Elites run: its archive page
+    const std::filesystem::path out = !opt->out.empty() ? std::filesystem::path(opt->out)
+                                      : archive         ? default_archive_report_path(opt->run)
+                                                        : default_report_path(opt->run);
+    if (archive) write_archive_report(opt->run, out);
+    else write_run_report(opt->run, out, opt->report);
+    // Said in the terminal too (once the page is written: not before an error about
+    // the folder): a user comparing figures should not have to find it in the page.
     if (const std::string note = report_sine_note(opt->run); !note.empty()) std::cout << "note: " << note << ".\n";
-    if (has_archive(opt->run)) { // a MAP-Elites run: its archive page
-      const std::filesystem::path out =
-          opt->out.empty() ? default_archive_report_path(opt->run) : std::filesystem::path(opt->out);
-      write_archive_report(opt->run, out);
-      std::cout << "wrote " << out.string() << "\n";
-      return;
-    }
-    const std::filesystem::path out = opt->out.empty() ? default_report_path(opt->run) : std::filesystem::path(opt->out);
-    write_run_report(opt->run, out, opt->report);
     std::cout << "wrote " << out.string() << "\n";
   });
 }
