@@ -14,6 +14,7 @@
 #include "charts/fixed_text.hpp"
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
+#include "app/run_report.hpp"
 #include "app/score_unit.hpp"
 #include "charts/svg_chart.hpp"
 #include "formats/atomic_file.hpp"
@@ -40,6 +41,7 @@ namespace {
 constexpr const char* kPageStyle = R"css(
 body { font-family: sans-serif; margin: 1.5em; color: #222; }
 .note { color: #666; font-size: 0.9em; }
+.sine-note { background: #fff4d6; border: 1px solid #e0b040; padding: 8px 12px; font-size: 0.9em; }
 .charts, .maps { display: flex; flex-wrap: wrap; gap: 12px; align-items: flex-start; }
 .map { font-size: 12px; }
 .map rect.cell { cursor: pointer; stroke: #fff; stroke-width: 0.5; }
@@ -182,12 +184,15 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
     hi = std::max(hi, c.at("fitness").at("mean").get<double>());
   }
 
+  std::string sine_note = report_sine_note(run_dir);
+  if (!sine_note.empty()) sine_note = "<p class=\"sine-note\">Made with another sine: " + esc(sine_note) + ".</p>\n";
   std::ostringstream o;
   o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>sodaevo archive "
     << esc(config.name) << "</title>\n<style>" << kPageStyle << "</style>\n" << player_head() << "</head>\n<body>\n"
     << "<pre id=\"page-errors\" hidden></pre>\n"
     << "<h1>MAP-Elites archive <code>" << esc(config.name) << "</code></h1>\n<p class=\"note\">"
     << esc(run_dir.string()) << " &#183; iteration " << archive.at("iteration").get<int>() << "</p>\n"
+    << sine_note
     << "<table class=\"metrics\"><tr><td>cells filled</td><td>" << metrics.at("filled").get<long long>() << " of "
     << metrics.at("cells").get<long long>() << " (" << fixed(100.0 * metrics.at("coverage").get<double>(), 1)
     << " %)</td></tr><tr><td>QD-score</td><td>" << number(metrics.at("qd_score").get<double>())

@@ -19,11 +19,13 @@
 #include "charts/fixed_text.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
+#include "core/sine_identity.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
 #include "evolve/mpi_launch.hpp"
 #include "evolve/replica_check.hpp"
 #include "evolve/run_config.hpp"
+#include "evolve/run_sine.hpp"
 #include "evolve/run_store.hpp"
 #if SODAEVO_HAS_MPI
 #include "evolve/mpi/mpi_evaluator.hpp"
@@ -51,6 +53,7 @@ struct EvolveOptions {
   int threads = 0;
   bool force = false;
   bool quiet = false;
+  bool resume_other_sine = false;
 };
 
 std::atomic<bool> g_stop_requested{false};
@@ -108,6 +111,41 @@ std::string format_duration(double seconds) {
   return buf;
 }
 
+/// A run made with another sine is not continued silently (a run never mixes
+/// sines unrecorded): refused, or with --resume-other-sine continued from its
+/// checkpoint scored again with this engine's sine, the change recorded in
+/// manifest.json. Returns whether the checkpoint is to be scored again.
+bool accept_resume_sine(const RunStore& store, const EvolveOptions& opt) {
+  const bool map_elites = store.config().algorithm == AlgorithmKind::MapElites;
+  const std::optional<ResumePoint> p = resume_point(store.dir(), map_elites);
+  if (!p || p->sine == soda::kEngineSine) return false;
+  const std::string dir = store.dir().string();
+  const std::string note = other_sine_note("this run was made", p->sine, p->recorded) + " (read from " + p->file + ")";
+  if (map_elites) {
+    throw soda::InputError(dir + ": not resumed: " + note +
+                           ".\nA MAP-Elites archive cannot change sine part way (its elites hold the old sine's "
+                           "estimates, their cells its descriptors), so --resume-other-sine does not apply. Start a "
+                           "new run from the same config:\n  sodaevo evolve " + (store.dir() / "config.json").string() +
+                           " --out NEW_FOLDER");
+  }
+  const std::string g = std::to_string(p->generation);
+  if (!opt.resume_other_sine) {
+    throw soda::InputError(dir + ": not resumed: " + note +
+                           ".\nContinuing it here would mix two sines in one run. Either continue it with this "
+                           "engine's sine (generation " + g + ", its checkpoint, is scored again and every generation "
+                           "from " + g + " on is made with " + sine_description(soda::kEngineSine) +
+                           "; manifest.json records the change):\n  sodaevo evolve --resume " + dir +
+                           " --resume-other-sine\nor start a new run from the same config:\n  sodaevo evolve " +
+                           (store.dir() / "config.json").string() + " --out NEW_FOLDER");
+  }
+  record_sine_change(store.dir(), p->generation, p->sine);
+  std::cerr << "sodaevo: " << note << ".\nContinuing with this engine's sine (--resume-other-sine): generation " << g
+            << " is scored again, and it and every later generation are made with "
+            << sine_description(soda::kEngineSine) << "; recorded in " << (store.dir() / "manifest.json").string()
+            << " (sine_changes).\n";
+  return true;
+}
+
 void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
   if (!mpi_support_built() && launcher_rank_count() > 1) {
     throw soda::InputError("this sodaevo was built without MPI support, so it cannot share one run between the " +
@@ -119,9 +157,14 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
   if (opt.resume.empty() == opt.config.empty()) {
     throw soda::InputError("give either a CONFIG.json to start a run or --resume RUN_FOLDER to continue one");
   }
+  if (opt.resume_other_sine && opt.resume.empty()) {
+    throw soda::InputError("--resume-other-sine continues a run made with another sine: give it with --resume RUN_FOLDER");
+  }
   std::optional<RunStore> store;
+  bool rescore_checkpoint = false;
   if (!opt.resume.empty()) {
     store.emplace(RunStore::open(opt.resume));
+    rescore_checkpoint = accept_resume_sine(*store, opt);
   } else {
     const RunConfig config = read_run_config(opt.config);
     // A seed model that cannot be evolved is an error of the config: say so before
@@ -180,6 +223,7 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
 
   EvolutionOptions options;
   options.stop_requested = &g_stop_requested;
+  options.rescore_checkpoint = rescore_checkpoint;
   auto refresh_report = [&] {
     try {
       write_run_report(store->dir(), default_report_path(store->dir()));
@@ -286,7 +330,8 @@ void add_evolve_command(CLI::App& app) {
       "Evolve walkers with a genetic algorithm from a JSON config (see configs/README.md).\n"
       "Writes a run folder: resolved config, generations.csv, timing.csv, the best creature\n"
       "of every generation as SodaConstructor XML, saved generations, checkpoints and report.html\n"
-      "(see `sodaevo report`, refreshed every few generations).\n"
+      "(see `sodaevo report`, refreshed every few generations). manifest.json records the engine's\n"
+      "muscle sine: --resume refuses a run made with another (see --resume-other-sine).\n"
       "On a cluster: mpirun -np N sodaevo evolve CONFIG runs the algorithm on rank 0 and\n"
       "evaluates on every rank, with results identical to one process (README: Running on a\n"
       "cluster). This build: " + mpi_support_summary() + ".");
@@ -297,6 +342,14 @@ void add_evolve_command(CLI::App& app) {
   cmd->add_option("--resume", opt->resume, "Continue the interrupted run in this folder from its last checkpoint")
       ->check(non_empty_path())
       ->check(CLI::ExistingDirectory);
+  cmd->add_flag("--resume-other-sine", opt->resume_other_sine,
+                "With --resume: continue a run made with another muscle sine (runs made before " +
+                    std::string(soda::kGlibcSineUntil) + " used\n"
+                "glibc's sin; this engine computes Java's Math.sin). Without it such a resume is refused, as\n"
+                "trajectories and fitnesses differ between sines and a run must not mix them. With it, the\n"
+                "checkpoint's generation is scored again with this engine's sine and every generation from\n"
+                "there on is made with it; manifest.json records the change (sine_changes), and replay and\n"
+                "report name the sine of each generation. Not for MAP-Elites runs (start a new run).");
   cmd->add_option("--threads", opt->threads, "Evaluation threads per process (0 = all cores; under MPI, the node's cores shared\n"
                   "between its ranks); results do not depend on it")
       ->default_val(0)
@@ -308,6 +361,7 @@ void add_evolve_command(CLI::App& app) {
     if (!opt->config.empty()) command_line += " " + opt->config;
     if (!opt->out.empty()) command_line += " --out " + opt->out;
     if (!opt->resume.empty()) command_line += " --resume " + opt->resume;
+    if (opt->resume_other_sine) command_line += " --resume-other-sine";
     command_line += " --threads " + std::to_string(opt->threads);
     run_evolve(*opt, command_line);
   });

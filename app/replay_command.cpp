@@ -10,11 +10,13 @@
 #include "app/commands.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
+#include "core/sine_identity.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/race_schedule.hpp"
 #include "evolve/run_config.hpp"
 #include "evolve/run_reader.hpp"
 #include "evolve/run_roles.hpp"
+#include "evolve/run_sine.hpp"
 
 namespace sodaevo::app {
 
@@ -56,6 +58,30 @@ int run_replay(const ReplayOptions& opt) {
     std::vector<Evaluation> r = evaluator.evaluate(creatures, problem, estimator);
     for (std::size_t k = 0; k < who.size(); ++k) replayed[who[k]] = std::move(r[k]);
   }
+  // Made with another sine, the logged fitnesses are not this engine's to reproduce:
+  // say so, show this engine's figures, compare nothing.
+  const RunSine sine = read_run_sine(run);
+  const std::string other = other_sine_note("generation " + std::to_string(generation) + " of this run was made",
+                                            sine.of_generation(generation), sine.recorded);
+  if (!other.empty()) {
+    std::printf("note: %s, and that is no fault of the run; the figures below are this engine's and are not "
+                "compared with the logged ones.\n",
+                other.c_str());
+    std::size_t scored = 0, best = replayed.size();
+    for (std::size_t i = 0; i < replayed.size(); ++i) {
+      if (!replayed[i].ok()) continue;
+      ++scored;
+      if (best == replayed.size() || replayed[i].fitness > replayed[best].fitness) best = i;
+    }
+    std::printf("generation %d: %zu creatures re-simulated with this engine's sine, %zu scored", generation,
+                replayed.size(), scored);
+    if (best < replayed.size()) {
+      std::printf("; best now %s fitness %s", g.individuals[best].id.c_str(),
+                  soda::format_double_plain(replayed[best].fitness).c_str());
+    }
+    std::printf("\n");
+    return 0;
+  }
   int mismatches = 0;
   for (std::size_t i = 0; i < replayed.size(); ++i) {
     const Evaluation& logged = g.individuals[i].evaluation;
@@ -81,7 +107,11 @@ void add_replay_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand(
       "replay",
       "Re-simulate every creature of a saved generation and check that each reproduces its\n"
-      "logged fitness bit for bit (exit code 3 if any differs).");
+      "logged fitness bit for bit (exit code 3 if any differs). A generation made with another\n"
+      "muscle sine (manifest.json; runs made before " + std::string(soda::kGlibcSineUntil) +
+          " used glibc's sin, this engine computes\n"
+          "Java's Math.sin) cannot reproduce: replay says so, prints this engine's figures, compares\n"
+          "nothing and exits 0.");
   cmd->add_option("run", opt->run, "Run folder")->required()->check(non_empty_path())->check(CLI::ExistingDirectory);
   cmd->add_option("--generation,-g", opt->generation, "Saved generation to replay (default: the last saved)")
       ->check(CLI::Range(0, 100000000));

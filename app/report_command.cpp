@@ -30,7 +30,10 @@ void add_report_command(CLI::App& app) {
       "generations next to the Dainty Walker under the same fitness settings. `evolve` writes\n"
       "RUN/report.html itself at the end of a run and every few generations.\n"
       "A MAP-Elites run gets RUN/archive.html instead: the archive as heat maps (click a cell to\n"
-      "play its elite), QD-score and coverage over the run.");
+      "play its elite), QD-score and coverage over the run.\n"
+      "A run made with another muscle sine than this engine's (manifest.json; runs made before\n"
+      "the engine computed Java's Math.sin used glibc's sin) is said to be so, here and on the page:\n"
+      "what the report simulates again differs from what the run logged.");
   cmd->add_option("run", opt->run, "Run folder")->required()->check(non_empty_path());
   cmd->add_option("-o,--out", opt->out, "Output .html (default RUN/report.html)");
   cmd->add_option("--rows", opt->report.table_rows, "Best distinct creatures listed in the table")
@@ -45,15 +48,15 @@ void add_report_command(CLI::App& app) {
       ->default_val(400)
       ->check(CLI::Range(2, 100000));
   cmd->callback([opt] {
-    if (has_archive(opt->run)) { // a MAP-Elites run: its archive page
-      const std::filesystem::path out =
-          opt->out.empty() ? default_archive_report_path(opt->run) : std::filesystem::path(opt->out);
-      write_archive_report(opt->run, out);
-      std::cout << "wrote " << out.string() << "\n";
-      return;
-    }
-    const std::filesystem::path out = opt->out.empty() ? default_report_path(opt->run) : std::filesystem::path(opt->out);
-    write_run_report(opt->run, out, opt->report);
+    const bool archive = has_archive(opt->run); // a MAP-Elites run: its archive page
+    const std::filesystem::path out = !opt->out.empty() ? std::filesystem::path(opt->out)
+                                      : archive         ? default_archive_report_path(opt->run)
+                                                        : default_report_path(opt->run);
+    if (archive) write_archive_report(opt->run, out);
+    else write_run_report(opt->run, out, opt->report);
+    // Said in the terminal too (once the page is written: not before an error about
+    // the folder): a user comparing figures should not have to find it in the page.
+    if (const std::string note = report_sine_note(opt->run); !note.empty()) std::cout << "note: " << note << ".\n";
     std::cout << "wrote " << out.string() << "\n";
   });
 }

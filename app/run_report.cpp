@@ -26,6 +26,7 @@
 #include "evolve/race_schedule.hpp"
 #include "evolve/replica_estimator.hpp"
 #include "evolve/run_config.hpp"
+#include "evolve/run_sine.hpp"
 #include "evolve/run_store.hpp"
 #include "evolve/variation.hpp"
 #include "formats/atomic_file.hpp"
@@ -129,7 +130,7 @@ struct Shown {
   soda::ModelDef prepared;
 };
 
-void config_table(std::ostringstream& o, const RunConfig& c, const nlohmann::json& manifest) {
+void config_table(std::ostringstream& o, const RunConfig& c, const nlohmann::json& manifest, const RunSine& sine) {
   auto row = [&](const std::string& k, const std::string& v) {
     o << "<tr><th>" << esc(k) << "</th><td>" << esc(v) << "</td></tr>\n";
   };
@@ -139,6 +140,7 @@ void config_table(std::ostringstream& o, const RunConfig& c, const nlohmann::jso
   row("seed", std::to_string(c.seed));
   if (manifest.contains("started") && manifest["started"].is_string()) row("started", manifest["started"].get<std::string>());
   if (manifest.contains("command") && manifest["command"].is_string()) row("command", manifest["command"].get<std::string>());
+  row("muscle sine", sine.summary());
   row("generations", std::to_string(c.budget.generations));
   row("population", std::to_string(c.population.size) + " (random fraction " + format_double_plain(c.population.random_fraction) + ")");
   std::string seeds;
@@ -241,11 +243,20 @@ table.config th { color: #555; font-weight: normal; white-space: nowrap; }
 .charts svg { max-width: 100%; height: auto; margin-right: 12px; }
 .note { color: #555; font-size: 14px; }
 tr.classic td { color: #7a4b00; }
+.sine-note { background: #fff4d6; border: 1px solid #e0b040; padding: 8px 12px; font-size: 14px; }
 )css";
 
 } // namespace
 
 fs::path default_report_path(const fs::path& run_dir) { return run_dir / "report.html"; }
+
+std::string report_sine_note(const fs::path& run_dir) {
+  if (std::error_code ec; !fs::is_directory(run_dir, ec)) return {}; // the report's own error says what is wrong
+  const std::string note = run_sine_note(read_run_sine(run_dir));
+  if (note.empty()) return {};
+  return note + ". What the report simulates again (animations, distances, speeds, races run again, the Dainty "
+                "Walker) is this engine's; the logged fitnesses are the run's own";
+}
 
 std::string run_report_html(const fs::path& run_dir, const ReportOptions& options) {
   if (!fs::is_directory(run_dir)) throw soda::InputError(run_dir.string() + ": no such run folder");
@@ -263,6 +274,8 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   }
   const std::vector<GenerationRow> rows = read_generations_csv(run_dir / "generations.csv");
   const ScoreUnit score = ScoreUnit::of(config);
+  const RunSine sine = read_run_sine(run_dir);
+  const std::string sine_note = report_sine_note(run_dir);
 
   std::ostringstream o;
   o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>sodaevo run " << esc(config.name)
@@ -276,9 +289,10 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
       << " evaluations";
   }
   o << " &#183; report written by sodaevo 0.1.0</p>\n";
+  if (!sine_note.empty()) o << "<p class=\"sine-note\">Made with another sine: " << esc(sine_note) << ".</p>\n";
 
   o << "<h2>Config</h2>\n";
-  config_table(o, config, manifest);
+  config_table(o, config, manifest, sine);
 
   // Fitness over generations.
   o << "<h2>Fitness over generations</h2>\n";

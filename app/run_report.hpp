@@ -30,6 +30,10 @@ std::string run_report_html(const std::filesystem::path& run_dir, const ReportOp
 void write_run_report(const std::filesystem::path& run_dir, const std::filesystem::path& out,
                       const ReportOptions& options = {});
 
+/// What the report says when (part of) the run was made with another muscle sine
+/// than this engine's (evolve/run_sine.hpp); empty if none was. For the terminal.
+std::string report_sine_note(const std::filesystem::path& run_dir);
+
 /// The report's place in a run folder: RUN/report.html.
 std::filesystem::path default_report_path(const std::filesystem::path& run_dir);
 

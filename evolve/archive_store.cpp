@@ -5,6 +5,7 @@
 
 #include "formats/atomic_file.hpp"
 #include "core/input_error.hpp"
+#include "core/sine_identity.hpp"
 #include "formats/model_file.hpp"
 #include "core/number_text.hpp"
 #include "evolve/run_roles.hpp"
@@ -137,7 +138,9 @@ void ArchiveStore::write_archive(const GridArchive& archive, const RunConfig& co
     const soda::ModelDef prepared = problem->export_form(e.creature, e.id, elite_evaluation(e, config));
     soda::write_model_file(dir_ / elite_file(e.id), prepared);
   }
-  soda::write_file_atomically(dir_ / "archive.json", archive_to_json(archive, me, iteration).dump(1) + "\n");
+  json j = archive_to_json(archive, me, iteration);
+  j["sine"] = std::string(soda::kEngineSine); // what scored the elites (evolve/run_sine.hpp)
+  soda::write_file_atomically(dir_ / "archive.json", j.dump(1) + "\n");
 }
 
 void ArchiveStore::write_checkpoint(const GridArchive& archive, const ArchiveCheckpoint& c) const {
@@ -157,7 +160,7 @@ void ArchiveStore::write_checkpoint(const GridArchive& archive, const ArchiveChe
   }
   const json j = {{"format", kCheckpointFormat},     {"iteration", c.iteration},
                   {"evaluations", c.evaluations},    {"rollouts", c.rollouts},
-                  {"wall_seconds", c.wall_seconds},
+                  {"wall_seconds", c.wall_seconds},      {"sine", std::string(soda::kEngineSine)},
                   {"cells", cells},                  {"elites_xml", generation_to_xml(elites)}};
   soda::write_file_atomically(dir_ / "archive_checkpoint.json", j.dump() + "\n");
 }

@@ -1,7 +1,8 @@
 // ArchiveStore: the MAP-Elites files of a run folder (beside RunStore's
 // config.json and manifest.json):
 //
-//   archive.json            the archive: its grid, QD metrics, and per filled cell
+//   archive.json            the archive: its grid, QD metrics, the sine that scored
+//                           it (evolve/run_sine.hpp), and per filled cell
 //                           the elite's id, bins, fitness estimate (n, mean, sd),
 //                           exact-run distance, descriptor means and its XML file
 //   elites/<id>.xml         every elite of the final archive, prepared as evaluated
@@ -14,7 +15,7 @@
 //                           replicas simulated), resampled (further estimates this
 //                           iteration), evicted
 //   archive_checkpoint.json everything --resume needs: the iteration, evaluations,
-//                           wall time and every elite with its estimates (doubles
+//                           wall time, the sine that scored it and every elite with its estimates (doubles
 //                           written to round-trip exactly) and genome
 //
 // Every file is written atomically, as RunStore's.

@@ -36,6 +36,7 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
   double previous_wall = 0.0;
   long long evaluations = 0;
   bool need_evaluation = true;
+  bool rescoring = false; // the checkpoint's generation, scored again (options.rescore_checkpoint)
   if (std::optional<Checkpoint> checkpoint = store.read_checkpoint()) {
     store.truncate_logs_after(checkpoint->generation.index);
     current = std::move(checkpoint->generation);
@@ -43,6 +44,10 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
     previous_wall = checkpoint->wall_seconds;
     need_evaluation = false; // the checkpoint holds an evaluated generation
     outcome.last_generation = current.index;
+    if (options.rescore_checkpoint) {
+      for (Individual& ind : current.individuals) ind.evaluation = {}, ind.evaluated = false;
+      need_evaluation = rescoring = true;
+    }
   } else {
     current = roles.algorithm->first(load_seed_creatures(config));
   }
@@ -74,17 +79,21 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
       const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
       evaluations += done;
       const GenerationStats stats = summarize(current, evaluations);
-      const bool save_whole = last || (config.save.generation_every > 0 && current.index % config.save.generation_every == 0);
+      // A generation scored again (rescore_checkpoint) replaces its saved file of the old sine.
+      const bool save_whole = last || rescoring ||
+                              (config.save.generation_every > 0 && current.index % config.save.generation_every == 0);
       std::optional<soda::ModelDef> best_file;
       if (stats.best_index >= 0) {
         const Individual& best = current.individuals[static_cast<std::size_t>(stats.best_index)];
         best_file = problem.export_form(best.creature, best.id, best.evaluation);
       }
       store.record_generation(current, stats, wall(), seconds, done, save_whole, best_file);
-      if (last || current.index % config.save.checkpoint_every == 0) {
-        store.write_checkpoint({current, evaluations, wall()});
+      // Scored again: checkpointed at once, the checkpoint naming the sine that scored it.
+      if (last || rescoring || current.index % config.save.checkpoint_every == 0) {
+        store.write_checkpoint({current, evaluations, wall(), {}});
       }
       outcome.last_generation = current.index;
+      rescoring = false;
       if (options.on_generation) {
         options.on_generation({current.index, config.budget.generations, stats, wall(),
                                seconds > 0 ? static_cast<double>(done) / seconds : 0.0});
@@ -101,7 +110,7 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
     if (!stop.empty()) {
       // Whatever stopped the run, the last generation is saved whole and checkpointed.
       const GenerationStats stats = summarize(current, evaluations);
-      store.write_checkpoint({current, evaluations, wall()});
+      store.write_checkpoint({current, evaluations, wall(), {}});
       store.save_generation(current);
       outcome.stopped_because = stop;
       outcome.evaluations = evaluations;

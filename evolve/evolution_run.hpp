@@ -27,6 +27,11 @@ struct EvolutionOptions {
   /// When it becomes true, the current generation is finished and saved, then
   /// the run stops (Ctrl-C).
   const std::atomic<bool>* stop_requested = nullptr;
+  /// Resuming a checkpoint scored with another sine (evolve --resume-other-sine):
+  /// its generation is scored again from scratch, as if newly born, and saved whole,
+  /// so that no generation from there on holds fitnesses of two sines (elites
+  /// carry theirs over, and the replicas they gathered were the old sine's).
+  bool rescore_checkpoint = false;
 };
 
 struct EvolutionOutcome {

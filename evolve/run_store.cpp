@@ -14,6 +14,7 @@
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "core/race_def.hpp"
+#include "core/sine_identity.hpp"
 #include "evolve/input_limits.hpp"
 #include "evolve/sample_summary.hpp"
 #include "formats/atomic_file.hpp"
@@ -242,13 +243,16 @@ Generation generation_from_xml(const std::string& text, const std::string& sourc
 
 namespace {
 
-void write_manifest(const fs::path& dir, const RunConfig& config, const std::string& command_line) {
-  const nlohmann::json manifest = {{"program", "sodaevo"},
-                                   {"version", "0.1.0"},
-                                   {"compiler", std::string("g++ ") + __VERSION__},
-                                   {"seed", config.seed},
-                                   {"started", now_iso8601()},
-                                   {"command", command_line}};
+/// `sine`: the sine that made the run (evolve/run_sine.hpp); none: not known.
+void write_manifest(const fs::path& dir, const RunConfig& config, const std::string& command_line,
+                    const std::optional<std::string>& sine) {
+  nlohmann::json manifest = {{"program", "sodaevo"},
+                             {"version", "0.1.0"},
+                             {"compiler", std::string("g++ ") + __VERSION__},
+                             {"seed", config.seed},
+                             {"started", now_iso8601()},
+                             {"command", command_line}};
+  if (sine) manifest["sine"] = *sine;
   soda::write_file_atomically(dir / "manifest.json", manifest.dump(2) + "\n");
 }
 
@@ -300,7 +304,7 @@ RunStore RunStore::create(const fs::path& dir, const RunConfig& config, bool for
   soda::write_file_atomically(dir / "config.json", to_json(with_seeds_in_folder(dir, config)).dump(2) + "\n");
   // The run goes on with the config as a resume reads it: the seed models in seeds/.
   RunStore store(dir, read_run_config(dir / "config.json"));
-  write_manifest(dir, config, command_line);
+  write_manifest(dir, config, command_line, std::string(soda::kEngineSine));
   store.write_logs();
   return store;
 }
@@ -320,8 +324,15 @@ RunStore RunStore::open(const fs::path& dir) {
   RunStore store(dir, read_run_config(dir / "config.json"));
   // A run killed between writing its config and its manifest has none: write one,
   // saying so, rather than leave the folder without it.
+  // Its sine is the checkpoint's, if a checkpoint (not written before the
+  // manifest, but a folder may be edited) says which: else none is claimed.
   if (std::error_code ec; !fs::exists(dir / "manifest.json", ec)) {
-    write_manifest(dir, store.config_, "(unknown: the run was killed before its manifest was written; resumed)");
+    std::optional<std::string> sine = std::string(soda::kEngineSine);
+    if (fs::exists(dir / "checkpoint.json", ec)) {
+      const std::optional<Checkpoint> c = store.read_checkpoint();
+      sine = c && !c->sine.empty() ? std::optional<std::string>(c->sine) : std::nullopt;
+    }
+    write_manifest(dir, store.config_, "(unknown: the run was killed before its manifest was written; resumed)", sine);
   }
   store.generation_rows_ = read_rows(dir / "generations.csv");
   store.timing_rows_ = read_rows(dir / "timing.csv");
@@ -387,6 +398,7 @@ void RunStore::write_checkpoint(const Checkpoint& c) {
                       {"generation", c.generation.index},
                       {"evaluations", c.evaluations},
                       {"wall_seconds", c.wall_seconds},
+                      {"sine", std::string(soda::kEngineSine)}, // what scored the population
                       {"population_xml", generation_to_xml(c.generation)}};
   soda::write_file_atomically(dir_ / "checkpoint.json", j.dump() + "\n");
 }
@@ -477,10 +489,11 @@ Checkpoint parse_checkpoint(const std::string& text, const std::string& source) 
     throw soda::InputError(prefix + ": /format: expected \"sodaevo-checkpoint-1\", got " + got(format));
   }
   for (const auto& [key, value] : j.items()) {
-    if (key != "format" && key != "generation" && key != "evaluations" && key != "wall_seconds" &&
+    if (key != "format" && key != "generation" && key != "evaluations" && key != "wall_seconds" && key != "sine" &&
         key != "population_xml") {
       throw soda::InputError(prefix + ": /" + key +
-                             ": unknown key (expected format, generation, evaluations, wall_seconds, population_xml)");
+                             ": unknown key (expected format, generation, evaluations, wall_seconds, sine, "
+                             "population_xml)");
     }
   }
   Checkpoint c;
@@ -491,6 +504,15 @@ Checkpoint parse_checkpoint(const std::string& text, const std::string& source) 
     throw soda::InputError(prefix + ": /wall_seconds: expected a number >= 0, got " + got(wall));
   }
   c.wall_seconds = wall.get<double>();
+  // The sine that scored the population; none: a checkpoint from before sines were
+  // recorded (glibc's, evolve/run_sine.hpp).
+  if (const auto sine = j.find("sine"); sine != j.end()) {
+    if (!sine->is_string() || sine->get_ref<const std::string&>().empty()) {
+      throw soda::InputError(prefix + ": /sine: expected a sine's name (e.g. \"" + std::string(soda::kEngineSine) +
+                             "\"), got " + got(*sine));
+    }
+    c.sine = sine->get<std::string>();
+  }
   const nlohmann::json& xml = member("population_xml", "a string holding a <generation>");
   if (!xml.is_string()) {
     throw soda::InputError(prefix + ": /population_xml: expected a string holding a <generation>, got " + got(xml));

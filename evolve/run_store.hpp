@@ -1,7 +1,9 @@
 // RunStore: the run folder, the only place a run's results live.
 //
 //   config.json        the resolved config (every default filled in)
-//   manifest.json      version, compiler, seed, start time, command line
+//   manifest.json      version, compiler, seed, start time, command line, and the
+//                      engine's muscle sine (evolve/run_sine.hpp: replay, report and
+//                      --resume check it)
 //   generations.csv    generation,evaluations,best,mean,median,worst,invalid,diverged,best_id,
 //                      best_replicas,best_sd,best_interval95_lo,best_interval95_hi (the best
 //                      creature's replicas: their sd and the 95 % prediction interval of one more run)
@@ -12,7 +14,8 @@
 //   generations/gen_NNNNN.xml  whole saved generations: <generation> holding one
 //                      SodaConstructor <model> per creature (the genome) with id,
 //                      parents, status, fitness, distance and reason attributes
-//   checkpoint.json    the last fully evaluated generation, for --resume
+//   checkpoint.json    the last fully evaluated generation and the sine that scored
+//                      it, for --resume
 //
 // Every file is written atomically (temporary file, then rename), so after a crash
 // each file is either the old or the new version, complete.
@@ -33,6 +36,10 @@ struct Checkpoint {
   Generation generation;       ///< evaluated
   long long evaluations = 0;   ///< cumulative
   double wall_seconds = 0.0;   ///< cumulative
+  /// The sine that scored `generation` (core/sine_identity.hpp); empty: not
+  /// recorded (written before the engine recorded it). Writing always records
+  /// the engine's.
+  std::string sine;
 };
 
 class RunStore {

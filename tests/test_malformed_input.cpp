@@ -241,7 +241,7 @@ TEST_CASE("malformed checkpoint JSON: a damaged checkpoint is named, never half-
       {"a missing key", replaced("\"evaluations\":12,", ""),
        p + "/evaluations: expected an integer in [0, 9007199254740992], got nothing (missing)"},
       {"an unknown key", checkpoint_text("1", "\"extra\":1,"),
-       p + "/extra: unknown key (expected format, generation, evaluations, wall_seconds, population_xml)"},
+       p + "/extra: unknown key (expected format, generation, evaluations, wall_seconds, sine, population_xml)"},
       {"a duplicate key", checkpoint_text("1", "\"generation\":2,"), p + "/generation: duplicate key"},
       {"a generation index too large for an int", replaced("\"generation\":1", "\"generation\":1e30"),
        p + "/generation: expected an integer in [0, 999999], got 1e+30"},
