@@ -86,8 +86,9 @@ std::string golden_races_report(const std::vector<GoldenRace>& races) {
   for (const auto& [name, c] : per_race) o << "| " << name << " | " << c.first << " | " << c.second << " |\n";
   const int differ = static_cast<int>(races.size()) - same;
   std::snprintf(text, sizeof text,
-                "\n%d differ; %d of them after a floor-or-wall and bar collision in one update (the residue of "
-                "spec 9), %d without one (a muscle sine: glibc's here, Java's in the original; or a rule).\n\n",
+                "\n%d differ; %d of them after a floor-or-wall and bar collision in one update (once spec 9's "
+                "residue, now reproduced), %d without one (a muscle sine: glibc's here, Java's in the original; or "
+                "a rule).\n\n",
                 differ, with_residue, differ - with_residue);
   o << text;
   o << "| race | contender | original | ours | first floor+bar update |\n|---|---|---|---|---|\n";

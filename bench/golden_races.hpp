@@ -2,9 +2,10 @@
 // data: 20 public race files x 44 contenders), raced again with core/race_lane.hpp.
 //
 // A race whose result differs is diagnosed from our own run: the first frame where a
-// mass hit the floor or a wall and a bar in the same update (the known last-bit
-// residue of the rules, spec 9), or none (then the drift starts elsewhere: a muscle
-// sine, which is glibc's here and Java's in the original, or a rule).
+// mass hit the floor or a wall and a bar in the same update (once the rules' last-bit
+// residue, spec 9; reproduced since, tests/data/terrain/lastbit), or none (then the
+// drift starts elsewhere: a muscle sine, which is glibc's here and Java's in the
+// original, or a rule).
 #pragma once
 
 #include <filesystem>

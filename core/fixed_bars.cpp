@@ -42,6 +42,9 @@ int relative_ccw(double x1, double y1, double x2, double y2, double px, double p
 
 namespace {
 
+constexpr double kTweak = 1e-4;            // FixedBar.TWEAK of the original
+constexpr double kRacerBoxWidening = 0.01; // the racer's box on an inverted axis (research 6.2)
+
 /// java.awt.geom.Line2D.linesIntersect semantics (touching counts).
 bool lines_intersect(double x1, double y1, double x2, double y2, double x3, double y3, double x4, double y4) {
   return relative_ccw(x1, y1, x2, y2, x3, y3) * relative_ccw(x1, y1, x2, y2, x4, y4) <= 0 &&
@@ -74,33 +77,46 @@ double parameter_of(const FixedBar& bar, double px, double py) {
   return (px - bar.x1) * bar.ux + (py - bar.y1) * bar.uy;
 }
 
+/// Where the mass ends for a bar's answer p: the engine keeps the move as a
+/// displacement, so p is re-added to the start, o + (p - o), two roundings per
+/// axis (research 6.1; not p itself in the last bits when p and o lie in
+/// different binades, e.g. near the floor).
+Point readded(const MassMove& m, Point p) { return {m.x0 + (p.x - m.x0), m.y0 + (p.y - m.y0)}; }
+
 /// The crossing point plus the surface friction's share of the rest of the move along the bar.
 Point slide(const FixedBar& bar, Point p, double nx, double ny, double sf) {
   const double d = (nx - p.x) * bar.ux + (ny - p.y) * bar.uy;
   return {p.x + sf * d * bar.ux, p.y + sf * d * bar.uy};
 }
 
-/// The velocity after a hit: tangential part times Fs, normal part times Rs.
+/// The velocity after a hit: tangential part times Fs, normal part times Rs. The
+/// normal is (uy, -ux): the same bits as (-uy, ux) but for the sign of a zero, which
+/// the originals' traces show (a mass sliding left on a level bar keeps vy = -0;
+/// lastbit scenes lowfar_2003_17, lowfar_2004_21).
 void bar_velocity(const FixedBar& bar, double vx, double vy, const Surface& surface, MassEnd& end) {
   const double vt = vx * bar.ux + vy * bar.uy;
-  const double vn = vx * -bar.uy + vy * bar.ux;
-  end.vx = surface.friction * vt * bar.ux + surface.reflection * vn * -bar.uy;
-  end.vy = surface.friction * vt * bar.uy + surface.reflection * vn * bar.ux;
+  const double vn = vx * bar.uy + vy * -bar.ux;
+  end.vx = surface.friction * vt * bar.ux + surface.reflection * vn * bar.uy;
+  end.vy = surface.friction * vt * bar.uy + surface.reflection * vn * -bar.ux;
+}
+
+/// One axis of the racer's (2004) box test: the bar's range [start, start + size]
+/// as is. An inverted axis (size < 0) takes the move's range as X = min - 0.01,
+/// W = |move| + 0.01, in this rounding order (research 6.2).
+bool racer_axis_touches(double start, double size, double from, double to) {
+  if (size >= 0.0) return std::max(from, to) >= start && std::min(from, to) <= start + size;
+  const double lo = std::min(from, to) - kRacerBoxWidening;
+  const double extent = std::fabs(to - from) + kRacerBoxWidening;
+  return lo + extent >= start && lo <= start + size;
 }
 
 bool box_touches(const FixedBar& bar, BarEngine engine, const MassMove& m) {
-  double bx0 = bar.box_x0, bx1 = bar.box_x1, by0 = bar.box_y0, by1 = bar.box_y1;
   if (engine == BarEngine::Racer2004) {
-    bx0 = bar.x1;
-    bx1 = bar.x1 + bar.w;
-    by0 = bar.y1;
-    by1 = bar.y1 + bar.h;
+    return racer_axis_touches(bar.x1, bar.w, m.x0, m.x) && racer_axis_touches(bar.y1, bar.h, m.y0, m.y);
   }
-  return std::max(m.x0, m.x) >= bx0 && std::min(m.x0, m.x) <= bx1 && std::max(m.y0, m.y) >= by0 &&
-         std::min(m.y0, m.y) <= by1;
+  return std::max(m.x0, m.x) >= bar.box_x0 && std::min(m.x0, m.x) <= bar.box_x1 &&
+         std::max(m.y0, m.y) >= bar.box_y0 && std::min(m.y0, m.y) <= bar.box_y1;
 }
-
-constexpr double kTweak = 1e-4; // FixedBar.TWEAK of the original
 
 bool in_box_with_margin(const FixedBar& bar, Point p) {
   return p.x >= bar.box_x0 - kTweak && p.x <= bar.box_x1 + kTweak && p.y >= bar.box_y0 - kTweak &&
@@ -166,8 +182,9 @@ bool corner_move(const FixedBars& bars, BarMemory& memory, int mass, const MassM
     const Point r = slide(e, crossing_point(e, m.x0, m.y0, m.x, m.y), m.x, m.y, surface.friction);
     const double s = parameter_of(e, r.x, r.y);
     if (s > 0.0 && s < e.length) {
-      end.x = r.x;
-      end.y = r.y;
+      const Point at = readded(m, r);
+      end.x = at.x;
+      end.y = at.y;
       corner.bar = -1;
       return true;
     }
@@ -257,10 +274,12 @@ FixedBars make_fixed_bars(const std::vector<int>& bar_a, const std::vector<int>&
     b.length = std::sqrt(b.w * b.w + b.h * b.h);
     b.ux = b.w / b.length;
     b.uy = b.h / b.length;
-    b.box_x0 = std::min(b.x1, b.x2);
-    b.box_x1 = std::max(b.x1, b.x2);
-    b.box_y0 = std::min(b.y1, b.y2);
-    b.box_y1 = std::max(b.y1, b.y2);
+    // The 2003 box: the range of (x1, x1 + w), not of the nodes (x1 + w can differ
+    // from x2 in the last bit; research 6.3).
+    b.box_x0 = std::min(b.x1, b.x1 + b.w);
+    b.box_x1 = std::max(b.x1, b.x1 + b.w);
+    b.box_y0 = std::min(b.y1, b.y1 + b.h);
+    b.box_y1 = std::max(b.y1, b.y1 + b.h);
   }
   // Chains: bars sharing a node (the same point); the last in link order wins.
   for (int k = 0; k < n; ++k) {
@@ -275,10 +294,14 @@ FixedBars make_fixed_bars(const std::vector<int>& bar_a, const std::vector<int>&
     }
   }
   if (n == 0) return out;
-  // The x reach of a bar for the index: its normalised box, and x1 + w too (the
-  // 2004 box's right edge, which can differ from x2 in the last bit).
-  const auto reach_lo = [](const FixedBar& b) { return std::min(b.box_x0, b.x1 + b.w); };
-  const auto reach_hi = [](const FixedBar& b) { return std::max(b.box_x1, b.x1 + b.w); };
+  // The reach of a bar for the index and the tiles: its box under either rule,
+  // i.e. the normalised box, widened on an inverted axis (the racer's test reaches
+  // up to 0.01 beyond it, give or take its roundings: 0.02 covers them).
+  const auto margin = [](double size) { return size < 0.0 ? 2 * kRacerBoxWidening : 0.0; };
+  const auto reach_lo = [&](const FixedBar& b) { return b.box_x0 - margin(b.w); };
+  const auto reach_hi = [&](const FixedBar& b) { return b.box_x1 + margin(b.w); };
+  const auto reach_y_lo = [&](const FixedBar& b) { return b.box_y0 - margin(b.h); };
+  const auto reach_y_hi = [&](const FixedBar& b) { return b.box_y1 + margin(b.h); };
   double lo = reach_lo(out.bars[0]), hi = reach_hi(out.bars[0]);
   for (const FixedBar& b : out.bars) {
     lo = std::min(lo, reach_lo(b));
@@ -313,14 +336,12 @@ FixedBars make_fixed_bars(const std::vector<int>& bar_a, const std::vector<int>&
     for (int n = std::max(0, c - 1); n <= std::min(out.cell_count - 1, c + 1); ++n) {
       for (int k : cells[static_cast<std::size_t>(n)]) {
         const FixedBar& b = out.bars[static_cast<std::size_t>(k)];
-        // Both rules' boxes: the normalised one, and [x1, x1 + w] x [y1, y1 + h]
-        // (whose bounds may be inverted; a move spanning them still touches it).
-        const double bx0 = std::min(b.box_x0, b.x1 + b.w), bx1 = std::max(b.box_x1, b.x1 + b.w);
+        const double bx0 = reach_lo(b), bx1 = reach_hi(b);
         if (bx1 < x_lo || bx0 > x_hi) continue;
         tile[2] = std::min(tile[2], bx0);
         tile[3] = std::max(tile[3], bx1);
-        tile[4] = std::min({tile[4], b.box_y0, b.y1 + b.h});
-        tile[5] = std::max({tile[5], b.box_y1, b.y1 + b.h});
+        tile[4] = std::min(tile[4], reach_y_lo(b));
+        tile[5] = std::max(tile[5], reach_y_hi(b));
       }
     }
     out.cell_tile.insert(out.cell_tile.end(), tile, tile + FixedBars::kTileStride);
@@ -372,7 +393,10 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
     Point p{0.0, 0.0};
     if (remembered) {
       p = crossing_point(bar, m.x0, m.y0, m.x, m.y);
-      if (!in_box_with_margin(bar, p)) {
+      // A move exactly parallel to the bar (p is its end) hits iff it starts exactly
+      // on the bar's line, wherever it ends (research 6.3).
+      const bool parallel = bar.h * (m.x - m.x0) - bar.w * (m.y - m.y0) == 0.0;
+      if (parallel ? bar.w * (m.y0 - bar.y1) - bar.h * (m.x0 - bar.x1) != 0.0 : !in_box_with_margin(bar, p)) {
         memory.forget(k, mass);
         continue;
       }
@@ -410,14 +434,15 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
   const bool clamped = m.free_x != m.x || m.free_y != m.y;
   Point at{0.0, 0.0};
   if (clamped) {
-    // The container clamped the end: the unclamped end projected on the bar.
+    // The container clamped the end: the unclamped end projected on the bar, its
+    // parameter clamped to [0, L] (the ends too are a + s u, not the nodes).
     ++memory.floor_and_bar_hits;
-    const double s = parameter_of(bar, m.free_x, m.free_y);
-    at = s <= 0.0 ? Point{bar.x1, bar.y1} : s >= bar.length ? Point{bar.x2, bar.y2} : point_at(bar, s);
+    at = point_at(bar, std::clamp(parameter_of(bar, m.free_x, m.free_y), 0.0, bar.length));
     if (outside_container(at, surface)) at = best_point;
   } else {
     at = joint(bars, memory, mass, best, best_side, slide(bar, best_point, m.x, m.y, surface.friction), m);
   }
+  at = readded(m, at);
   end.x = at.x;
   end.y = at.y;
   return true;

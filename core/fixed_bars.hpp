@@ -1,5 +1,5 @@
-// Fixed bars (terrain): the original engine's collision rules, exact (spec 5.4,
-// terrain-research.md section 2).
+// Fixed bars (terrain): the original engine's collision rules, exact to the last
+// bit (spec 5.4 and 9, terrain-research.md sections 2 and 6).
 //
 // Split as Model/State (MuJoCo): FixedBars is constant (each bar's geometry, taken
 // once from the positions at the first update, its chain neighbours, an index by x),
@@ -9,8 +9,9 @@
 //
 // The two originals differ in one place only, the box pre-test of a bar: the 2003
 // SodaConstructor engine normalises a bar's box, the 2004 racer's copy takes
-// [x1, x1 + w] x [y1, y1 + h] as is (so it lets creatures fall through bars that run
-// downhill or right to left). BarEngine names the rule; there is no silent default:
+// [x1, x1 + w] x [y1, y1 + h] as is, with the move's range widened by 0.01 on an
+// inverted axis (so it lets creatures fall through bars that run downhill or right
+// to left). BarEngine names the rule; there is no silent default:
 // every Model says which one it steps with, and the outputs name it.
 #pragma once
 
@@ -27,7 +28,7 @@ namespace soda {
 /// Which original's box test the fixed bars follow.
 enum class BarEngine : std::uint8_t {
   SodaConstructor2003, ///< simulator.jar (2003): normalised bar box
-  Racer2004,           ///< the racer's copy (easysoda.jar, 2004): box taken as is
+  Racer2004,           ///< the racer's copy (easysoda.jar, 2004): box taken as is (research 6.2)
 };
 std::string bar_engine_name(BarEngine engine); ///< "2003" | "2004"
 /// "2003" or "2004"; false for anything else.
@@ -40,7 +41,7 @@ struct FixedBar {
   double w = 0, h = 0;              ///< x2 - x1, y2 - y1
   double length = 0;                ///< sqrt(w*w + h*h)
   double ux = 0, uy = 0;            ///< w/length, h/length
-  double box_x0 = 0, box_x1 = 0, box_y0 = 0, box_y1 = 0; ///< normalised box
+  double box_x0 = 0, box_x1 = 0, box_y0 = 0, box_y1 = 0; ///< normalised box of (x1, x1 + w), (y1, y1 + h)
   int next = -1, prev = -1;         ///< chain neighbours at b and at a (bar index)
   bool next_reversed = false;       ///< the next bar ends (not starts) at b
   bool prev_reversed = false;       ///< the previous bar starts (not ends) at a
@@ -104,8 +105,8 @@ struct BarCorner {
 struct BarMemory {
   std::vector<BarContact> contacts; ///< unordered; one entry per (bar, mass)
   std::vector<BarCorner> corners;   ///< [mass_count] once a mass met a bar, else empty
-  /// Bar hits whose move the container had clamped (the floor-and-bar case whose last
-  /// bits the specification leaves open, section 9); for diagnostics.
+  /// Bar hits whose move the container had clamped (the floor-and-bar case, research
+  /// 6.1); for diagnostics.
   long long floor_and_bar_hits = 0;
   bool operator==(const BarMemory&) const = default;
 

@@ -135,21 +135,22 @@ LaneRun run_lane_trace(const LaneCase& k) {
 
 } // namespace
 
-// The README of the golden lanes: a port following the rules matches race05_walker_430
-// and ai_walker_121 up to frames 33 and 36 (floor-and-bar collisions whose last bits
-// are not known), the other five bit for bit over the whole trace.
-TEST_CASE("race lanes frame by frame: bit for bit as far as the README says, then within 1e-5 px",
-          "[race][golden]") {
-  const std::map<std::string, long long> exact_rows = {
-      {"flat_m2", 325},          {"hilly_dw_wavereverse", 301}, {"hilly_walker_560", 301},
-      {"race05_walker_430", 34}, {"inc1_2_walker_353", 301},    {"ai_walker_121", 37},
+// The README of the golden lanes: a port following the rules of spec 5.4 matched
+// race05_walker_430 and ai_walker_121 only up to frames 33 and 36 (floor-and-bar
+// collisions), the other five bit for bit over the whole trace; with the last-bit rules
+// of terrain-research.md section 6 (tests/test_terrain_lastbit.cpp) all seven match
+// over their whole traces.
+TEST_CASE("race lanes frame by frame: bit for bit over every row", "[race][golden]") {
+  const std::map<std::string, long long> exact_rows = { // the traces' rows
+      {"flat_m2", 325},           {"hilly_dw_wavereverse", 301}, {"hilly_walker_560", 301},
+      {"race05_walker_430", 301}, {"inc1_2_walker_353", 301},    {"ai_walker_121", 301},
       {"race10_walker_202", 301}};
   for (const LaneCase& k : lane_cases()) {
     const LaneRun r = run_lane_trace(k);
     INFO(k.name << ": bit-exact rows " << r.bit_exact_rows << " of " << r.rows << ", max error " << r.max_error);
     REQUIRE(exact_rows.count(k.name) == 1);
-    CHECK(r.bit_exact_rows >= exact_rows.at(k.name));
-    CHECK(r.max_error <= 1e-5);
+    CHECK(r.rows == exact_rows.at(k.name));
+    CHECK(r.bit_exact_rows == r.rows);
   }
 }
 
