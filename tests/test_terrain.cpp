@@ -2,9 +2,8 @@
 // tests/data/terrain/scenes (copied from ../shared/models/soda/golden/terrain; README
 // there), traced from the 2003 SodaConstructor engine and, where it differs, from the
 // 2004 racer's copy. Expected: every row bit for bit (the README: "a re-implementation
-// that follows terrain-research.md reproduces all of them bit for bit"), except the
-// three walker_hills scenes, whose muscles take Java's sine in the golden traces and
-// glibc's here: bit for bit until the sines part, within 1e-5 px over all frames.
+// that follows terrain-research.md reproduces all of them bit for bit"), the three
+// walker_hills scenes included, whose muscles take Java's sine (core/sine.hpp).
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -131,16 +130,16 @@ TEST_CASE("terrain golden micro-scenes: the 2004 rule does not give the 2003 tra
   CHECK(differing == 7); // scenes/index.tsv: 10 differ, 3 of them the walkers
 }
 
-TEST_CASE("terrain golden walkers on hills: bit for bit until the sines part, then within 1e-5 px",
-          "[terrain][golden]") {
+TEST_CASE("terrain golden walkers on hills: every row bit for bit (muscles with Java's sine)", "[terrain][golden]") {
   for (const char* name : kWalkerScenes) {
     for (soda::BarEngine engine : {soda::BarEngine::SodaConstructor2003, soda::BarEngine::Racer2004}) {
-      const SceneRun r = run_scene(name, engine);
-      INFO(name << " engine " << soda::bar_engine_name(engine) << ": bit-exact rows " << r.bit_exact_rows << " of "
-                << r.rows << ", first difference at frame " << r.first_difference << " (" << r.where
-                << "), max error " << r.max_error);
-      CHECK(r.max_error <= 1e-5);
-      CHECK(r.bit_exact_rows >= 2);
+      for (bool fast : {false, true}) {
+        const SceneRun r = run_scene(name, engine, fast);
+        INFO(name << " engine " << soda::bar_engine_name(engine) << (fast ? " FastStepper" : " reference")
+                  << ": bit-exact rows " << r.bit_exact_rows << " of " << r.rows << ", first difference at frame "
+                  << r.first_difference << " (" << r.where << "), max error " << r.max_error);
+        CHECK(r.bit_exact_rows == r.rows);
+      }
     }
   }
 }
