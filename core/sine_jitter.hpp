@@ -1,12 +1,13 @@
 // Sine jitter: a replica's "other libm", so that an ensemble of runs shows how
 // far a creature's result depends on the last bit of its sines.
 //
-// Why: SodaConstructor's own engine (the JVM's Math.sin) and this one agree bit
-// for bit until the first muscle sine where the two libraries differ by one unit
-// in the last place (0.19 % of arguments); a walker is chaotic, so from there on
-// the original's run is another draw from the creature's distribution of
-// distances. A replica with a nonzero seed moves the sine by +-1 ulp for a share
-// `probability` of arguments, which models exactly that. The choice is a pure
+// Why: this engine computes the original's sine (Java's Math.sin as an x86-64 JDK
+// 9+ does, sine.hpp), but a creature also meets other machines' sines: a JVM on
+// aarch64 or JDK 8, another language's sin (glibc's differs from Java's by one unit
+// in the last place for about 0.2 % of muscle arguments). A walker is chaotic, so
+// from the first sine that differs its run is another draw from the creature's
+// distribution of distances. A replica with a nonzero seed moves the sine by +-1
+// ulp for a share `probability` of arguments, which models exactly that. The choice is a pure
 // function of the argument's bits and the seed (a fixed hash below), so a replica
 // gives the same trajectory on every machine, thread count and rank. Seed 0 is
 // the exact engine.

@@ -1,9 +1,10 @@
 // ReplicaEstimator: a creature's fitness as a measured estimate over replicas.
 //
-// Why: a walker is chaotic. SodaConstructor and this engine agree bit for bit
-// until the first muscle sine where the JVM's and glibc's sin differ in the last
-// bit; from there the original's run is another draw from the creature's
-// distribution of distances. A GA that keeps the best single draw keeps the
+// Why: a walker is chaotic. This engine reproduces SodaConstructor on an x86-64
+// JDK 9+ bit for bit (it computes that JVM's Math.sin), but on another machine's
+// sine (an aarch64 JVM, JDK 8, another language's sin) a run parts from it at the
+// first sine that differs in its last bit; from there it is another draw from the
+// creature's distribution of distances. A GA that keeps the best single draw keeps the
 // luckiest one (the winner's curse: exported champions claimed about 9 % more
 // than they walked in the original). So every creature is run K times: replica 0
 // exact, replicas 1.. with their own sine jitter (core/sine_jitter.hpp), which
