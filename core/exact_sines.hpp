@@ -3,8 +3,8 @@
 // soda::sine is HotSpot's x86-64 Math.sin: a fixed sequence of plain double
 // operations on a 64-row table. detail/java_sine_simd.hpp repeats that sequence lane
 // by lane in SIMD (SSE2, AVX2, AVX-512): the same operations on the same operands,
-// so the same bits as sine. Lanes above the main path (|x| >= 90112, infinities,
-// NaN) take sine's result. Every level gives the same bits (tests/test_sine.cpp).
+// so the same bits as sine. Lanes above the main path (|x| >= 90112: the large-
+// argument reduction; infinities, NaN) take sine's result. Every level gives the same bits (tests/test_sine.cpp).
 #pragma once
 
 #include "simd_level.hpp"

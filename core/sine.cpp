@@ -8,8 +8,8 @@
 #include <bit>
 #include <cmath>
 #include <cstdint>
-#include <limits>
 
+#include "java_sine_large.hpp"
 #include "java_sine_table.hpp"
 
 namespace soda {
@@ -17,8 +17,11 @@ namespace {
 
 using namespace java_sine;
 
-/// The main path, 2^-252 <= |x| < 90112.
-double main_path(double x) {
+/// The main path, 2^-252 <= |x| < 90112 (kReduced false); also the end of the
+/// large-argument path (kReduced true), which enters it with x reduced by pi/4 to
+/// x + tail and `rows` added to N for the table.
+template <bool kReduced>
+double main_path(double x, double tail = 0.0, unsigned rows = 0) {
   // 1. Reduction: N = (int)(x*32/pi + copysign(0.5, x)), truncated; r = x - N*pi/32
   // in three parts, and c, the part of the reduction r leaves out.
   const double y = x * kThirtyTwoOverPi;
@@ -31,8 +34,8 @@ double main_path(double x) {
   const double r = r1 - m2;
   const double c1 = r1 - r;
   const double c2 = c1 - m2;
-  const double minus_c = m3 - c2;
-  const TableRow& t = kTable.row[n & 63];
+  const double minus_c = kReduced ? (m3 - c2) - tail : m3 - c2;
+  const TableRow& t = kTable.row[kReduced ? (static_cast<unsigned>(n) + rows) & 63u : static_cast<unsigned>(n) & 63u];
 
   // 2. Polynomial, both lanes: psc4 = SC4*r1, msc4 = psc4*r, psc3 = SC3 + msc4,
   // psc1 = SC1 + SC2*r^2, sincospols = psc1 + psc3*r^4.
@@ -69,14 +72,13 @@ double main_path(double x) {
 
 double sine(double x) {
   const double ax = std::fabs(x);
-  if (ax >= kMainPathLow && ax < kMainPathEnd) return main_path(x);
+  if (ax >= kMainPathLow && ax < kMainPathEnd) return main_path<false>(x);
   if (ax < kMainPathLow) return x; // the routine's tiny-argument paths give x back
   const std::uint64_t b = std::bit_cast<std::uint64_t>(x);
   if (std::isinf(x)) return std::bit_cast<double>(std::uint64_t{0xfff8000000000000}); // x * -0.0 on x86
   if (std::isnan(x)) return std::bit_cast<double>(b | 0x0008000000000000); // quieted
-  return std::numeric_limits<double>::quiet_NaN(); // sine.hpp: Range
+  const LargeReduction r = reduce_large(x);
+  return main_path<true>(r.high, r.low, r.rows);
 }
-
-double sine_range_end() { return std::nextafter(kMainPathEnd, 0.0); }
 
 } // namespace soda

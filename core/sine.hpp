@@ -14,22 +14,16 @@
 // the C library. The vector kernel (detail/java_sine_simd.hpp, through
 // exact_sines.hpp) gives the same bits, several lanes at a time.
 //
-// Range. The routine's main path covers 2^-252 <= |x| < 90112; below it, it
-// returns x (as here); for infinities the NaN 0xfff8000000000000 and for a NaN
-// that NaN quieted (as here). For finite |x| >= 90112 it reduces x with a
-// multi-precision 2/pi, which is not repeated: sine returns NaN there. Muscle
-// arguments lie within (-2pi, 2pi), far inside; a NaN muscle target makes the state
-// non-finite, which every stepper's blow-up check reports: never a silently
-// different number.
+// Range: every double, each of the routine's paths repeated. The main path covers
+// 2^-252 <= |x| < 90112 (muscle arguments lie within (-2pi, 2pi)); below it the
+// routine returns x; above it, it first reduces x by pi/4 with a long binary
+// expansion of 2/pi (java_sine_large.hpp) and ends in the main path; for
+// infinities it returns the NaN 0xfff8000000000000 and a NaN quieted, as x86 does.
 #pragma once
 
 namespace soda {
 
-/// Java's Math.sin(x) (HotSpot, x86-64, JDK 9 and later), bit for bit, for
-/// |x| < 90112, infinities and NaN; NaN for finite |x| >= 90112.
+/// Java's Math.sin(x) (HotSpot, x86-64, JDK 9 and later), bit for bit, for every x.
 double sine(double x);
-
-/// The largest |x| sine computes: the next double below 90112.
-double sine_range_end();
 
 } // namespace soda

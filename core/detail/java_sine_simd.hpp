@@ -29,7 +29,8 @@ namespace soda::java_sine {
 /// are one long chain per vector). The same operations on the same operands as
 /// sine.cpp, lane by lane: the same bits. Lanes below the main path give x, as
 /// sine does; rest[k] marks the lanes of vector k above it (|x| >= 90112,
-/// infinities, NaN), whose result the caller takes from soda::sine.
+/// infinities, NaN: the routine's other paths), whose result the caller takes from
+/// soda::sine.
 template <class O, int N>
 [[gnu::always_inline]] inline void java_sin(const double* in, double* out, unsigned* rest) {
   using V = typename O::V;
