@@ -4,7 +4,8 @@
 #   ./build.sh run    install what is missing, build (Release), run the main job
 #   ./build.sh test   install what is missing, build, run the whole test suite,
 #                     then build it again with AddressSanitizer + UBSan (into
-#                     build-asan/) and run it again there
+#                     build-asan/) and run it again there; a compiler warning or
+#                     note in either build fails it
 #   ./build.sh deps   only install the Debian packages the project needs
 #   ./build.sh build  only configure and build (into build/), with the designer's
 #                     WebAssembly engine (installs emscripten)
@@ -65,6 +66,24 @@ build() {
   cmake --build "$BUILD_DIR" -j "$(nproc)"
 }
 
+# A fresh build prints no warning and no note, so a new one is news: the test
+# path (CI) runs each build through this and fails on one. A log check rather
+# than -Werror: it also catches notes (-Werror does not) and em++'s warnings from
+# web/build_wasm.sh, and a user's `run` on a newer compiler still builds.
+# (Incremental builds print only what they recompile; CI builds a fresh clone.)
+fail_on_warnings() {
+  local log
+  log=$(mktemp)
+  "$@" 2>&1 | tee "$log"
+  if grep -E "warning:|note:|CMake Warning" "$log" > "$log.found"; then
+    echo "build.sh: the build printed $(wc -l < "$log.found") line(s) with a warning or note (a clean build prints none):" >&2
+    cat "$log.found" >&2
+    rm -f "$log" "$log.found"
+    return 1
+  fi
+  rm -f "$log" "$log.found"
+}
+
 # The whole project and its tests with AddressSanitizer and UndefinedBehaviorSanitizer,
 # -O1 so the suite stays fast, -g1 (line tables: reports name file and line) so it
 # builds fast; any finding aborts the test that hit it. Without the
@@ -102,9 +121,9 @@ case "${1:-}" in
     "$BUILD_DIR/sodaevo" evolve configs/default.json
     ;;
   test)
-    install_web_deps "${TEST_PACKAGES[@]}"; build
+    install_web_deps "${TEST_PACKAGES[@]}"; fail_on_warnings build
     ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$(nproc)"
-    build_asan
+    fail_on_warnings build_asan
     run_asan_tests
     ;;
   fuzz)
@@ -113,7 +132,8 @@ case "${1:-}" in
     SODAEVO_FUZZ_DIR="$FUZZ_DIR" fuzz/run.sh "$@"
     ;;
   *)
-    sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
+    # The header comment above, up to its first line that is not a comment.
+    awk 'NR > 1 && !/^#/ { exit } NR > 1' "$0" | sed 's/^# \{0,1\}//'
     exit 2
     ;;
 esac
