@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
 # One entry point for users, developers and CI.
 #
-#   ./build.sh run    install what is missing, build (Release), run the main job
+#   ./build.sh run    install what is missing, build sodaevo (Release; not the
+#                     tests), run the main job
 #   ./build.sh test   install what is missing, build, run the whole test suite,
 #                     then build it again with AddressSanitizer + UBSan (into
 #                     build-asan/) and run it again there; a compiler warning or
 #                     note in either build fails it
+#   ./build.sh designer [MODEL]
+#                     build the designer's WebAssembly engine (installs emscripten)
+#                     and write designer.html, starting with MODEL if given
 #   ./build.sh deps   only install the Debian packages the project needs
 #   ./build.sh build  only configure and build (into build/), with the designer's
 #                     WebAssembly engine (installs emscripten)
@@ -61,9 +65,10 @@ install_web_deps() {
   fetch_pugixml_source
 }
 
+# build [TARGET...]: configure, then build TARGETs (default: everything, tests included).
 build() {
   cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
-  cmake --build "$BUILD_DIR" -j "$(nproc)"
+  cmake --build "$BUILD_DIR" -j "$(nproc)" ${1:+--target "$@"}
 }
 
 # A fresh build prints no warning and no note, so a new one is news: the test
@@ -115,10 +120,23 @@ case "${1:-}" in
   deps) install_deps ;;
   build) install_web_deps; build ;;
   run)
-    install_deps; build
+    # Only what the main job needs: the sodaevo binary, not the test suite.
+    install_deps; build sodaevo
     # The main job: evolve walkers from the default config into
     # results/default-<timestamp>/, then show how the Dainty Walker does.
-    "$BUILD_DIR/sodaevo" evolve configs/default.json
+    run_dir="results/default-$(date +%Y%m%d-%H%M%S)"
+    "$BUILD_DIR/sodaevo" evolve configs/default.json --out "$run_dir"
+    # The designer needs the WebAssembly engine (emscripten), which the first
+    # result does not: it is one command away instead.
+    best=$(ls "$run_dir"/best/gen_*.xml 2>/dev/null | tail -n 1)
+    echo
+    echo "Open the report in a browser: $run_dir/report.html"
+    echo "Play with the champion in the designer (the first time installs emscripten and builds its engine):"
+    echo "  ./build.sh designer ${best:-models/dainty_walker.xml}"
+    ;;
+  designer)
+    install_web_deps; build sodaevo
+    "$BUILD_DIR/sodaevo" designer ${2:+"$2"} -o designer.html
     ;;
   test)
     install_web_deps "${TEST_PACKAGES[@]}"; fail_on_warnings build
