@@ -26,10 +26,7 @@ std::string number(double v) {
   return buf;
 }
 
-} // namespace
-
-namespace {
-
+/// A row's label: its id, and for a flagged claim which way it is off.
 std::string row_label(const ClaimRow& r) {
   if (!claim_flagged(r)) return r.id;
   return r.id + (r.race ? " (claim < check - 5 %)" : " (claim > check + 5 %)");
