@@ -1,10 +1,15 @@
 #!/usr/bin/env bash
 # One entry point for users, developers and CI.
 #
-#   ./build.sh run    install what is missing, build (Release), run the main job
+#   ./build.sh run    install what is missing, build sodaevo (Release; not the
+#                     tests), run the main job
 #   ./build.sh test   install what is missing, build, run the whole test suite,
 #                     then build it again with AddressSanitizer + UBSan (into
-#                     build-asan/) and run it again there
+#                     build-asan/) and run it again there; a compiler warning or
+#                     note in either build fails it
+#   ./build.sh designer [MODEL]
+#                     build the designer's WebAssembly engine (installs emscripten)
+#                     and write designer.html, starting with MODEL if given
 #   ./build.sh deps   only install the Debian packages the project needs
 #   ./build.sh build  only configure and build (into build/), with the designer's
 #                     WebAssembly engine (installs emscripten)
@@ -60,9 +65,28 @@ install_web_deps() {
   fetch_pugixml_source
 }
 
+# build [TARGET...]: configure, then build TARGETs (default: everything, tests included).
 build() {
   cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
-  cmake --build "$BUILD_DIR" -j "$(nproc)"
+  cmake --build "$BUILD_DIR" -j "$(nproc)" ${1:+--target "$@"}
+}
+
+# A fresh build prints no warning and no note, so a new one is news: the test
+# path (CI) runs each build through this and fails on one. A log check rather
+# than -Werror: it also catches notes (-Werror does not) and em++'s warnings from
+# web/build_wasm.sh, and a user's `run` on a newer compiler still builds.
+# (Incremental builds print only what they recompile; CI builds a fresh clone.)
+fail_on_warnings() {
+  local log
+  log=$(mktemp)
+  "$@" 2>&1 | tee "$log"
+  if grep -E "warning:|note:|CMake Warning" "$log" > "$log.found"; then
+    echo "build.sh: the build printed $(wc -l < "$log.found") line(s) with a warning or note (a clean build prints none):" >&2
+    cat "$log.found" >&2
+    rm -f "$log" "$log.found"
+    return 1
+  fi
+  rm -f "$log" "$log.found"
 }
 
 # The whole project and its tests with AddressSanitizer and UndefinedBehaviorSanitizer,
@@ -96,15 +120,28 @@ case "${1:-}" in
   deps) install_deps ;;
   build) install_web_deps; build ;;
   run)
-    install_deps; build
+    # Only what the main job needs: the sodaevo binary, not the test suite.
+    install_deps; build sodaevo
     # The main job: evolve walkers from the default config into
     # results/default-<timestamp>/, then show how the Dainty Walker does.
-    "$BUILD_DIR/sodaevo" evolve configs/default.json
+    run_dir="results/default-$(date +%Y%m%d-%H%M%S)"
+    "$BUILD_DIR/sodaevo" evolve configs/default.json --out "$run_dir"
+    # The designer needs the WebAssembly engine (emscripten), which the first
+    # result does not: it is one command away instead.
+    best=$(ls "$run_dir"/best/gen_*.xml 2>/dev/null | tail -n 1)
+    echo
+    echo "Open the report in a browser: $run_dir/report.html"
+    echo "Play with the champion in the designer (the first time installs emscripten and builds its engine):"
+    echo "  ./build.sh designer ${best:-models/dainty_walker.xml}"
+    ;;
+  designer)
+    install_web_deps; build sodaevo
+    "$BUILD_DIR/sodaevo" designer ${2:+"$2"} -o designer.html
     ;;
   test)
-    install_web_deps "${TEST_PACKAGES[@]}"; build
+    install_web_deps "${TEST_PACKAGES[@]}"; fail_on_warnings build
     ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$(nproc)"
-    build_asan
+    fail_on_warnings build_asan
     run_asan_tests
     ;;
   fuzz)
@@ -113,7 +150,8 @@ case "${1:-}" in
     SODAEVO_FUZZ_DIR="$FUZZ_DIR" fuzz/run.sh "$@"
     ;;
   *)
-    sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'
+    # The header comment above, up to its first line that is not a comment.
+    awk 'NR > 1 && !/^#/ { exit } NR > 1' "$0" | sed 's/^# \{0,1\}//'
     exit 2
     ;;
 esac

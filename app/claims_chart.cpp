@@ -26,10 +26,22 @@ std::string number(double v) {
   return buf;
 }
 
+/// A row's label: its id, and for a flagged claim which way it is off.
+std::string row_label(const ClaimRow& r) {
+  if (!claim_flagged(r)) return r.id;
+  return r.id + (r.race ? " (claim < check - 5 %)" : " (claim > check + 5 %)");
+}
+
 } // namespace
 
 std::string render_claims_chart(const std::vector<ClaimRow>& rows) {
-  const int left = 150, right = 30, top = 40, row_height = 26, bottom = 50, width = 760;
+  constexpr int kFont = 12, kLabelGap = 8, kMargin = 10;
+  // The labels' column is as wide as its longest label, so none is cut off.
+  double label_width = 0.0;
+  for (const ClaimRow& r : rows) label_width = std::max(label_width, charts::text_width_estimate(row_label(r), kFont));
+  const int left = std::max(60, kMargin + kLabelGap + static_cast<int>(std::ceil(label_width)));
+  const int right = 30, top = 40, row_height = 26, bottom = 50;
+  const int width = std::max(760, left + 400 + right); // at least 400 px of plot
   const int height = top + row_height * static_cast<int>(std::max<std::size_t>(rows.size(), 1)) + bottom;
   double lo = 0.0, hi = 1.0;
   bool first = true;
@@ -51,19 +63,19 @@ std::string render_claims_chart(const std::vector<ClaimRow>& rows) {
 
   std::ostringstream o;
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height
-    << "\" viewBox=\"0 0 " << width << ' ' << height << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
+    << "\" viewBox=\"0 0 " << width << ' ' << height << "\" font-family=\"sans-serif\" font-size=\"" << kFont << "\">\n";
   o << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   o << "<text x=\"" << width / 2 << "\" y=\"20\" text-anchor=\"middle\" font-size=\"14\">Claimed (diamond) against "
        "checked on fresh replicas (dot: median, bar: 95 % interval)</text>\n";
   const int axis_y = top + row_height * static_cast<int>(rows.size()) + 5;
   o << "<line x1=\"" << left << "\" y1=\"" << axis_y << "\" x2=\"" << width - right << "\" y2=\"" << axis_y
     << "\" stroke=\"#444\"/>\n";
-  for (int t = 0; t <= 5; ++t) {
-    const double v = lo + (hi - lo) * t / 5.0;
+  // Ticks at round values (1, 2 or 5 times a power of ten), as the other charts.
+  for (const double v : charts::round_ticks(lo, hi)) {
     const double x = x_of(v);
     o << "<line x1=\"" << number(x) << "\" y1=\"" << top - 5 << "\" x2=\"" << number(x) << "\" y2=\"" << axis_y
-      << "\" stroke=\"#eee\"/>\n<text x=\"" << number(x) << "\" y=\"" << axis_y + 16
-      << "\" text-anchor=\"middle\">" << number(v) << "</text>\n";
+      << "\" stroke=\"#eee\"/>\n<text class=\"tick\" x=\"" << number(x) << "\" y=\"" << axis_y + 16
+      << "\" text-anchor=\"middle\">" << charts::svg_escape(charts::format_tick(v)) << "</text>\n";
   }
   o << "<text x=\"" << left + plot / 2 << "\" y=\"" << axis_y + 36
     << "\" text-anchor=\"middle\">"
@@ -73,10 +85,8 @@ std::string render_claims_chart(const std::vector<ClaimRow>& rows) {
     const ClaimRow& r = rows[i];
     const double y = top + row_height * (static_cast<double>(i) + 0.5);
     const bool flag = claim_flagged(r);
-    o << "<text x=\"" << left - 8 << "\" y=\"" << number(y + 4) << "\" text-anchor=\"end\""
-      << (flag ? " fill=\"#b00\"" : "") << ">" << charts::svg_escape(r.id)
-      << (!flag ? "" : r.race ? " (claim < check - 5 %)" : " (claim > check + 5 %)")
-      << "</text>\n";
+    o << "<text class=\"label\" x=\"" << left - kLabelGap << "\" y=\"" << number(y + 4) << "\" text-anchor=\"end\""
+      << (flag ? " fill=\"#b00\"" : "") << ">" << charts::svg_escape(row_label(r)) << "</text>\n";
     o << "<line x1=\"" << number(x_of(r.check_lo)) << "\" y1=\"" << number(y) << "\" x2=\"" << number(x_of(r.check_hi))
       << "\" y2=\"" << number(y) << "\" stroke=\"#1f77b4\" stroke-width=\"2\"/>\n";
     o << "<circle cx=\"" << number(x_of(r.check_median)) << "\" cy=\"" << number(y)

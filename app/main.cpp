@@ -10,6 +10,7 @@
 #include "core/input_error.hpp"
 #include "evolve/mpi_launch.hpp"
 #include "app/mpi_context.hpp"
+#include "app/start_here.hpp"
 #if SODAEVO_HAS_MPI
 #include "evolve/mpi/mpi_session.hpp"
 #include "evolve/mpi/mpi_worker.hpp"
@@ -31,6 +32,11 @@ int main(int argc, char** argv) {
     sodaevo::app::set_current_mpi_session(mpi.get());
   }
 #endif
+  // No arguments: a newcomer's "start here", not every option (that is --help).
+  if (argc <= 1) {
+    std::cout << sodaevo::app::start_here_text(argc == 1 ? argv[0] : "sodaevo");
+    return 0;
+  }
   CLI::App app{
       "sodaevo: evolve SodaConstructor walkers on an exact re-implementation of the\n"
       "SodaConstructor mass-spring engine, and simulate or convert SodaConstructor models.\n"

@@ -73,21 +73,7 @@ std::vector<double> ticks_for(const Scale& s) {
     }
     return ticks;
   }
-  const double span = s.hi - s.lo;
-  const double raw = span / 6.0;
-  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
-  double step = mag;
-  for (double m : {1.0, 2.0, 5.0, 10.0}) {
-    if (m * mag >= raw) {
-      step = m * mag;
-      break;
-    }
-  }
-  if (s.integer) step = std::max(1.0, std::round(step));
-  for (double v = std::ceil(s.lo / step) * step; v <= s.hi + step * 1e-9; v += step) {
-    ticks.push_back(std::fabs(v) < step * 1e-9 ? 0.0 : v);
-  }
-  return ticks;
+  return round_ticks(s.lo, s.hi, s.integer);
 }
 
 struct Frame {
@@ -162,6 +148,50 @@ std::string svg_escape(const std::string& text) {
     }
   }
   return out;
+}
+
+std::vector<double> round_ticks(double lo, double hi, bool integer) {
+  std::vector<double> ticks;
+  const double span = hi - lo;
+  if (!(span > 0) || !std::isfinite(span)) return ticks;
+  const double raw = span / 6.0;
+  const double mag = std::pow(10.0, std::floor(std::log10(raw)));
+  double step = mag;
+  for (double m : {1.0, 2.0, 5.0, 10.0}) {
+    if (m * mag >= raw) {
+      step = m * mag;
+      break;
+    }
+  }
+  if (integer) step = std::max(1.0, std::round(step));
+  for (double v = std::ceil(lo / step) * step; v <= hi + step * 1e-9; v += step) {
+    ticks.push_back(std::fabs(v) < step * 1e-9 ? 0.0 : v);
+  }
+  return ticks;
+}
+
+double text_width_estimate(const std::string& text, double font_size) {
+  // Advance widths in em, rounded up from DejaVu Sans (Arial and Helvetica are
+  // narrower); unlisted characters count as wide as a capital.
+  double em = 0.0;
+  for (const char ch : text) {
+    const unsigned char c = static_cast<unsigned char>(ch);
+    if ((c & 0xC0) == 0x80) continue; // a UTF-8 continuation byte: counted with its lead byte
+    if (c == ' ' || c == '.' || c == ',' || c == ':' || c == ';' || c == '\'' || c == '!' || c == '|' || c == 'i' ||
+        c == 'j' || c == 'l') {
+      em += 0.34;
+    } else if (c == '(' || c == ')' || c == '[' || c == ']' || c == '-' || c == 'f' || c == 't' || c == 'r' ||
+               c == '/') {
+      em += 0.42;
+    } else if (c == 'm' || c == 'w' || c == 'M' || c == 'W' || c == '%' || c == '@' || c >= 0x80) {
+      em += 1.0;
+    } else if ((c >= 'a' && c <= 'z') || (c >= '0' && c <= '9')) {
+      em += 0.64;
+    } else {
+      em += 0.85; // capitals, < > + = and the rest
+    }
+  }
+  return em * font_size;
 }
 
 std::string format_tick(double v) {

@@ -59,4 +59,14 @@ std::string svg_escape(const std::string& text);
 /// Compact number label: 1.5k, 20M, 0.25, 1e-06.
 std::string format_tick(double value);
 
+/// Round tick values in [lo, hi] for a linear axis: every multiple there of a step
+/// of 1, 2 or 5 times a power of ten, the smallest such step giving at most about
+/// six intervals (`integer`: a step of at least 1).
+std::vector<double> round_ticks(double lo, double hi, bool integer = false);
+
+/// The width in px of `text` set in a sans-serif font of `font_size` px, estimated
+/// from DejaVu Sans's advance widths (Debian's sans-serif) and erring wide, so a
+/// layout that leaves this much room does not cut a label off.
+double text_width_estimate(const std::string& text, double font_size);
+
 } // namespace sodaevo::charts

@@ -368,3 +368,48 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
   CHECK(soda::read_whole_file(out / "speed_creatures.svg").find("<svg") != std::string::npos);
   fs::remove_all(out);
 }
+
+TEST_CASE("sodaevo with no arguments prints a short start-here whose commands work; --help still lists all", "[cli]") {
+  const ShellResult r = run_sodaevo("");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.output, Catch::Contains("Start here"));
+  // Short: a screenful, and none of the option list (that is --help).
+  CHECK(std::count(r.output.begin(), r.output.end(), '\n') <= 24);
+  CHECK(r.output.find("--resume") == std::string::npos);
+  CHECK(r.output.find("SUBCOMMANDS") == std::string::npos);
+  CHECK(r.output.find("Subcommands") == std::string::npos);
+  CHECK_THAT(r.output, Catch::Contains("--help"));
+  // The three commands, each runnable in the project folder as printed: the
+  // files they name exist, and the simulate line runs.
+  std::vector<std::string> commands;
+  std::istringstream in(r.output);
+  const std::string program = std::string(SODAEVO_BINARY) + " ";
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("  " + program, 0) == 0) commands.push_back(line.substr(2 + program.size()));
+  }
+  REQUIRE(commands.size() == 3);
+  CHECK(commands[0].rfind("evolve ", 0) == 0);
+  CHECK(commands[1].rfind("designer ", 0) == 0);
+  CHECK(commands[2].rfind("simulate ", 0) == 0);
+  const fs::path project = fs::path(SODAEVO_MODELS_DIR).parent_path();
+  for (const std::string& c : commands) {
+    std::istringstream words(c);
+    std::string command, file;
+    words >> command >> file;
+    INFO(c);
+    CHECK(fs::exists(project / file));
+  }
+  const ShellResult simulated = run_shell("cd " + project.string() + " && " + program + commands[2]);
+  INFO(simulated.output);
+  CHECK(simulated.exit_code == 0);
+  CHECK_THAT(simulated.output, Catch::Contains("px"));
+
+  const ShellResult help = run_sodaevo("--help");
+  INFO(help.output);
+  REQUIRE(help.exit_code == 0);
+  for (const char* command : {"simulate", "convert", "evolve", "export", "replay", "bench", "render", "report",
+                              "designer", "race"}) {
+    CHECK(help.output.find(command) != std::string::npos);
+  }
+}

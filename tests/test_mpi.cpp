@@ -117,7 +117,11 @@ TEST_CASE("a rank killed mid-run leaves a run folder that resumes on another N",
                                       "SODAEVO_TEST_FAULT=kill:2:2"));
   INFO(killed.output);
   CHECK(killed.exit_code != 0);
-  CHECK(killed.output.find("sodaevo evolve --resume") != std::string::npos);
+  // Not checked here: rank 0's "continue with: sodaevo evolve --resume" on mpirun's
+  // SIGTERM. mpirun sends SIGKILL one second later (odls_base_sigkill_timeout), a
+  // time a loaded machine may not give rank 0, and then the message is lost: this
+  // test failed now and then for that alone. test_crash_safety.cpp checks the
+  // message on a SIGTERM that nothing follows. Everything below waits on events.
   // Intact: the run folder opens, and its checkpoint, if the kill came after the
   // first one (rank 2 may take several chunks of generation 0 when the other
   // ranks are slow), is readable and of a generation before the end.
