@@ -39,9 +39,11 @@ bool parse_bar_engine(const std::string& text, BarEngine& engine);
 enum class SideRule : std::uint8_t {
   Stored, ///< always the remembered side (research 2.2 step 2)
   /// The remembered side only while the move starts within kSideTolerance of the
-  /// bar's line, else the side of the start. Inferred from one race (walker_313 on
-  /// TerrainAi, frame 6763: a start 2.68 px off the line) and bounded only by the
-  /// golden races: any tolerance from 1e-11 to 2.6 px keeps them (research 6.5).
+  /// bar's line, else the side of the start: the default. Inferred from one race
+  /// (walker_313 on TerrainAi, frame 6763: a move starting 2.68 px off bar 1's line,
+  /// remembered on side 0, ends on the side it started on; the original lets it
+  /// go) and bounded only by it and the golden sets: any tolerance from 1e-11 to
+  /// 2.6 px keeps every golden set and that race, 3e-12 or 2.7 px do not.
   Near,
 };
 std::string side_rule_name(SideRule rule); ///< "stored" | "near"
@@ -65,7 +67,7 @@ struct FixedBar {
 /// only the bars whose x range its move reaches: terrains are 100,000 px wide).
 struct FixedBars {
   BarEngine engine = BarEngine::SodaConstructor2003;
-  SideRule side_rule = SideRule::Stored;
+  SideRule side_rule = SideRule::Near;
   std::vector<FixedBar> bars; ///< link order
   // Index by x: cells of cell_width px from cell_x0; cell c holds the bars whose
   // normalised x range touches it, in link order (cell_start[c] .. cell_start[c+1]).
