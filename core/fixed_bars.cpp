@@ -21,6 +21,8 @@ bool parse_bar_engine(const std::string& text, BarEngine& engine) {
   return true;
 }
 
+std::string side_rule_name(SideRule rule) { return rule == SideRule::Near ? "near" : "stored"; }
+
 int relative_ccw(double x1, double y1, double x2, double y2, double px, double py) {
   x2 -= x1;
   y2 -= y1;
@@ -53,6 +55,13 @@ bool lines_intersect(double x1, double y1, double x2, double y2, double x3, doub
 
 int side_of(const FixedBar& bar, double px, double py) {
   return relative_ccw(bar.x1, bar.y1, bar.x2, bar.y2, px, py);
+}
+
+/// s0 for a mass the bar remembers on side `side` (SideRule).
+int remembered_side(const FixedBar& bar, SideRule rule, int side, double ox, double oy) {
+  if (rule == SideRule::Stored) return side;
+  const double num = bar.w * (oy - bar.y1) - bar.h * (ox - bar.x1); // the distance to the line times L
+  return std::fabs(num) <= kSideTolerance * bar.length ? side : side_of(bar, ox, oy);
 }
 
 struct Point {
@@ -384,7 +393,8 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
       if (remembered) memory.forget(k, mass);
       continue;
     }
-    const int s0 = remembered ? remembered->side : side_of(bar, m.x0, m.y0);
+    const int s0 =
+        remembered ? remembered_side(bar, bars.side_rule, remembered->side, m.x0, m.y0) : side_of(bar, m.x0, m.y0);
     const int s1 = side_of(bar, m.x, m.y);
     if (s0 == s1 && s0 != 0) {
       if (remembered) memory.forget(k, mass);

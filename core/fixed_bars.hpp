@@ -34,6 +34,22 @@ std::string bar_engine_name(BarEngine engine); ///< "2003" | "2004"
 /// "2003" or "2004"; false for anything else.
 bool parse_bar_engine(const std::string& text, BarEngine& engine);
 
+/// Which side a bar takes for s0, the side a mass it remembers comes from (research
+/// 2.2 step 2).
+enum class SideRule : std::uint8_t {
+  Stored, ///< always the remembered side (research 2.2 step 2)
+  /// The remembered side only while the move starts within kSideTolerance of the
+  /// bar's line, else the side of the start: the default. Inferred from one race
+  /// (walker_313 on TerrainAi, frame 6763: a move starting 2.68 px off bar 1's line,
+  /// remembered on side 0, ends on the side it started on; the original lets it
+  /// go) and bounded only by it and the golden sets: any tolerance from 1e-11 to
+  /// 2.6 px keeps every golden set and that race, 3e-12 or 2.7 px do not.
+  Near,
+};
+std::string side_rule_name(SideRule rule); ///< "stored" | "near"
+/// The distance from a bar's line within which SideRule::Near keeps the remembered side.
+inline constexpr double kSideTolerance = 1e-4;
+
 /// One bar's constant geometry: from a to b, as the engine takes it once.
 struct FixedBar {
   int a = 0, b = 0;                 ///< point indices of the ends (chain identity)
@@ -51,6 +67,7 @@ struct FixedBar {
 /// only the bars whose x range its move reaches: terrains are 100,000 px wide).
 struct FixedBars {
   BarEngine engine = BarEngine::SodaConstructor2003;
+  SideRule side_rule = SideRule::Near;
   std::vector<FixedBar> bars; ///< link order
   // Index by x: cells of cell_width px from cell_x0; cell c holds the bars whose
   // normalised x range touches it, in link order (cell_start[c] .. cell_start[c+1]).
