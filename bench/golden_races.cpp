@@ -29,7 +29,48 @@ fs::path local_path(const fs::path& data, const std::string& p) {
   return p;
 }
 
+
+long long situation_count(const soda::BarMemory& m, int k) {
+  return k == 0 ? m.far_starts : k == 1 ? m.near_end_misses : m.far_end_corners;
+}
+
+bool diagnosed(const std::string& contender_path) {
+  const std::string name = fs::path(contender_path).stem().string();
+  for (const RaceDiagnosis& d : race_diagnoses()) {
+    if (name == d.contender) return true;
+  }
+  return false;
+}
+
 } // namespace
+
+const char* bar_situation_name(BarSituation s) {
+  switch (s) {
+    case BarSituation::FarStart: return "far start";
+    case BarSituation::NearEndMiss: return "near-end miss";
+    case BarSituation::FarEndCorner: return "far-end corner";
+  }
+  return "?";
+}
+
+const std::vector<RaceDiagnosis>& race_diagnoses() {
+  static const std::vector<RaceDiagnosis> table = {
+      {"walker_313", BarSituation::FarStart, "SideRule::Near",
+       "frame 6763, mass 3: bar 1 remembers it on side 0 (handed over at the joint from bar 0); its move starts "
+       "2.68 px above the bar's line and ends on that side. The original lets it go; the remembered side 0 "
+       "caught it at the line's crossing point."},
+      {"walker_382", BarSituation::FarEndCorner, "FixedBars::far_end_corner",
+       "frame 3307, mass 4 slides up bar 1 (side 0) past its end into the steeper bar 2, a concave joint; its "
+       "end point projects 0.88 px beyond bar 2's far end. The original puts it at that node (50074, 20), in the "
+       "corner of bars 2 and 3; it was put on bar 2's line beyond the node."},
+      {"walker_514", BarSituation::NearEndMiss, "FixedBars::hit_margin (1e-5, was 1e-4)",
+       "frame 6457, mass 1 (on bar 1, to the floor): bar 0 remembers it (side -1) and its move crosses bar 0's "
+       "line 9.35e-5 px beyond the bar's end: a hit under a 1e-4 margin, none in the original, so bar 0 forgets "
+       "it and catches it anew with side 0. At frame 6463 its move off bar 0 is caught (side 0) in the "
+       "original, was released (side -1)."},
+  };
+  return table;
+}
 
 std::vector<GoldenRace> race_golden(const fs::path& data, const std::string& race_filter,
                                     const std::string& contender_filter) {
@@ -55,12 +96,15 @@ std::vector<GoldenRace> race_golden(const fs::path& data, const std::string& rac
     const soda::RaceOutcome o = soda::run_race_fast(lane, model, race.timeout, state);
     g.ours = o.result;
     g.ours_finished = o.finished;
-    if (!g.same()) {
-      // The diagnosis: the reference race again, watched frame by frame.
+    for (int k = 0; k < kBarSituations; ++k) g.situations[k] = situation_count(state.bar_memory, k);
+    if (!g.same() || diagnosed(g.contender)) {
+      // The reference race again, watched frame by frame.
       long long update = 0;
       (void)soda::run_race(lane, model, race.timeout, [&](const soda::State& s) {
         ++update;
-        if (g.first_floor_and_bar < 0 && s.bar_memory.floor_and_bar_hits > 0) g.first_floor_and_bar = update;
+        for (int k = 0; k < kBarSituations; ++k) {
+          if (g.first_update[k] < 0 && situation_count(s.bar_memory, k) > 0) g.first_update[k] = update;
+        }
       });
     }
     out.push_back(g);
@@ -70,32 +114,67 @@ std::vector<GoldenRace> race_golden(const fs::path& data, const std::string& rac
 
 std::string golden_races_report(const std::vector<GoldenRace>& races) {
   std::map<std::string, std::pair<int, int>> per_race; // same, total
-  int same = 0, with_residue = 0;
+  int same = 0;
+  int meeting[kBarSituations] = {0, 0, 0}; // races that meet each situation
   for (const GoldenRace& g : races) {
     auto& c = per_race[fs::path(g.race).filename().string()];
     c.second += 1;
     c.first += g.same() ? 1 : 0;
     same += g.same() ? 1 : 0;
-    with_residue += (!g.same() && g.first_floor_and_bar >= 0) ? 1 : 0;
+    for (int k = 0; k < kBarSituations; ++k) meeting[k] += g.situations[k] > 0 ? 1 : 0;
   }
   std::ostringstream o;
-  char text[256];
+  char text[512];
   std::snprintf(text, sizeof text, "Same result as the original racer: **%d of %zu** races.\n\n", same, races.size());
   o << text;
   o << "| race file | same | of |\n|---|---|---|\n";
   for (const auto& [name, c] : per_race) o << "| " << name << " | " << c.first << " | " << c.second << " |\n";
+  const auto frame = [](long long u) { return u < 0 ? std::string("-") : std::to_string(u); };
+  o << "\n## Situations of the inferred bar rules (measured on our runs)\n\n"
+       "Three bar rules were inferred from these races alone (core/fixed_bars.hpp); each situation they decide, "
+       "and how many of the races above meet it at least once:\n\n| situation | races meeting it |\n|---|---|\n";
+  for (int k = 0; k < kBarSituations; ++k) {
+    std::snprintf(text, sizeof text, "| %s | %d of %zu |\n", bar_situation_name(static_cast<BarSituation>(k)),
+                  meeting[k], races.size());
+    o << text;
+  }
+  o << "\nDiagnosis (by hand, not measured here): the races each rule was inferred from, and what happens there; "
+       "beside it, measured: the race files where our run of that contender meets the situation, the first update "
+       "at which it does, and how many of those races give the original's result.\n\n"
+       "| contender | situation | rule | race files (first update, ours) | same | diagnosis |\n"
+       "|---|---|---|---|---|---|\n";
+  for (const RaceDiagnosis& d : race_diagnoses()) {
+    std::string where;
+    int met = 0, met_same = 0;
+    for (const GoldenRace& g : races) {
+      const long long u = g.first_update[static_cast<int>(d.situation)];
+      if (fs::path(g.contender).stem().string() != d.contender || u < 0) continue;
+      where += (met > 0 ? ", " : "") + fs::path(g.race).stem().string() + " (" + frame(u) + ")";
+      met += 1;
+      met_same += g.same() ? 1 : 0;
+    }
+    if (met == 0) where = "-";
+    std::snprintf(text, sizeof text, "| %s | %s | %s | ", d.contender, bar_situation_name(d.situation), d.rule);
+    o << text << where << " | " << met_same << " of " << met << " | " << d.what << " |\n";
+  }
   const int differ = static_cast<int>(races.size()) - same;
-  std::snprintf(text, sizeof text,
-                "\n%d differ; %d of them after a floor-or-wall and bar collision in one update (once spec 9's "
-                "residue, now reproduced), %d without one (a muscle sine: glibc's here, Java's in the original; or "
-                "a rule).\n\n",
-                differ, with_residue, differ - with_residue);
+  std::snprintf(text, sizeof text, "\n## Differences\n\n%d differ.", differ);
   o << text;
-  o << "| race | contender | original | ours | first floor+bar update |\n|---|---|---|---|---|\n";
+  if (differ == 0) return o.str() + "\n";
+  o << " Per race, the first update at which our run meets each situation (measured), and the diagnosis if "
+       "the contender has one (else none: a new case).\n\n"
+       "| race | contender | original | ours | far start | near-end miss | far-end corner | diagnosis |\n"
+       "|---|---|---|---|---|---|---|---|\n";
   for (const GoldenRace& g : races) {
     if (g.same()) continue;
-    std::snprintf(text, sizeof text, "| %s | %s | %.4f | %.4f | %lld |\n", fs::path(g.race).filename().c_str(),
-                  fs::path(g.contender).filename().c_str(), g.golden, g.ours, g.first_floor_and_bar);
+    std::string diagnosis = "none";
+    for (const RaceDiagnosis& d : race_diagnoses()) {
+      if (fs::path(g.contender).stem().string() == d.contender) diagnosis = bar_situation_name(d.situation);
+    }
+    std::snprintf(text, sizeof text, "| %s | %s | %.4f | %.4f | %s | %s | %s | %s |\n",
+                  fs::path(g.race).filename().c_str(), fs::path(g.contender).filename().c_str(), g.golden, g.ours,
+                  frame(g.first_update[0]).c_str(), frame(g.first_update[1]).c_str(), frame(g.first_update[2]).c_str(),
+                  diagnosis.c_str());
     o << text;
   }
   return o.str();

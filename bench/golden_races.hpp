@@ -1,11 +1,13 @@
 // The golden race results of the original racer (races.tsv of the golden terrain
 // data: 20 public race files x 44 contenders), raced again with core/race_lane.hpp.
 //
-// A race whose result differs is diagnosed from our own run: the first frame where a
-// mass hit the floor or a wall and a bar in the same update (once the rules' last-bit
-// residue, spec 9; reproduced since, tests/data/terrain/lastbit), or none (then the
-// drift starts elsewhere: a muscle sine, which is glibc's here and Java's in the
-// original, or a rule).
+// The report measures, on our own runs, the situations that the bar rules inferred
+// from these races decide (BarMemory's counters: a remembered mass starting far from
+// the bar's line, a crossing point just beyond a bar's end, a concave joint past the
+// next bar's far end): how many races meet each, and in the races a rule was
+// inferred from and in any race that differs, the first frame our run meets it.
+// Beside the measurements, a short table of diagnoses (what was found in those
+// races by hand) says which situation explains which contender.
 #pragma once
 
 #include <filesystem>
@@ -14,12 +16,34 @@
 
 namespace sodaevo::bench {
 
+/// The situations the inferred bar rules decide (fixed_bars.hpp, BarMemory's counters).
+enum class BarSituation { FarStart, NearEndMiss, FarEndCorner };
+inline constexpr int kBarSituations = 3;
+/// "far start" | "near-end miss" | "far-end corner"
+const char* bar_situation_name(BarSituation s);
+
+/// A diagnosis made by hand (not a measurement): the situation that explained a
+/// contender's race, the rule that decides it and what happens there.
+struct RaceDiagnosis {
+  const char* contender; ///< file name without .xml
+  BarSituation situation;
+  const char* rule;      ///< the rule in fixed_bars.hpp
+  const char* what;
+};
+/// The diagnoses of the races the inferred rules came from (all on TerrainAi).
+const std::vector<RaceDiagnosis>& race_diagnoses();
+
 struct GoldenRace {
   std::string race, contender; ///< as races.tsv names them
   double golden = 0.0;         ///< the original's result
   double ours = 0.0;
   bool ours_finished = false;
-  long long first_floor_and_bar = -1; ///< update of the first container + bar collision, -1: none
+  /// Per BarSituation: how often our race met it (its final state's counters).
+  long long situations[kBarSituations] = {0, 0, 0};
+  /// Per BarSituation: the first update at which our race met it, -1: never or not
+  /// watched (watched, frame by frame, in races that differ and in the diagnosed
+  /// contenders' races).
+  long long first_update[kBarSituations] = {-1, -1, -1};
   [[nodiscard]] bool same() const { return golden == ours; }
 };
 
@@ -29,7 +53,8 @@ struct GoldenRace {
 std::vector<GoldenRace> race_golden(const std::filesystem::path& data, const std::string& race_filter = "",
                                     const std::string& contender_filter = "");
 
-/// A Markdown report: counts per race file, every difference with its diagnosis.
+/// A Markdown report: counts per race file, the situations of the inferred rules
+/// as measured, every difference with what was measured in it and its diagnosis.
 std::string golden_races_report(const std::vector<GoldenRace>& races);
 
 } // namespace sodaevo::bench

@@ -57,11 +57,13 @@ int side_of(const FixedBar& bar, double px, double py) {
   return relative_ccw(bar.x1, bar.y1, bar.x2, bar.y2, px, py);
 }
 
-/// s0 for a mass the bar remembers on side `side` (SideRule).
-int remembered_side(const FixedBar& bar, SideRule rule, int side, double ox, double oy) {
-  if (rule == SideRule::Stored) return side;
+/// s0 for a mass the bar remembers on side `side` (SideRule); counts far starts.
+int remembered_side(const FixedBar& bar, SideRule rule, int side, double ox, double oy, BarMemory& memory) {
   const double num = bar.w * (oy - bar.y1) - bar.h * (ox - bar.x1); // the distance to the line times L
-  return std::fabs(num) <= kSideTolerance * bar.length ? side : side_of(bar, ox, oy);
+  if (std::fabs(num) <= kSideTolerance * bar.length) return side;
+  const int own = side_of(bar, ox, oy);
+  if (own != side) ++memory.far_starts;
+  return rule == SideRule::Stored ? side : own;
 }
 
 struct Point {
@@ -127,9 +129,9 @@ bool box_touches(const FixedBar& bar, BarEngine engine, const MassMove& m) {
          std::max(m.y0, m.y) >= bar.box_y0 && std::min(m.y0, m.y) <= bar.box_y1;
 }
 
-bool in_box_with_margin(const FixedBar& bar, Point p) {
-  return p.x >= bar.box_x0 - kTweak && p.x <= bar.box_x1 + kTweak && p.y >= bar.box_y0 - kTweak &&
-         p.y <= bar.box_y1 + kTweak;
+bool in_box_with_margin(const FixedBar& bar, Point p, double margin) {
+  return p.x >= bar.box_x0 - margin && p.x <= bar.box_x1 + margin && p.y >= bar.box_y0 - margin &&
+         p.y <= bar.box_y1 + margin;
 }
 
 bool outside_container(Point p, const Surface& s) {
@@ -230,6 +232,14 @@ Point joint(const FixedBars& bars, BarMemory& memory, int mass, int bar_index, i
   if (side_of(c, r.x, r.y) == side_on_c) return r;                 // convex: fly on
   // Concave: caught in the corner, unless the end point is already beyond the node on c.
   const std::int8_t end = c.a == node ? 0 : 1;
+  if (end == 0 ? on_c >= c.length : on_c <= 0.0) {
+    // Past c's far end: at that end, in the corner there (FixedBars::far_end_corner).
+    ++memory.far_end_corners;
+    if (bars.far_end_corner) {
+      memory.corners[static_cast<std::size_t>(mass)] = {next, static_cast<std::int8_t>(1 - end)};
+      return point_at(c, end == 0 ? c.length : 0.0);
+    }
+  }
   if (end == 0 ? on_c > 0.0 : on_c < c.length) return point_at(c, on_c);
   memory.corners[static_cast<std::size_t>(mass)] = {next, end};
   return point_at(c, end == 0 ? 0.0 : c.length);
@@ -394,7 +404,7 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
       continue;
     }
     const int s0 =
-        remembered ? remembered_side(bar, bars.side_rule, remembered->side, m.x0, m.y0) : side_of(bar, m.x0, m.y0);
+        remembered ? remembered_side(bar, bars.side_rule, remembered->side, m.x0, m.y0, memory) : side_of(bar, m.x0, m.y0);
     const int s1 = side_of(bar, m.x, m.y);
     if (s0 == s1 && s0 != 0) {
       if (remembered) memory.forget(k, mass);
@@ -406,7 +416,8 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
       // A move exactly parallel to the bar (p is its end) hits iff it starts exactly
       // on the bar's line, wherever it ends (research 6.3).
       const bool parallel = bar.h * (m.x - m.x0) - bar.w * (m.y - m.y0) == 0.0;
-      if (parallel ? bar.w * (m.y0 - bar.y1) - bar.h * (m.x0 - bar.x1) != 0.0 : !in_box_with_margin(bar, p)) {
+      if (parallel ? bar.w * (m.y0 - bar.y1) - bar.h * (m.x0 - bar.x1) != 0.0 : !in_box_with_margin(bar, p, bars.hit_margin)) {
+        if (!parallel && in_box_with_margin(bar, p, kTweakMargin)) ++memory.near_end_misses;
         memory.forget(k, mass);
         continue;
       }
@@ -446,7 +457,6 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
   if (clamped) {
     // The container clamped the end: the unclamped end projected on the bar, its
     // parameter clamped to [0, L] (the ends too are a + s u, not the nodes).
-    ++memory.floor_and_bar_hits;
     at = point_at(bar, std::clamp(parameter_of(bar, m.free_x, m.free_y), 0.0, bar.length));
     if (outside_container(at, surface)) at = best_point;
   } else {

@@ -50,6 +50,15 @@ std::string side_rule_name(SideRule rule); ///< "stored" | "near"
 /// The distance from a bar's line within which SideRule::Near keeps the remembered side.
 inline constexpr double kSideTolerance = 1e-4;
 
+/// The margin around a bar's box within which the crossing point of a remembered
+/// mass's move still hits (research 2.2 step 4). Inferred: research's 1-ulp case
+/// needs one (any margin >= 1e-9 fits it); walker_514 on TerrainAi (frame 6457: a
+/// crossing point 9.35e-5 px beyond bar 0's end is no hit in the original) bounds
+/// it below 9.3486e-5, so research's 1e-4 (FixedBar.TWEAK) is too wide.
+inline constexpr double kHitMargin = 1e-5;
+/// Research's margin (2.2 step 4), now refuted; for the diagnosis of near-end misses.
+inline constexpr double kTweakMargin = 1e-4;
+
 /// One bar's constant geometry: from a to b, as the engine takes it once.
 struct FixedBar {
   int a = 0, b = 0;                 ///< point indices of the ends (chain identity)
@@ -68,6 +77,13 @@ struct FixedBar {
 struct FixedBars {
   BarEngine engine = BarEngine::SodaConstructor2003;
   SideRule side_rule = SideRule::Near;
+  double hit_margin = kHitMargin; ///< kTweakMargin: research's rule
+  /// A concave joint whose end point projects past the far end of the next bar c:
+  /// the mass is put at that end and caught in the corner there (c and its
+  /// neighbour at that end), as in the corner it came into; false: put on c's line
+  /// beyond the end (research 2.4 read literally). Inferred from one race
+  /// (walker_382 on TerrainAi, frame 3307) and bounded only by it.
+  bool far_end_corner = true;
   std::vector<FixedBar> bars; ///< link order
   // Index by x: cells of cell_width px from cell_x0; cell c holds the bars whose
   // normalised x range touches it, in link order (cell_start[c] .. cell_start[c+1]).
@@ -122,9 +138,12 @@ struct BarCorner {
 struct BarMemory {
   std::vector<BarContact> contacts; ///< unordered; one entry per (bar, mass)
   std::vector<BarCorner> corners;   ///< [mass_count] once a mass met a bar, else empty
-  /// Bar hits whose move the container had clamped (the floor-and-bar case, research
-  /// 6.1); for diagnostics.
-  long long floor_and_bar_hits = 0;
+  /// How often the situations the inferred rules decide came up (for diagnostics,
+  /// bench races): a remembered mass's move starting farther than kSideTolerance
+  /// from the bar's line on another side than the remembered one (SideRule); a
+  /// crossing point outside hit_margin but within kTweakMargin of the bar's box;
+  /// a concave joint past the next bar's far end (far_end_corner).
+  long long far_starts = 0, near_end_misses = 0, far_end_corners = 0;
   bool operator==(const BarMemory&) const = default;
 
   /// The remembered side, or nullptr.

@@ -157,9 +157,9 @@ TEST_CASE("race lanes frame by frame: bit for bit over every row", "[race][golde
 // The original racer's results (races.tsv), to the last bit of the result, where the
 // research port (terrain-research.md 4) reproduced them all: the classics on the flat
 // terrains (flat terrains: 132 of 132), and the Dainty Walker as written and
-// monster_truck on every race file (20 of 20 each). The random walkers' races part
-// from the original's with the first muscle sine that differs (Java's sine there,
-// glibc's here) or a floor-and-bar collision: all 880 in `sodaevo bench races`.
+// monster_truck on every race file (20 of 20 each). All 880, the random walkers'
+// too, in `sodaevo bench races`; the three races the inferred bar rules come from
+// in test_races_inferred.cpp.
 TEST_CASE("golden race results: the classics on the flat terrains, two of them on every race file",
           "[race][golden]") {
   std::vector<sodaevo::bench::GoldenRace> races;
