@@ -7,6 +7,7 @@
 
 #include "core/input_error.hpp"
 #include "core/sine_identity.hpp"
+#include "evolve/run_store.hpp"
 #include "evolve/strict_json.hpp"
 #include "formats/atomic_file.hpp"
 
@@ -39,14 +40,6 @@ std::optional<std::string> sine_member(const json& j, const char* key, const std
   return it->get<std::string>();
 }
 
-std::string now_iso8601() {
-  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
 
 } // namespace
 

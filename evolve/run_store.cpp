@@ -140,14 +140,6 @@ std::string model_element(const soda::ModelDef& creature, const std::string& att
   return element;
 }
 
-std::string now_iso8601() {
-  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
-  std::tm tm{};
-  gmtime_r(&t, &tm);
-  char buf[32];
-  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  return buf;
-}
 
 std::vector<std::pair<int, std::string>> read_rows(const fs::path& path) {
   std::vector<std::pair<int, std::string>> rows;
@@ -530,6 +522,15 @@ Checkpoint parse_checkpoint(const std::string& text, const std::string& source) 
     throw soda::InputError(prefix + ": /population_xml: expected at least one creature, got none");
   }
   return c;
+}
+
+std::string now_iso8601() {
+  const std::time_t t = std::chrono::system_clock::to_time_t(std::chrono::system_clock::now());
+  std::tm tm{};
+  gmtime_r(&t, &tm);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  return buf;
 }
 
 } // namespace sodaevo

@@ -81,6 +81,9 @@ class RunStore {
   std::vector<std::pair<int, std::string>> timing_rows_;
 };
 
+/// The current time in UTC as ISO 8601 ("2026-11-27T18:30:00Z"), for manifests.
+std::string now_iso8601();
+
 /// File name of generation g ("gen_00042.xml").
 std::string generation_file_name(int generation);
 
