@@ -4,10 +4,11 @@
 // Problem for the rollouts it wants and makes one Evaluation of them: `fitness`
 // is its statistic, `estimate` the count and spread of the rollouts.
 //
-// Today's estimator is SingleRollout: one exact rollout, its score the fitness.
-// An estimator with replicas asks for K rollouts of each prepared model (states
-// differing only in their sine jitter) and summarises them (mean, median or a
-// lower confidence bound); its settings travel to the MPI workers by `write`.
+// Runs use ReplicaEstimator (evolve/replica_estimator.hpp): K rollouts of each
+// prepared model (states differing only in their sine jitter), summarised as a
+// mean, median or lower confidence bound. SingleRollout, one exact rollout whose
+// score is the fitness, is the plain case. An estimator's settings travel to the
+// MPI workers by `write`.
 #pragma once
 
 #include <memory>
