@@ -25,7 +25,7 @@ bool ends_valid(const ModelDef& c, const LinkDef& l) {
   return l.a >= 0 && l.a < n && l.b >= 0 && l.b < n;
 }
 
-/// The link's Lmax in the scale's sum (spec 3.2 step 4e). A link from a mass to
+/// The link's Lmax in the scale's sum (docs/physics.md, "The contender", step 5). A link from a mass to
 /// itself counts by its kind like any other (golden c09: a self muscle by the
 /// muscle formula).
 double lmax_of(const ModelDef& c, const LinkDef& l) {

@@ -1,4 +1,4 @@
-// The Sodarace racer's contender filter (FilterScaledSquare; spec 3.2 step 4, golden
+// The Sodarace racer's contender filter (FilterScaledSquare; docs/physics.md, "The contender"; golden
 // set tests/data/terrain/components): what the racer keeps of a contender before it
 // places it in its lane, and the scale it gives it.
 //

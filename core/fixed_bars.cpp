@@ -45,7 +45,7 @@ int relative_ccw(double x1, double y1, double x2, double y2, double px, double p
 namespace {
 
 constexpr double kTweak = 1e-4;            // FixedBar.TWEAK of the original
-constexpr double kRacerBoxWidening = 0.01; // the racer's box on an inverted axis (research 6.2)
+constexpr double kRacerBoxWidening = 0.01; // the racer's box on an inverted axis (physics.md, last bits)
 
 /// java.awt.geom.Line2D.linesIntersect semantics (touching counts).
 bool lines_intersect(double x1, double y1, double x2, double y2, double x3, double y3, double x4, double y4) {
@@ -90,7 +90,7 @@ double parameter_of(const FixedBar& bar, double px, double py) {
 
 /// Where the mass ends for a bar's answer p: the engine keeps the move as a
 /// displacement, so p is re-added to the start, o + (p - o), two roundings per
-/// axis (research 6.1; not p itself in the last bits when p and o lie in
+/// axis (docs/physics.md, "The last bits"; not p itself in the last bits when p and o lie in
 /// different binades, e.g. near the floor).
 Point readded(const MassMove& m, Point p) { return {m.x0 + (p.x - m.x0), m.y0 + (p.y - m.y0)}; }
 
@@ -113,7 +113,7 @@ void bar_velocity(const FixedBar& bar, double vx, double vy, const Surface& surf
 
 /// One axis of the racer's (2004) box test: the bar's range [start, start + size]
 /// as is. An inverted axis (size < 0) takes the move's range as X = min - 0.01,
-/// W = |move| + 0.01, in this rounding order (research 6.2).
+/// W = |move| + 0.01, in this rounding order (docs/physics.md, "The last bits").
 bool racer_axis_touches(double start, double size, double from, double to) {
   if (size >= 0.0) return std::max(from, to) >= start && std::min(from, to) <= start + size;
   const double lo = std::min(from, to) - kRacerBoxWidening;
@@ -161,7 +161,7 @@ BarList candidate_bars(const FixedBars& bars, double lo, double hi) {
   return {merged.data(), merged.data() + merged.size()};
 }
 
-/// A mass in a corner: only the two corner bars count (spec 5.4, research 2.5).
+/// A mass in a corner: only the two corner bars count (docs/physics.md, "Fixed bars").
 /// Returns true when the corner decided the position (the mass stays or leaves
 /// along a bar), false when the mass moves freely (the corner ends).
 bool corner_move(const FixedBars& bars, BarMemory& memory, int mass, const MassMove& m, const Surface& surface,
@@ -206,7 +206,7 @@ bool corner_move(const FixedBars& bars, BarMemory& memory, int mass, const MassM
 }
 
 /// After a slide along `bar` that passes one of its ends: the joint with the
-/// neighbour there (research 2.4). `r` is the slide's end; returns the position.
+/// neighbour there (docs/physics.md, "Fixed bars": a joint). `r` is the slide's end; returns the position.
 Point joint(const FixedBars& bars, BarMemory& memory, int mass, int bar_index, int side, Point r,
             const MassMove& m) {
   const FixedBar& bar = bars.bars[static_cast<std::size_t>(bar_index)];
@@ -294,7 +294,7 @@ FixedBars make_fixed_bars(const std::vector<int>& bar_a, const std::vector<int>&
     b.ux = b.w / b.length;
     b.uy = b.h / b.length;
     // The 2003 box: the range of (x1, x1 + w), not of the nodes (x1 + w can differ
-    // from x2 in the last bit; research 6.3).
+    // from x2 in the last bit; docs/physics.md, "The last bits").
     b.box_x0 = std::min(b.x1, b.x1 + b.w);
     b.box_x1 = std::max(b.x1, b.x1 + b.w);
     b.box_y0 = std::min(b.y1, b.y1 + b.h);
@@ -414,7 +414,7 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
     if (remembered) {
       p = crossing_point(bar, m.x0, m.y0, m.x, m.y);
       // A move exactly parallel to the bar (p is its end) hits iff it starts exactly
-      // on the bar's line, wherever it ends (research 6.3).
+      // on the bar's line, wherever it ends (docs/physics.md, "The last bits").
       const bool parallel = bar.h * (m.x - m.x0) - bar.w * (m.y - m.y0) == 0.0;
       if (parallel ? bar.w * (m.y0 - bar.y1) - bar.h * (m.x0 - bar.x1) != 0.0 : !in_box_with_margin(bar, p, bars.hit_margin)) {
         if (!parallel && in_box_with_margin(bar, p, kTweakMargin)) ++memory.near_end_misses;

@@ -1,5 +1,5 @@
 // Fixed bars (terrain): the original engine's collision rules, exact to the last
-// bit (spec 5.4 and 9, terrain-research.md sections 2 and 6).
+// bit (docs/physics.md, "Fixed bars" and "The last bits").
 //
 // Split as Model/State (MuJoCo): FixedBars is constant (each bar's geometry, taken
 // once from the positions at the first update, its chain neighbours, an index by x),
@@ -28,16 +28,17 @@ namespace soda {
 /// Which original's box test the fixed bars follow.
 enum class BarEngine : std::uint8_t {
   SodaConstructor2003, ///< simulator.jar (2003): normalised bar box
-  Racer2004,           ///< the racer's copy (easysoda.jar, 2004): box taken as is (research 6.2)
+  Racer2004,           ///< the racer's copy (easysoda.jar, 2004): box taken as is
+                       ///< (docs/physics.md, "The last bits")
 };
 std::string bar_engine_name(BarEngine engine); ///< "2003" | "2004"
 /// "2003" or "2004"; false for anything else.
 bool parse_bar_engine(const std::string& text, BarEngine& engine);
 
-/// Which side a bar takes for s0, the side a mass it remembers comes from (research
-/// 2.2 step 2).
+/// Which side a bar takes for s0, the side a mass it remembers comes from
+/// (docs/physics.md, "Inferred rules").
 enum class SideRule : std::uint8_t {
-  Stored, ///< always the remembered side (research 2.2 step 2)
+  Stored, ///< always the remembered side (no tolerance; for the diagnosis)
   /// The remembered side only while the move starts within kSideTolerance of the
   /// bar's line, else the side of the start: the default. Inferred from one race
   /// (walker_313 on TerrainAi, frame 6763: a move starting 2.68 px off bar 1's line,
@@ -51,12 +52,12 @@ std::string side_rule_name(SideRule rule); ///< "stored" | "near"
 inline constexpr double kSideTolerance = 1e-4;
 
 /// The margin around a bar's box within which the crossing point of a remembered
-/// mass's move still hits (research 2.2 step 4). Inferred: research's 1-ulp case
-/// needs one (any margin >= 1e-9 fits it); walker_514 on TerrainAi (frame 6457: a
+/// mass's move still hits (docs/physics.md, "Inferred rules"). Inferred: a 1-ulp
+/// case needs some margin (any >= 1e-9 fits it); walker_514 on TerrainAi (frame 6457: a
 /// crossing point 9.35e-5 px beyond bar 0's end is no hit in the original) bounds
-/// it below 9.3486e-5, so research's 1e-4 (FixedBar.TWEAK) is too wide.
+/// it below 9.3486e-5, so 1e-4 (the original code's FixedBar.TWEAK) is too wide.
 inline constexpr double kHitMargin = 1e-5;
-/// Research's margin (2.2 step 4), now refuted; for the diagnosis of near-end misses.
+/// The margin of FixedBar.TWEAK, which walker_514 refutes; for the diagnosis of near-end misses.
 inline constexpr double kTweakMargin = 1e-4;
 
 /// One bar's constant geometry: from a to b, as the engine takes it once.
@@ -77,11 +78,11 @@ struct FixedBar {
 struct FixedBars {
   BarEngine engine = BarEngine::SodaConstructor2003;
   SideRule side_rule = SideRule::Near;
-  double hit_margin = kHitMargin; ///< kTweakMargin: research's rule
+  double hit_margin = kHitMargin; ///< kTweakMargin: FixedBar.TWEAK's margin
   /// A concave joint whose end point projects past the far end of the next bar c:
   /// the mass is put at that end and caught in the corner there (c and its
   /// neighbour at that end), as in the corner it came into; false: put on c's line
-  /// beyond the end (research 2.4 read literally). Inferred from one race
+  /// beyond the end (the joint rule read literally). Inferred from one race
   /// (walker_382 on TerrainAi, frame 3307) and bounded only by it.
   bool far_end_corner = true;
   std::vector<FixedBar> bars; ///< link order
@@ -200,10 +201,10 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
 }
 
 /// Where the original's writer puts mass `mass` at (x, y): 1e-4 (FixedBar.TWEAK) off
-/// each bar that remembers it, toward the remembered side (spec 5.4).
+/// each bar that remembers it, toward the remembered side (docs/physics.md, "Fixed bars").
 void tweak_for_writing(const FixedBars& bars, const BarMemory& memory, int mass, double& x, double& y);
 
-/// java.awt.geom.Line2D.relativeCCW semantics: -1, 0 or +1 (spec 5.4).
+/// java.awt.geom.Line2D.relativeCCW semantics: -1, 0 or +1 (docs/physics.md, "Fixed bars").
 int relative_ccw(double x1, double y1, double x2, double y2, double px, double py);
 
 } // namespace soda

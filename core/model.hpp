@@ -81,7 +81,7 @@ struct State {
   SideWall last_side_wall = SideWall::None; ///< autoreverse memory (docs/physics.md, part 2)
   long long frame = 0;        ///< frames stepped since the state was made
   SineJitter jitter;          ///< this replica's sine jitter (sine_jitter.hpp); seed 0: exact
-  BarMemory bar_memory;       ///< fixed bars: masses each bar remembers, corners (spec 5.4)
+  BarMemory bar_memory;       ///< fixed bars: masses each bar remembers, corners (physics.md)
 };
 
 /// Validates `def` and builds the static model. Throws InputError naming the node

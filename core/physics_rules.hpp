@@ -18,7 +18,7 @@
 
 namespace soda::rules {
 
-/// A muscle's sine (spec 5.2): sin(2pi*(phi_m - phi_w)), by the engine's own sine
+/// A muscle's sine (docs/physics.md, Part 1: links): sin(2pi*(phi_m - phi_w)), by the engine's own sine
 /// (sine.hpp), never the C library's, then moved by the replica's jitter
 /// (sine_jitter.hpp; none for seed 0) as a pure function of the argument's bits.
 inline double muscle_sine(double muscle_phase, double wave_phase, const SineJitter& jitter) {
@@ -27,7 +27,8 @@ inline double muscle_sine(double muscle_phase, double wave_phase, const SineJitt
   return jitter.seed == 0 ? s : jittered(s, argument, jitter);
 }
 
-/// Desired length of a muscle (spec 5.2): rest * (1 + (Aw*Am) * sin(2pi*(phi_m - phi_w))).
+/// Desired length of a muscle (docs/physics.md, Part 1: links):
+/// rest * (1 + (Aw*Am) * sin(2pi*(phi_m - phi_w))).
 /// Note the minus: a forward-running wave runs each muscle's own phase backward.
 inline double muscle_target_length(double rest, double wave_amplitude, double muscle_amplitude,
                                    double muscle_phase, double wave_phase, const SineJitter& jitter) {
@@ -49,22 +50,22 @@ inline double link_impulse_factor(double springyness, double length, double targ
   return springyness * (length - target) / length;
 }
 
-/// Muscle power Aw*Am (spec 5.2), the product muscle_target_length forms. 0 makes a
+/// Muscle power Aw*Am (docs/physics.md, Part 1: links), the product muscle_target_length forms. 0 makes a
 /// muscle a spring: its target is rest*(1 + (+-0)) = rest whatever the sine.
 inline double muscle_power(double wave_amplitude, double muscle_amplitude) {
   return wave_amplitude * muscle_amplitude;
 }
 
-/// Gravity's velocity step g*d (spec 5.3 step 1), y up, d = +1 down, -1 up, 0 off.
+/// Gravity's velocity step g*d (docs/physics.md, Part 2 step 1), y up, d = +1 down, -1 up, 0 off.
 /// g = 0 with gravity up gives -0, which is not an identity (-0 - (-0) = +0).
 inline double gravity_step(double gravity, GravityDirection direction) {
   return gravity * static_cast<double>(static_cast<int>(direction));
 }
 
-/// The share of velocity air friction leaves per frame (spec 5.3 step 2), 1 - f.
+/// The share of velocity air friction leaves per frame (docs/physics.md, Part 2 step 2), 1 - f.
 inline double air_keep(double friction) { return 1.0 - friction; }
 
-/// Gravity (spec 5.3 step 1): vy -= g*d, with `step` = gravity_step(g, d)
+/// Gravity (docs/physics.md, Part 2 step 1): vy -= g*d, with `step` = gravity_step(g, d)
 /// (Model::gravity_step).
 inline double apply_gravity(double vy, double step) { return vy - step; }
 
@@ -73,7 +74,7 @@ inline double apply_gravity(double vy, double gravity, GravityDirection directio
   return apply_gravity(vy, gravity_step(gravity, direction));
 }
 
-/// Air friction with the "syrup" speed limit (spec 5.3 step 2): the velocity is
+/// Air friction with the "syrup" speed limit (docs/physics.md, Part 2 step 2): the velocity is
 /// scaled by `keep`, and additionally by 20/|v| when |v| > 20. The quotient is
 /// formed first, then the product: the other order breaks bit-exactness. In the
 /// original `keep` = 1 - f; the `continuous` mode passes the per-step (1 - f)^dt
@@ -97,12 +98,12 @@ inline double syrup_factor(double vx, double vy) {
   return speed > kSyrupThreshold ? kSyrupThreshold / speed : 1.0;
 }
 
-/// Rest test (spec 5.3 step 3): such a mass is neither moved nor collided.
+/// Rest test (docs/physics.md, Part 2 step 3): such a mass is neither moved nor collided.
 inline bool is_at_rest(double vx, double vy) {
   return std::fabs(vx) < kZeroVelocity && std::fabs(vy) < kZeroVelocity;
 }
 
-/// Container collision after the move (spec 5.3 step 5). Floor/ceiling clamp y and
+/// Container collision after the move (docs/physics.md, Part 2 step 5). Floor/ceiling clamp y and
 /// respond with vy *= Rs, vx *= Fs (x keeps its full move). Side walls clamp x;
 /// their response vx *= Rs, vy *= Fs happens only when the same mass did not also
 /// hit the floor or ceiling this frame (corner rule). Returns the side wall that
@@ -136,7 +137,7 @@ inline SideWall collide_with_container(double& x, double& y, double& vx, double&
   return side;
 }
 
-/// The numbers the mass rules (spec 5.3) take for one mass: its model's for the
+/// The numbers the mass rules (docs/physics.md, Part 2) take for one mass: its model's for the
 /// original's frame (frame_constants), or per step of dt frames in the `continuous`
 /// mode's Euler (step.hpp EulerStep).
 struct MassConstants {
@@ -161,7 +162,7 @@ struct MassStepResult {
   MassMove move;                 ///< start, end before the container, velocity then (fixed bars)
 };
 
-/// One free mass after its link impulses (spec 5.3): gravity, air friction with the
+/// One free mass after its link impulses (docs/physics.md, Part 2): gravity, air friction with the
 /// syrup limit, the rest test, the move by v*dt and the container, in the
 /// original's order; (x, y, vx, vy) are updated. The caller then does autoreverse on
 /// `hit` and the fixed bars (complete_move). Every stepper's scalar mass update is
@@ -200,7 +201,7 @@ inline void friction_while_touching(bool started_on_floor_or_ceiling, bool start
   if (started_on_side_wall && !crossed_side_wall && !crossed_floor_or_ceiling) vy = vy * keep;
 }
 
-/// Autoreverse (spec 5.3 step 5): hitting a side wall other than the last one hit
+/// Autoreverse (docs/physics.md, Part 2 step 6): hitting a side wall other than the last one hit
 /// records it and toggles the wave direction; repeated hits of the same wall do
 /// nothing. Only when autoreverse is on and the wave is not manual.
 inline void autoreverse_on_wall_hit(SideWall hit, bool autoreverse, WaveDirection& mode,
@@ -211,7 +212,7 @@ inline void autoreverse_on_wall_hit(SideWall hit, bool autoreverse, WaveDirectio
   mode = (mode == WaveDirection::Forward) ? WaveDirection::Reverse : WaveDirection::Forward;
 }
 
-/// The wave's wrap after a move (spec 5.1): Java's `moved % 1.0` (fmod: exact, the
+/// The wave's wrap after a move (docs/physics.md, "The wave"): Java's `moved % 1.0` (fmod: exact, the
 /// sign of the dividend), plus 1 when negative. The result lies in [0, 1] and 1.0
 /// is kept: a reverse-running phase that lands on -3.1e-17 becomes 1 - 3.1e-17,
 /// which rounds to 1.0, and the next sines are those of phase 1.0, not 0.0 (golden
@@ -226,14 +227,14 @@ inline double wrap_moved_wave_phase(double moved) {
   return r < 0.0 ? r + 1.0 : r;
 }
 
-/// Wave advance after the physics (spec 5.1): phase += speed*mode, then the wrap above.
+/// Wave advance after the physics (docs/physics.md, "The wave"): phase += speed*mode, then the wrap above.
 inline double advance_wave_phase(double phase, double speed, WaveDirection mode) {
   if (mode == WaveDirection::Manual) return phase;
   const double moved = phase + speed * static_cast<double>(static_cast<int>(mode));
   return wrap_moved_wave_phase(moved);
 }
 
-/// The end of a mass's move (spec 5.3 steps 5-6), after the container: autoreverse
+/// The end of a mass's move (docs/physics.md, Part 2 steps 6-7), after the container: autoreverse
 /// on the side wall `hit`, the new position and velocity stored, then the fixed bars
 /// (fixed_bars.hpp) test the move `move` (its start, its end before the clamp and the
 /// velocity before the container's response; (x, y) is the clamped end). A bar hit

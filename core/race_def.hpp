@@ -1,4 +1,5 @@
-// A Sodarace race as plain definition structs (spec 3.1), like ModelDef: a timeout,
+// A Sodarace race as plain definition structs (docs/physics.md, "The race file"),
+// like ModelDef: a timeout,
 // a terrain model (the racer keeps its fixed nodes and bars: FilterFixedBars), the
 // race constraints (each header value of the lane from the CONTENDER or the RACER,
 // i.e. the terrain), and contenders with the results the file recorded. Read by
@@ -13,7 +14,7 @@
 
 namespace soda {
 
-/// Where one header value of the lane comes from (spec 3.1).
+/// Where one header value of the lane comes from (docs/physics.md, "The race file").
 enum class RaceSource : unsigned char { Contender, Racer };
 
 struct RaceConstraints {

@@ -1,5 +1,5 @@
 // A Sodarace lane and its race, as the original headless racer (2004) runs them
-// (spec 3.2, terrain-research.md section 3): the terrain's fixed nodes and bars moved
+// (docs/physics.md, "The lane"): the terrain's fixed nodes and bars moved
 // to start at x = 50000 between two flat platforms, the contender scaled to half its
 // own container's height and placed left of the start, then frames until the
 // contender's integer box passes the finish or the timeout.
@@ -53,13 +53,13 @@ struct RaceOutcome {
 /// Java's (int) of a double: truncation toward zero, NaN to 0, saturated.
 int java_int(double v);
 
-/// The racer's finish rule (spec 3.2): the contender's least x, as Java's (int),
-/// is past the finish node's x + 6.
+/// The racer's finish rule (docs/physics.md, "The finish and the result"): the
+/// contender's least x, as Java's (int), is past the finish node's x + 6.
 bool passed_finish(const RaceLane& lane, double min_x);
 
-/// The race result after update `updates` if the race ends there (spec 3.2), given
-/// the contender's min and max x. Finish first: (int)min x > finish.x + 6 gives
-/// updates - 2; else updates - 2 > timeout gives (float)(timeout + fraction).
+/// The race result after update `updates` if the race ends there (docs/physics.md,
+/// "The finish and the result"), given the contender's min and max x. Finish first:
+/// (int)min x > finish.x + 6 gives updates - 2; else updates - 2 > timeout gives (float)(timeout + fraction).
 bool race_ends(const RaceLane& lane, int timeout, long long updates, double min_x, double max_x, RaceOutcome& out);
 
 /// Runs the lane from frame 0 until the race ends. `on_frame`, if given, sees the

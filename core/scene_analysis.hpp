@@ -13,7 +13,7 @@
 //    -0 included); g = 0 with gravity "up" gives -0 and is *not* skipped;
 //  - no fixed bars -> no bar tests; bars whose ends are fixed nodes are fixed
 //    segments, bars with a free-mass end moving ends in name only: the engine
-//    takes every bar's geometry once (spec 5.4), so both step alike;
+//    takes every bar's geometry once (docs/physics.md, "Fixed bars"), so both step alike;
 //  - a wall (floor, ceiling, left, right) that no mass can reach within the
 //    frames asked for is not tested: after the friction step a mass moves at most
 //    20 px/frame (the syrup speed limit, docs/physics.md, part 2), so kMaxMovePerFrame bounds it;

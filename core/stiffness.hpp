@@ -1,5 +1,5 @@
 // The stiffness matrix of a state: K = -d(link accelerations)/d(positions) of the
-// free masses, the linearisation of the engine's link impulse (spec 5.2) around
+// free masses, the linearisation of the engine's link impulse (docs/physics.md, Part 1) around
 // the state, springs and muscles at their current targets (the wave phase of the
 // state), unit masses.
 //

@@ -1,4 +1,5 @@
-// Reading Sodarace race files (`<!DOCTYPE sodarace>`, spec 3.1) into a RaceDef
+// Reading Sodarace race files (`<!DOCTYPE sodarace>`, docs/physics.md, "The race file") into a
+// RaceDef
 // (core/race_def.hpp).
 #pragma once
 

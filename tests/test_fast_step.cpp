@@ -494,7 +494,7 @@ TEST_CASE("fast step: synthetic stress cases, each kernel specialisation", "[fas
           }
           const soda::KernelChoice k = check(def, 3000, opt);
           CHECK(k.bars == soda::BarKind::FixedSegments);
-          // The masses in SIMD, then the bar rules (spec 5.4) for the masses that
+          // The masses in SIMD, then the bar rules (docs/physics.md, "Fixed bars") for the masses that
           // may meet a bar, in file order (fused/ordered.cpp, bar_pass).
           CHECK_FALSE(k.ordered);
         }

@@ -135,10 +135,10 @@ LaneRun run_lane_trace(const LaneCase& k) {
 
 } // namespace
 
-// The README of the golden lanes: a port following the rules of spec 5.4 matched
+// The README of the golden lanes: a port following the rules of docs/physics.md's "Fixed bars" matched
 // race05_walker_430 and ai_walker_121 only up to frames 33 and 36 (floor-and-bar
 // collisions), the other five bit for bit over the whole trace; with the last-bit rules
-// of terrain-research.md section 6 (tests/test_terrain_lastbit.cpp) all seven match
+// of docs/physics.md's "The last bits" (tests/test_terrain_lastbit.cpp) all seven match
 // over their whole traces.
 TEST_CASE("race lanes frame by frame: bit for bit over every row", "[race][golden]") {
   const std::map<std::string, long long> exact_rows = { // the traces' rows

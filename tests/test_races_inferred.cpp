@@ -100,9 +100,9 @@ TEST_CASE("bench races report: counts, situations and first updates come from th
   CHECK(sodaevo::bench::golden_races_report(races).find("0 differ.") != std::string::npos);
 }
 
-// The diagnosed situations, measured on our runs, at the frames the research's port
-// found against the original (terrain-research.md 6.5: walker_313 first differs at
-// 6763, walker_382 at 3307, walker_514 at 6463).
+// The diagnosed situations, measured on our runs, at the frames where a port without
+// the inferred rules first parted from the original (results/bench/races.md's
+// diagnosis: walker_313 at 6763, walker_382 at 3307, walker_514 at 6463).
 TEST_CASE("bench races: the diagnosed situations come up where the original's runs first differed", "[race][bench]") {
   using sodaevo::bench::BarSituation;
   const auto first = [](const char* contender, BarSituation s) {

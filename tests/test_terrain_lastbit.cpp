@@ -4,7 +4,7 @@
 // sine: every row must equal the trace in every bit, in every stepper - the
 // reference step, simulate's default stepper, the fast stepper at each SIMD level,
 // all scenes in one fused scene, and (AVX-512) the lockstep lanes. The rules these
-// scenes pin down are terrain-research.md section 6 (core/fixed_bars.cpp).
+// scenes pin down are docs/physics.md's "The last bits" (core/fixed_bars.cpp).
 #include <catch2/catch.hpp>
 
 #include <algorithm>
