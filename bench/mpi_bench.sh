@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # MPI benchmark: evaluations per second of `sodaevo evolve` with 1 and 2 MPI ranks
 # (one evaluation thread each), checked to give identical run folders, plus the
-# measured inputs of the scaling model (README: Running on a cluster) and the
+# measured inputs of the scaling model (docs/cluster.md) and the
 # model's expected efficiency at 10, 100 and 1000 ranks.
 #
 #   bench/mpi_bench.sh [REPEATS]     (default 7; median of the repeats)
