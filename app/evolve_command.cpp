@@ -333,8 +333,8 @@ void add_evolve_command(CLI::App& app) {
       "(see `sodaevo report`, refreshed every few generations). manifest.json records the engine's\n"
       "muscle sine: --resume refuses a run made with another (see --resume-other-sine).\n"
       "On a cluster: mpirun -np N sodaevo evolve CONFIG runs the algorithm on rank 0 and\n"
-      "evaluates on every rank, with results identical to one process (README: Running on a\n"
-      "cluster). This build: " + mpi_support_summary() + ".");
+      "evaluates on every rank, with results identical to one process (docs/cluster.md).\n"
+      "This build: " + mpi_support_summary() + ".");
   cmd->add_option("config", opt->config, "Run config (.json)")
       ->check(non_empty_path())
       ->check(CLI::ExistingFile);

@@ -45,7 +45,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "sodaevo 0.1.0\n" + sodaevo::mpi_support_summary());
   app.footer(sodaevo::mpi_support_summary() +
              ".\nUnder mpirun/srun, `evolve` runs the algorithm on rank 0 and evaluates creatures on\n"
-             "every rank (README: Running on a cluster).");
+             "every rank (docs/cluster.md).");
   sodaevo::app::add_simulate_command(app);
   sodaevo::app::add_convert_command(app);
   sodaevo::app::add_evolve_command(app);

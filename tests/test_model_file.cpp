@@ -708,7 +708,7 @@ TEST_CASE("model files are written atomically and read back", "[model_file]") {
 
 // --- reader rules ----------------------------------------------------------------------
 
-TEST_CASE("a model with only <nodes> gets the defaults of spec 2.1", "[model_file]") {
+TEST_CASE("a model with only <nodes> gets the documented defaults (docs/file-formats.md)", "[model_file]") {
   const auto m = read_text("<model>" + kOneMass + "</model>");
   const ModelDef& d = m.def;
   CHECK(d.comment.empty());

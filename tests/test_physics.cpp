@@ -153,7 +153,7 @@ TEST_CASE("a mass at rest is not moved and fixed nodes ignore impulses", "[physi
   CHECK(s.vx[0] == 5e-6); // the velocity is kept
 }
 
-TEST_CASE("a mass crossing a fixed bar responds as spec 5.4 says", "[physics]") {
+TEST_CASE("a mass crossing a fixed bar responds as the fixed-bar rule says (docs/physics.md)", "[physics]") {
   // Horizontal bar y = 100 between two fixed nodes; the mass moves from (300, 105)
   // by (2, -10), crossing at t = 0.5. With u = (1, 0), n = (0, 1): vt = 2, vn = -10.
   // Position: crossing point (301, 100) plus (1 - t)*Fs*vt*u = (0.1, 0); velocity
