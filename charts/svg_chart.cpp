@@ -85,6 +85,22 @@ struct Frame {
   [[nodiscard]] double y1() const { return top; }
 };
 
+/// The frame for a chart whose legend lists `names` to the right of the plot: the
+/// picture grows wider, rather than the plot narrower, when a name would not fit
+/// the default right margin (a long name is cut off at the picture's edge otherwise).
+Frame frame_with_legend(int width, int height, const std::vector<std::string>& names) {
+  Frame f{width, height};
+  double widest = 0.0;
+  for (const std::string& name : names) widest = std::max(widest, text_width_estimate(name, 12.0));
+  const double needed = 16 + 24 + widest + 8; // legend gap, swatch, name, margin
+  if (needed > f.right) {
+    const int extra = static_cast<int>(std::ceil(needed - f.right));
+    f.width += extra;
+    f.right += extra;
+  }
+  return f;
+}
+
 void open_svg(std::ostringstream& o, const Frame& f, const std::string& title) {
   o << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
     << "<svg xmlns=\"http://www.w3.org/2000/svg\" version=\"1.1\" width=\"" << f.width << "\" height=\""
@@ -219,7 +235,9 @@ std::string format_tick(double v) {
 }
 
 std::string render_line_chart(const LineChart& chart) {
-  Frame f{chart.width, chart.height};
+  std::vector<std::string> legend_names;
+  for (const LineSeries& s : chart.series) legend_names.push_back(s.name);
+  const Frame f = frame_with_legend(chart.width, chart.height, legend_names);
   std::vector<double> xs, ys;
   for (const LineSeries& s : chart.series) {
     xs.insert(xs.end(), s.x.begin(), s.x.end());
@@ -277,7 +295,9 @@ std::string render_line_chart(const LineChart& chart) {
 }
 
 std::string render_bar_chart(const BarChart& chart) {
-  Frame f{chart.width, chart.height};
+  std::vector<std::string> legend_names;
+  for (const BarSeries& s : chart.series) legend_names.push_back(s.name);
+  const Frame f = frame_with_legend(chart.width, chart.height, legend_names);
   std::vector<double> ys;
   for (const BarSeries& s : chart.series) ys.insert(ys.end(), s.values.begin(), s.values.end());
   Scale sy{chart.y_axis.log, chart.y_axis.integer};

@@ -117,6 +117,38 @@ TEST_CASE("bar chart: a group per category, a bar per series, values labelled", 
   CHECK(fast_h > seed_h);
 }
 
+TEST_CASE("a long legend name stays inside the picture, in bar and line charts", "[svg_chart]") {
+  // The width a name needs is judged with text_width_estimate, which its own test
+  // checks against what Chromium draws; here the name must end inside the picture.
+  const std::string long_name = "GA (last population as an archive, every creature kept)";
+  auto check_legend_fits = [&](const std::string& svg) {
+    const pugi::xml_document doc = parse(svg);
+    const pugi::xml_node root = doc.child("svg");
+    const double width = root.attribute("width").as_double();
+    REQUIRE(width > 0);
+    int names = 0;
+    for (const pugi::xpath_node& n : root.select_nodes("//g[@class='legend']/text")) {
+      const std::string text = n.node().child_value();
+      const double right = n.node().attribute("x").as_double() + sodaevo::charts::text_width_estimate(text, 12.0);
+      INFO(text << " ends at " << right << " in a picture " << width << " wide");
+      CHECK(right <= width);
+      ++names;
+    }
+    CHECK(names == 2);
+  };
+  BarChart bars;
+  bars.title = "QD-score";
+  bars.categories = {"seed 1", "seed 2"};
+  bars.series.push_back({"MAP-Elites", {1e6, 9e5}});
+  bars.series.push_back({long_name, {6e4, 8e4}});
+  check_legend_fits(render_bar_chart(bars));
+  LineChart lines;
+  lines.title = "best";
+  lines.series.push_back({"MAP-Elites", {1, 2, 3}, {4, 5, 6}});
+  lines.series.push_back({long_name, {1, 2, 3}, {1, 2, 3}});
+  check_legend_fits(render_line_chart(lines));
+}
+
 TEST_CASE("tick labels are compact", "[svg_chart]") {
   CHECK(sodaevo::charts::format_tick(0) == "0");
   CHECK(sodaevo::charts::format_tick(1500) == "1.5k");
