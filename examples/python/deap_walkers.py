@@ -25,7 +25,8 @@ ap.add_argument("--generations", type=int, default=30)
 ap.add_argument("--population", type=int, default=100)
 ap.add_argument("--seed", type=int, default=1)
 args = ap.parse_args()
-rng = random.Random(args.seed)
+random.seed(args.seed)  # DEAP's selection draws from the random module: the run is reproducible
+rng = random
 
 # A DEAP individual is a one-element list holding a sodaevo.Model (DEAP needs a
 # container it can give a .fitness).
