@@ -26,6 +26,20 @@ def test_evaluate_gives_the_logged_fitness(tiny_run):
         assert e.interval95[k, 0] <= e.mean[k] <= e.interval95[k, 1]
 
 
+def test_resampled_and_confirmed_creatures_too(tiny_run):
+    # The last generation holds elites that gathered more replicas and the best,
+    # confirmed on replicas_max: each is its first n replicas, which evaluate()
+    # gives with replicas=n.
+    run_dir, _ = tiny_run
+    last = sodaevo.open_run(run_dir).generation(2)
+    counts = sorted({i["n"] for i in last if i["status"] == "ok"})
+    assert len(counts) > 1  # some did gather more than 3
+    for n in counts:
+        group = [i for i in last if i["status"] == "ok" and i["n"] == n]
+        e = sodaevo.evaluate([i["model"] for i in group], run_dir / "config.json", replicas=n)
+        assert list(e.fitness) == [i["fitness"] for i in group] and list(e.sd) == [i["sd"] for i in group]
+
+
 def test_threads_and_batches_do_not_change_results(tiny_run):
     run_dir, _ = tiny_run
     models = [i["model"] for i in generation_zero(run_dir)]
