@@ -52,6 +52,7 @@ def main() -> None:
     config["fitness"]["confirm"] = 0
     config["save"] = {"generation_every": 1, "checkpoint_every": 1}
 
+    load_before = os.getloadavg()[0]
     cli_rates, py_rates = [], []
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / "bench.json"
@@ -91,6 +92,9 @@ def main() -> None:
     lines += [
         "",
         f"Median: CLI {cli:.1f}, Python {py:.1f} evaluations/s: **ratio Python/CLI {py / cli:.3f}** (target >= 0.9).",
+        "",
+        f"Machine: {os.cpu_count()} cores, load average {load_before:.1f} before and {os.getloadavg()[0]:.1f} after "
+        "(other builds were running: absolute rates are low and vary by round, the alternating rounds share it).",
         "",
         "Command: `PYTHONPATH=build/python /usr/bin/python3 bench/python_throughput.py "
         f"--rounds {args.rounds} --threads {args.threads} --population {args.population}"
