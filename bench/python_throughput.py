@@ -9,7 +9,7 @@ is every creature of the run's first generation, all new, so all are evaluated.
 Python then evaluates exactly those creatures (read back from the run's
 generations/gen_00000.xml) with the run's config.json through sodaevo.evaluate,
 timed around the call (which includes handing the models over and building the
-numpy results). Same Problem, same ReplicaEstimator, same ThreadEvaluator, same
+numpy results), in a fresh Python process per round as the command's is fresh. Same Problem, same ReplicaEstimator, same ThreadEvaluator, same
 thread count. Runs alternate CLI, Python, CLI, ... so a change in machine load
 hits both; the report gives the median of each and their ratio.
 
@@ -33,6 +33,18 @@ sys.path.insert(0, str(ROOT / "build" / "python"))
 import sodaevo  # noqa: E402
 
 
+def python_round(run: Path, threads: int) -> None:
+    """One Python measurement: generation 0 of `run` through evaluate(), timed
+    around the call; checks the fitnesses against the run's log."""
+    individuals = sodaevo.open_run(run).generation(0)
+    models = [i["model"] for i in individuals]
+    t0 = time.perf_counter()
+    result = sodaevo.evaluate(models, run / "config.json", threads=threads)
+    seconds = time.perf_counter() - t0
+    assert list(result.fitness) == [i["fitness"] for i in individuals], "not the same evaluations"
+    print(len(models) / seconds)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--rounds", type=int, default=5)
@@ -40,7 +52,11 @@ def main() -> None:
     ap.add_argument("--population", type=int, default=1000)
     ap.add_argument("--binary", default=str(ROOT / "build" / "sodaevo"))
     ap.add_argument("--out", help="write the Markdown report here")
+    ap.add_argument("--python-round", help=argparse.SUPPRESS)
     args = ap.parse_args()
+    if args.python_round:
+        python_round(Path(args.python_round), args.threads)
+        return
 
     # configs/default.json's creatures and fitness (4000 frames after 400, 8 replicas),
     # one generation of `population`, no confirmation round (so that generation 0's
@@ -64,13 +80,11 @@ def main() -> None:
             with open(run / "timing.csv", newline="") as f:
                 row = next(csv.DictReader(f))
             cli_rates.append(float(row["evaluations_per_second"]))
-            models = [i["model"] for i in sodaevo.open_run(run).generation(0)]
-            t0 = time.perf_counter()
-            result = sodaevo.evaluate(models, run / "config.json", threads=args.threads)
-            seconds = time.perf_counter() - t0
-            py_rates.append(len(models) / seconds)
-            logged = [i["fitness"] for i in sodaevo.open_run(run).generation(0)]
-            assert list(result.fitness) == logged, "not the same evaluations"
+            # A fresh Python process per round, as the command line's is fresh: neither
+            # side's allocator or threads are warm from an earlier round.
+            child = subprocess.run([sys.executable, __file__, "--python-round", str(run), "--threads",
+                                    str(args.threads)], check=True, capture_output=True, text=True)
+            py_rates.append(float(child.stdout.split()[-1]))
             print(f"round {r}: CLI {cli_rates[-1]:.1f} evaluations/s, Python {py_rates[-1]:.1f} evaluations/s",
                   flush=True)
     cli, py = statistics.median(cli_rates), statistics.median(py_rates)
@@ -82,7 +96,8 @@ def main() -> None:
         "Walkers, half random creatures), 4000 scored frames after 400, 8 replicas each, "
         f"{args.threads} threads. The command line's rate is what `sodaevo evolve` logs for that generation "
         "(timing.csv: evaluations over the wall time of evaluating it); Python's is the same creatures, read "
-        "back from the run folder, through `sodaevo.evaluate(models, RUN/config.json)`, timed around the call. "
+        "back from the run folder, through `sodaevo.evaluate(models, RUN/config.json)`, timed around the call, in a "
+        "fresh Python process per round as the command's is fresh. "
         "The fitnesses are checked equal bit for bit. Rounds alternate CLI and Python; medians.",
         "",
         "| round | CLI evaluations/s | Python evaluations/s |",
