@@ -17,16 +17,13 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
 #include "core/fixed_bars.hpp"
 #include "core/input_error.hpp"
-#include "formats/model_file.hpp"
 #include "formats/race_file.hpp"
-#include "core/lockstep_batch.hpp"
 #include "core/race_lane.hpp"
 #include "formats/trace_csv.hpp"
 #include "evolve/race_entries.hpp"
