@@ -28,6 +28,9 @@ FUZZ_DIR=${SODAEVO_FUZZ_DIR:-build-fuzz}
 PACKAGES=(g++ cmake make libpugixml-dev libcli11-dev nlohmann-json3-dev catch2 libeigen3-dev libopenmpi-dev openmpi-bin zlib1g-dev)
 # Only the test suite needs these: headless Chromium opens the rendered pages.
 TEST_PACKAGES=(chromium)
+# The Python module (python/, docs/python.md) and its tests and examples; the
+# build leaves the module out quietly without them, so `run` does not need them.
+PYTHON_PACKAGES=(pybind11-dev python3-dev python3-numpy python3-pytest python3-deap python3-matplotlib)
 # The designer's WebAssembly engine (web/, `sodaevo designer`): Debian's Emscripten.
 WEB_PACKAGES=(emscripten)
 # Only for `fuzz`: clang 14 and its runtime libraries (libclang_rt.fuzzer, asan, ubsan).
@@ -139,7 +142,7 @@ case "${1:-}" in
     "$BUILD_DIR/sodaevo" designer ${2:+"$2"} -o designer.html
     ;;
   test)
-    install_web_deps "${TEST_PACKAGES[@]}"; fail_on_warnings build
+    install_web_deps "${TEST_PACKAGES[@]}" "${PYTHON_PACKAGES[@]}"; fail_on_warnings build
     ctest --test-dir "$BUILD_DIR" --output-on-failure -j "$(nproc)"
     fail_on_warnings build_asan
     run_asan_tests

@@ -58,11 +58,6 @@ struct EvolveOptions {
 
 std::atomic<bool> g_stop_requested{false};
 
-/// At the end of a run its best creatures are checked on fresh replicas (as
-/// `export --check-replicas` does) for the report: this many, on this many each.
-constexpr int kCheckedChampions = 10;
-constexpr int kCheckReplicas = 16;
-
 /// report.html in the run folder is refreshed after every this many generations
 /// (a few trials each time: cheap next to a generation) and at the end.
 constexpr int kReportEveryGenerations = 5;
@@ -167,15 +162,8 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     rescore_checkpoint = accept_resume_sine(*store, opt);
   } else {
     const RunConfig config = read_run_config(opt.config);
-    // A seed model that cannot be evolved is an error of the config: say so before
-    // a run folder exists (a folder without a checkpoint could not be resumed).
-    try {
-      load_seed_creatures(config);
-    } catch (const soda::InputError& e) {
-      throw soda::InputError(opt.config + ": " + e.what());
-    }
     const std::string dir = opt.out.empty() ? "results/" + config.name + "-" + timestamp() : opt.out;
-    store.emplace(RunStore::create(dir, config, opt.force, command_line));
+    store.emplace(start_run(config, opt.config, dir, opt.force, command_line));
   }
   std::unique_ptr<Evaluator> evaluator;
   std::string where;
@@ -268,7 +256,7 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
   std::vector<ReplicaCheck> checks;
   if (std::isfinite(outcome.best_fitness)) {
     try {
-      checks = write_run_champions(store->dir(), kCheckedChampions, kCheckReplicas, opt.threads);
+      checks = write_run_champions(store->dir(), kRunChampionsChecked, kRunChampionReplicas, opt.threads);
     } catch (const std::exception& e) {
       std::cerr << "\nsodaevo: warning: champions not checked: " << e.what() << '\n';
     }

@@ -19,7 +19,7 @@
 #include "core/number_text.hpp"
 #include "core/stability.hpp"
 #include "core/step.hpp"
-#include "core/step_failure.hpp"
+#include "core/simulation_run.hpp"
 #include "core/stepping.hpp"
 #include "evolve/honesty.hpp"
 #include "evolve/replica_ensemble.hpp"
@@ -133,30 +133,6 @@ void print_summary(const SimulateOptions& opt, const SimulateSummary& s) {
   }
 }
 
-/// Runs `frames` frames watching for divergence; stops at the first diverged
-/// frame, keeping the last healthy state in `state` (so nothing non-finite is
-/// reported or written). `per_frame` is called with every healthy state.
-template <class PerFrame>
-soda::Divergence run_watched(const soda::Model& model, soda::State& state, long long frames,
-                             const soda::Stepping& stepping, bool energy, bool reference_step, PerFrame&& per_frame) {
-  // The budget counts from the model's initial state (the FastStepper's scene
-  // analysis asks how far masses can get), and `state` may be mid-run.
-  soda::FrameStepper stepper(model, stepping, state.frame + frames, reference_step);
-  soda::DivergenceMonitor monitor(model, state, {}, energy);
-  soda::State next = state;
-  for (long long f = 0; f < frames; ++f) {
-    try {
-      stepper.step(next);
-    } catch (const soda::StepFailure& failure) { // an implicit solve failed: diverged there
-      return {true, failure.frame, failure.reason};
-    }
-    if (!monitor.check(next)) return monitor.result();
-    state = next;
-    per_frame(state);
-  }
-  return {};
-}
-
 soda::BarEngine bar_engine_of(const SimulateOptions& opt) {
   soda::BarEngine engine{};
   if (!soda::parse_bar_engine(opt.bar_engine, engine)) {
@@ -230,33 +206,10 @@ void run_simulate(const SimulateOptions& opt) {
   const soda::State initial = state;
   const soda::Point2 start = soda::mass_centroid(model, state);
   const auto t0 = std::chrono::steady_clock::now();
-  soda::Divergence divergence;
-  if (trace || opt.energy_check) {
-    divergence = run_watched(model, state, opt.frames, stepping, opt.energy_check, opt.reference,
-                             [&](const soda::State& now) {
-      if (trace) trace->write_row(now);
-    });
-  } else {
-    // Fast path: step in blocks, checking for non-finite values between blocks;
-    // on a hit, replay the block frame by frame to stop at the last healthy state.
-    soda::FrameStepper stepper(model, stepping, opt.frames, opt.reference);
-    constexpr long long kBlock = 1024;
-    for (long long done = 0; done < opt.frames && !divergence.diverged;) {
-      const long long n = std::min(kBlock, opt.frames - done);
-      soda::State block_start = state;
-      bool failed = false;
-      try {
-        stepper.run(state, n);
-      } catch (const soda::StepFailure&) {
-        failed = true; // replayed frame by frame below, which stops at the failure
-      }
-      if (failed || soda::first_non_finite(model, state)) {
-        state = block_start;
-        divergence = run_watched(model, state, n, stepping, false, opt.reference, [](const soda::State&) {});
-      }
-      done += n;
-    }
-  }
+  soda::FrameCallback per_frame;
+  if (trace) per_frame = [&](const soda::State& now) { trace->write_row(now); };
+  const soda::Divergence divergence =
+      soda::run_simulation(model, state, opt.frames, stepping, opt.energy_check, opt.reference, per_frame);
   const auto t1 = std::chrono::steady_clock::now();
   const soda::Point2 end = soda::mass_centroid(model, state);
 
@@ -276,8 +229,8 @@ void run_simulate(const SimulateOptions& opt) {
     soda::State again = initial;
     s.honesty = true;
     s.honesty_stepping = soda::stepping_label(refined);
-    s.honesty_divergence = run_watched(model, again, divergence.diverged ? divergence.frame - 1 : opt.frames, refined,
-                                       opt.energy_check, opt.reference, [](const soda::State&) {});
+    s.honesty_divergence = soda::run_watched(model, again, divergence.diverged ? divergence.frame - 1 : opt.frames,
+                                             refined, opt.energy_check, opt.reference);
     s.honesty_centroid_dx = soda::mass_centroid(model, again).x - start.x;
     s.honesty_change = sodaevo::relative_change(end.x - start.x, s.honesty_centroid_dx);
   }

@@ -3,8 +3,6 @@
 #include <string>
 #include <vector>
 
-#include "core/input_error.hpp"
-
 namespace sodaevo::app {
 
 namespace {
@@ -35,23 +33,7 @@ void add_stepping_options(CLI::App* cmd, SteppingOptions& opt) {
 }
 
 soda::Stepping stepping_of(const SteppingOptions& opt) {
-  soda::Stepping st;
-  const auto mode = soda::parse_mode(opt.mode);
-  if (!mode) throw soda::InputError("--mode: expected soda or continuous, got '" + opt.mode + "'");
-  const auto integrator = soda::parse_integrator(opt.integrator);
-  if (!integrator) {
-    std::string expected;
-    for (const std::string& name : integrator_names()) expected += (expected.empty() ? "" : ", ") + name;
-    throw soda::InputError("--integrator: expected one of " + expected + ", got '" + opt.integrator + "'");
-  }
-  st.mode = *mode;
-  st.integrator = *integrator;
-  st.substeps = opt.substeps;
-  if (st.mode == soda::PhysicsMode::Soda && (st.substeps != 1 || st.integrator != soda::Integrator::Euler)) {
-    throw soda::InputError("--substeps and --integrator need --mode continuous (soda is one Euler update per frame)");
-  }
-  soda::validate_stepping(st);
-  return st;
+  return soda::stepping_of_names(opt.mode, opt.integrator, opt.substeps);
 }
 
 } // namespace sodaevo::app

@@ -45,6 +45,28 @@ void validate_stepping(const Stepping& s) {
   }
 }
 
+Stepping stepping_of_names(const std::string& mode_text, const std::string& integrator_text, int substeps,
+                           const std::string& prefix) {
+  const auto mode = parse_mode(mode_text);
+  if (!mode) throw InputError(prefix + "mode: expected soda or continuous, got '" + mode_text + "'");
+  const auto integrator = parse_integrator(integrator_text);
+  if (!integrator) {
+    std::string expected;
+    for (Integrator in : kIntegrators) expected += (expected.empty() ? "" : ", ") + integrator_name(in);
+    throw InputError(prefix + "integrator: expected one of " + expected + ", got '" + integrator_text + "'");
+  }
+  Stepping st;
+  st.mode = *mode;
+  st.integrator = *integrator;
+  st.substeps = substeps;
+  if (st.mode == PhysicsMode::Soda && (st.substeps != 1 || st.integrator != Integrator::Euler)) {
+    throw InputError(prefix + "substeps and " + prefix + "integrator need " + prefix +
+                     "mode continuous (soda is one Euler update per frame)");
+  }
+  validate_stepping(st);
+  return st;
+}
+
 FrameStepper::FrameStepper(const Model& model, const Stepping& stepping, long long frame_budget, bool reference_step)
     : model_(model) {
   validate_stepping(stepping);

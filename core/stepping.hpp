@@ -51,6 +51,14 @@ std::string stepping_label(const Stepping& stepping);
 /// Throws InputError unless substeps is in [1, kMaxSubsteps].
 void validate_stepping(const Stepping& stepping);
 
+/// The setting named by a mode ("soda" | "continuous"), an integrator's name and a
+/// sub-step count, as the commands' --mode, --integrator and --substeps and the
+/// Python module's keywords name it. Throws InputError for an unknown name or an
+/// inconsistent setting (an integrator or sub-steps other than euler/1 in soda
+/// mode); messages name the setting as `prefix` + "mode" etc. ("--mode").
+Stepping stepping_of_names(const std::string& mode, const std::string& integrator, int substeps,
+                           const std::string& prefix = "--");
+
 class ContinuousStepper;
 class FastStepper;
 

@@ -25,6 +25,16 @@ std::vector<soda::ModelDef> load_seed_creatures(const RunConfig& config) {
   return seeds;
 }
 
+RunStore start_run(const RunConfig& config, const std::string& source, const std::filesystem::path& dir, bool force,
+                   const std::string& command_line) {
+  try {
+    load_seed_creatures(config);
+  } catch (const soda::InputError& e) {
+    throw soda::InputError(source + ": " + e.what());
+  }
+  return RunStore::create(dir, config, force, command_line);
+}
+
 EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const EvolutionOptions& options) {
   const RunConfig& config = store.config();
   const RunRoles roles = roles_of(config);

@@ -45,6 +45,19 @@ struct EvolutionOutcome {
 /// Seed creatures from the config's seed models (read and made evolvable).
 std::vector<soda::ModelDef> load_seed_creatures(const RunConfig& config);
 
+/// A new run folder for `config` (RunStore::create), its seed models checked
+/// first, so that a seed that cannot be evolved is an error of the config
+/// (prefixed with `source`, the config's name) before a folder exists (a folder
+/// without a checkpoint could not be resumed). `evolve` and the Python module's
+/// evolve() start runs this way.
+RunStore start_run(const RunConfig& config, const std::string& source, const std::filesystem::path& dir, bool force,
+                   const std::string& command_line);
+
+/// How many of a finished run's best creatures are checked on fresh replicas for
+/// RUN/champions.json (write_run_champions), and on how many replicas each.
+inline constexpr int kRunChampionsChecked = 10;
+inline constexpr int kRunChampionReplicas = 16;
+
 /// Runs (or, if the store has a checkpoint, resumes) the evolution.
 EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const EvolutionOptions& options);
 

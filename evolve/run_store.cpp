@@ -353,8 +353,7 @@ std::string best_estimate_cells(const Generation& g, const GenerationStats& s) {
   if (s.best_index < 0) return ",,,";
   const Estimate& e = g.individuals[static_cast<std::size_t>(s.best_index)].evaluation.estimate;
   if (e.rollouts <= 0) return ",,,";
-  const double half =
-      e.rollouts > 1 ? student_t_975(e.rollouts - 1) * e.sd * std::sqrt(1.0 + 1.0 / e.rollouts) : 0.0;
+  const double half = prediction_half_width95(e.rollouts, e.sd);
   using soda::format_double_plain;
   return std::to_string(e.rollouts) + "," + format_double_plain(e.sd) + "," + format_double_plain(e.mean - half) +
          "," + format_double_plain(e.mean + half);

@@ -36,6 +36,10 @@ double student_t_975(int df) {
   return z + (g1 + (g2 + (g3 + g4 / v) / v) / v) / v;
 }
 
+double prediction_half_width95(int n, double sd) {
+  return n > 1 ? student_t_975(n - 1) * sd * std::sqrt(1.0 + 1.0 / n) : 0.0;
+}
+
 SampleSummary summarize_sample(std::vector<double> values) {
   if (values.empty()) throw std::invalid_argument("summarize_sample: no values");
   SampleSummary s;
@@ -48,7 +52,7 @@ SampleSummary summarize_sample(std::vector<double> values) {
   s.min = values.front();
   s.max = values.back();
   s.median = s.n % 2 == 1 ? values[s.n / 2] : (values[s.n / 2 - 1] + values[s.n / 2]) / 2.0;
-  const double half = s.n > 1 ? student_t_975(s.n - 1) * s.sd * std::sqrt(1.0 + 1.0 / s.n) : 0.0;
+  const double half = prediction_half_width95(s.n, s.sd);
   s.interval95_low = s.mean - half;
   s.interval95_high = s.mean + half;
   return s;

@@ -23,6 +23,10 @@ struct SampleSummary {
   double interval95_high = 0.0;
 };
 
+/// Half the width of the 95 % prediction interval of n runs with sample standard
+/// deviation sd: t(0.975, n - 1) * sd * sqrt(1 + 1/n); 0 for n <= 1.
+double prediction_half_width95(int n, double sd);
+
 /// The summary of `values` (at least one; throws std::invalid_argument if empty).
 SampleSummary summarize_sample(std::vector<double> values);
 

@@ -1,0 +1,31 @@
+#!/usr/bin/python3
+"""Random search with numpy: draw random creatures in batches, score each batch
+with sodaevo.evaluate, keep the best. The baseline any algorithm should beat.
+
+  PYTHONPATH=build/python /usr/bin/python3 examples/python/random_search.py [--batches 10]
+"""
+import argparse
+
+import numpy as np
+
+import sodaevo
+
+ap = argparse.ArgumentParser()
+ap.add_argument("--batches", type=int, default=10)
+ap.add_argument("--batch", type=int, default=200)
+args = ap.parse_args()
+
+rng = np.random.default_rng(1)
+problem = {"frames": 2000, "settle_frames": 200}  # the /fitness object of a run config
+best, best_fitness = None, -np.inf
+for b in range(args.batches):
+    seeds = rng.integers(0, 2**62, size=args.batch)
+    creatures = [sodaevo.random_creature(int(s)) for s in seeds]
+    result = sodaevo.evaluate(creatures, problem, replicas=4)  # arrays, one entry per creature
+    k = int(np.argmax(result.fitness))
+    if result.fitness[k] > best_fitness:
+        best, best_fitness = creatures[k], result.fitness[k]
+    ok = np.isfinite(result.fitness)
+    print(f"batch {b}: {ok.sum()} scored, median {np.median(result.fitness[ok]):.1f} px, "
+          f"best so far {best_fitness:.1f} px ({best.mass_count} masses)")
+best.save("random_search_best.xml")

@@ -1,0 +1,142 @@
+// sodaevo.evolve and the run store from Python: a whole GA run into a run folder
+// as `sodaevo evolve` makes it (start_run, run_evolution, the champions' check:
+// evolve/evolution_run.hpp), saved generations read back as Models, and the GA's
+// own variation operators (evolve/variation.hpp) for outside algorithms.
+#include <atomic>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "core/input_error.hpp"
+#include "evolve/evaluator.hpp"
+#include "evolve/evolution_run.hpp"
+#include "evolve/replica_check.hpp"
+#include "evolve/rng.hpp"
+#include "evolve/run_reader.hpp"
+#include "evolve/variation.hpp"
+#include "python/bindings.hpp"
+
+namespace sodaevo::python {
+
+namespace {
+
+const char* status_name(EvaluationStatus s) {
+  return s == EvaluationStatus::Ok ? "ok" : s == EvaluationStatus::Diverged ? "diverged" : "invalid";
+}
+
+/// An individual of a saved generation as a dict; its genome a sodaevo.Model.
+py::dict individual_dict(const Individual& ind) {
+  py::dict d;
+  d["id"] = ind.id;
+  d["parents"] = ind.parents;
+  d["model"] = ind.creature;
+  d["status"] = status_name(ind.evaluation.status);
+  d["reason"] = ind.evaluation.reason;
+  d["fitness"] = ind.evaluation.fitness;
+  d["distance"] = ind.evaluation.distance;
+  d["n"] = ind.evaluation.estimate.rollouts;
+  d["mean"] = ind.evaluation.estimate.mean;
+  d["sd"] = ind.evaluation.estimate.sd;
+  d["median"] = ind.evaluation.estimate.median;
+  return d;
+}
+
+std::string run_evolve(const py::object& config_spec, const std::string& out, int threads, bool force,
+                       const std::string& command_line) {
+  const RunConfig config = run_config_of(config_spec, true);
+  if (config.algorithm != AlgorithmKind::Genetic) {
+    throw soda::InputError("/algorithm: expected \"ga\" from Python, got \"map-elites\" (run MAP-Elites with "
+                           "`sodaevo evolve CONFIG`; open_run reads its folder)");
+  }
+  const std::string source = py::isinstance<py::dict>(config_spec)
+                                 ? std::string("<dict>")
+                                 : py::module_::import("os").attr("fspath")(config_spec).cast<std::string>();
+  RunStore store = start_run(config, source, out, force, command_line);
+  ThreadEvaluator evaluator(threads);
+  // Ctrl-C: the current generation is finished and saved, then KeyboardInterrupt.
+  std::atomic<bool> stop{false};
+  bool interrupted = false;
+  EvolutionOptions options;
+  options.stop_requested = &stop;
+  options.on_generation = [&](const Progress&) {
+    py::gil_scoped_acquire python;
+    if (PyErr_CheckSignals() != 0) {
+      PyErr_Clear();
+      interrupted = true;
+      stop = true;
+    }
+  };
+  EvolutionOutcome outcome;
+  {
+    py::gil_scoped_release free_python;
+    outcome = run_evolution(store, evaluator, options);
+    if (std::isfinite(outcome.best_fitness)) {
+      write_run_champions(store.dir(), kRunChampionsChecked, kRunChampionReplicas, threads);
+    }
+  }
+  if (interrupted) {
+    PyErr_SetNone(PyExc_KeyboardInterrupt);
+    throw py::error_already_set();
+  }
+  return store.dir().string();
+}
+
+} // namespace
+
+void bind_evolve(py::module_& m) {
+  m.def("evolve", &run_evolve, py::arg("config"), py::arg("out"), py::kw_only(), py::arg("threads") = 0,
+        py::arg("force") = false, py::arg("command_line") = "sodaevo.evolve()");
+  m.def("saved_generations", [](const std::string& run) { return saved_generations(run); }, py::arg("run"));
+  m.def(
+      "read_generation",
+      [](const std::string& run, int generation) {
+        const Generation g = read_saved_generation(run, generation);
+        py::list out;
+        for (const Individual& ind : g.individuals) out.append(individual_dict(ind));
+        return out;
+      },
+      py::arg("run"), py::arg("generation"));
+  m.def(
+      "best_individuals",
+      [](const std::string& run, int count) {
+        py::list out;
+        for (const Individual& ind : best_individuals(run, count)) out.append(individual_dict(ind));
+        return out;
+      },
+      py::arg("run"), py::arg("count"));
+  m.def(
+      "mutate",
+      [](const py::object& model, std::uint64_t rng_seed, const py::object& config) {
+        const RunConfig c = run_config_of(config);
+        soda::ModelDef child = model_of(model);
+        Rng rng = Rng::stream(rng_seed, 0);
+        mutate(child, c, rng);
+        return child;
+      },
+      py::arg("model"), py::arg("rng_seed"), py::arg("config") = py::none());
+  m.def(
+      "crossover",
+      [](const py::object& a, const py::object& b, std::uint64_t rng_seed, const py::object& config) {
+        const RunConfig c = run_config_of(config);
+        Rng rng = Rng::stream(rng_seed, 0);
+        return crossover(model_of(a), model_of(b), c, rng);
+      },
+      py::arg("a"), py::arg("b"), py::arg("rng_seed"), py::arg("config") = py::none());
+  m.def(
+      "random_creature",
+      [](std::uint64_t rng_seed, const py::object& config) {
+        Rng rng = Rng::stream(rng_seed, 0);
+        return random_creature(run_config_of(config), rng);
+      },
+      py::arg("rng_seed"), py::arg("config") = py::none());
+  m.def(
+      "creature",
+      [](const py::object& model, const py::object& config) {
+        return creature_from_seed(model_of(model), run_config_of(config));
+      },
+      py::arg("model"), py::arg("config") = py::none());
+}
+
+} // namespace sodaevo::python

@@ -1,0 +1,260 @@
+"""sodaevo from Python: the exact SodaConstructor engine, its batches and replicas,
+and the run store, speaking numpy.
+
+The numbers are the command line's, bit for bit: every function here calls the
+library code the ``sodaevo`` command calls (see docs/python.md).
+
+- ``Model.load(path)``, ``Model.from_xml(text)``, ``model.to_xml()``; ``model.nodes``,
+  ``model.masses``, ``model.links`` (numpy) and ``model.world`` (a dict).
+- ``simulate(model, frames, trace=..., replicas=...)``: one run, as ``sodaevo simulate``.
+- ``evaluate(models, problem, replicas=K, threads=N)``: creatures scored as ``evolve``
+  scores a generation (batches on N threads, the GIL released).
+- ``race(race_file, contenders)``: as ``sodaevo race --json``.
+- ``evolve(config, out)``, ``open_run(path)``: a whole run, and reading one back.
+- ``mutate``, ``crossover``, ``random_creature``, ``creature``: the GA's own operators.
+- ``InputError``: bad input, with file, line, column or JSON pointer.
+"""
+from __future__ import annotations
+
+import csv
+import json
+import os
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+
+import numpy as np
+
+from ._errors import InputError
+from . import _sodaevo
+from ._sodaevo import Model
+
+__all__ = [
+    "InputError", "Model", "Evaluations", "Run", "simulate", "evaluate", "race", "evolve", "open_run",
+    "mutate", "crossover", "random_creature", "creature",
+]
+
+PathLike = Union[str, "os.PathLike[str]"]
+#: A run config: a dict (the JSON object), a path to a config file, or None (defaults).
+Config = Union[None, Mapping[str, Any], PathLike]
+
+
+def simulate(model: Model, frames: int = 1000, *, trace: bool = False, replicas: int = 0, mode: str = "soda",
+             integrator: str = "euler", substeps: int = 1, bar_engine: str = "2003", energy_check: bool = False,
+             reference: bool = False, jitter: float = 0.002, settle: int = 0) -> Dict[str, Any]:
+    """Runs `model` for `frames` frames as ``sodaevo simulate`` does; the same bits.
+
+    Returns the summary as a dict with the keys of ``simulate --json``: frames,
+    masses, links, centroid_dx, centroid_dy, px_per_frame, wall_seconds,
+    frames_per_second, stepping, fixed_bars, bar_engine, diverged (and
+    diverged_frame, diverged_reason). A run that blows up stops at its last healthy
+    frame, as the command's does.
+
+    trace=True adds ``trace``, a ``(frames + 1, masses, 4)`` float64 array of x, y,
+    vx, vy of every free mass from frame 0 (as loaded) on (the numbers of
+    ``simulate --trace``), and ``wave_phase``, ``wave_mode`` per frame.
+
+    replicas=K runs K replicas instead (``simulate --replicas K``): replica 0 exact,
+    replica r with sine jitter `jitter` of seed r, measured over `frames` after
+    `settle` frames; returns n, mean, median, sd, min, max, interval95,
+    non_finite, distances (array) and horizon.
+
+    mode "continuous" steps the same model as an ODE with `integrator` (euler,
+    verlet, rk4, backward-euler, implicit-midpoint) and `substeps` per frame.
+    The GIL is released while the engine runs.
+    """
+    return _sodaevo.simulate(model, frames, trace=trace, replicas=replicas, mode=mode, integrator=integrator,
+                             substeps=substeps, bar_engine=bar_engine, energy_check=energy_check,
+                             reference=reference, jitter=jitter, settle=settle)
+
+
+@dataclass
+class Evaluations:
+    """Per-creature results of `evaluate`, arrays in the order of the models.
+
+    fitness: the estimator's statistic (-inf for an invalid or diverged creature);
+    distance: replica 0's score (the exact run; px for a walk, frames for a race);
+    n, mean, sd, median: the replicas' count and scores; interval95: (len, 2), the
+    95 % prediction interval of one more run; status: "ok", "invalid" or
+    "diverged"; reason: why not ok. NaN where a creature has no score.
+    """
+
+    fitness: np.ndarray
+    distance: np.ndarray
+    px_per_frame: np.ndarray
+    n: np.ndarray
+    mean: np.ndarray
+    sd: np.ndarray
+    median: np.ndarray
+    interval95: np.ndarray
+    status: List[str]
+    reason: List[str]
+
+    def __len__(self) -> int:
+        return len(self.fitness)
+
+
+def evaluate(models: Sequence[Model], problem: Config = None, *, replicas: Optional[int] = None,
+             seed: Optional[int] = None, threads: int = 0, batch: int = 0) -> Evaluations:
+    """Evaluates `models` as ``sodaevo evolve`` evaluates a generation.
+
+    `problem` is the config's ``/fitness`` object as a dict (``{"frames": 4000,
+    "settle_frames": 400}``, ``{"kind": "race", "race": {...}}``), or a whole run
+    config (a dict with a "fitness" key, or a config file's path) whose world and
+    limits then apply too; None: the defaults. `replicas` overrides
+    /fitness/replicas and `seed` the run seed the replicas' sine jitter is drawn
+    from. Each creature is prepared by the run's Problem (scaling, placement,
+    limits: a creature outside them is "invalid"), run on its replicas by a
+    ReplicaEstimator, in batches of creatures stepped together on `threads`
+    threads (0: all cores). Neither `threads` nor `batch` changes a result. The GIL
+    is released throughout, so other Python threads run meanwhile.
+    """
+    r = _sodaevo.evaluate(list(models), problem if problem is not None else {}, replicas=replicas, seed=seed,
+                          threads=threads, batch=batch)
+    return Evaluations(**r)
+
+
+def race(race_file: PathLike, contenders: Sequence[Union[PathLike, Model]] = (), *, replicas: int = 0,
+         jitter: float = 0.002, timeout: Optional[int] = None, threads: int = 0) -> Dict[str, Any]:
+    """Races `contenders` on a Sodarace race file's terrain, as ``sodaevo race --json``.
+
+    Contenders are model files, race files (their contenders) or Models; none: the
+    race file's own. Returns the command's JSON: {"race", "timeout", "bar_engine",
+    "contenders": [{"file", "name", "frames", "finished", "place", ("replicas"),
+    ("no_result")}]}. replicas=K (>= 2) also races K sine-jitter replicas of each.
+    """
+    return _sodaevo.race(race_file, list(contenders), replicas=replicas, jitter=jitter, timeout=timeout,
+                         threads=threads)
+
+
+def evolve(config: Union[Mapping[str, Any], PathLike], out: Optional[PathLike] = None, *, threads: int = 0,
+           force: bool = False) -> Path:
+    """Runs a whole GA run (``sodaevo evolve CONFIG --out OUT``) and returns its folder.
+
+    `config` is a config file's path or the config as a dict (seed model paths
+    relative to the working directory). `out` defaults to
+    results/<name>-<timestamp>, as the command's. The folder is the command's
+    (config.json, generations.csv, best/, generations/, checkpoints,
+    champions.json) without report.html (``sodaevo report RUN`` writes it).
+    Ctrl-C finishes the current generation, saves it and raises
+    KeyboardInterrupt; ``sodaevo evolve --resume RUN`` continues it.
+    """
+    if out is None:
+        if isinstance(config, Mapping):
+            name = config.get("name", "run")
+        else:
+            with open(config, encoding="utf-8") as f:
+                name = json.load(f).get("name", "run")
+        out = os.path.join("results", f"{name}-{time.strftime('%Y%m%d-%H%M%S')}")
+    cfg = dict(config) if isinstance(config, Mapping) else os.fspath(config)
+    line = f"sodaevo.evolve({'<dict>' if isinstance(cfg, dict) else cfg!r}, out={os.fspath(out)!r})"
+    return Path(_sodaevo.evolve(cfg, os.fspath(out), threads=threads, force=force, command_line=line))
+
+
+@dataclass
+class Run:
+    """A run folder read back (`open_run`).
+
+    config: the resolved config (dict); manifest: manifest.json; generations: the
+    rows of generations.csv as a numpy structured array (generation, evaluations,
+    best, mean, median, worst, invalid, diverged, best_id, best_replicas, best_sd,
+    best_interval95_lo, best_interval95_hi); champions: champions.json (the best
+    creatures checked on fresh replicas) or None; saved: the generation numbers
+    saved whole.
+    """
+
+    path: Path
+    config: Dict[str, Any]
+    manifest: Dict[str, Any]
+    generations: np.ndarray
+    champions: Optional[Any]
+    saved: List[int] = field(default_factory=list)
+
+    def generation(self, index: int) -> List[Dict[str, Any]]:
+        """A saved generation's individuals: id, parents, model (a Model), status,
+        reason, fitness, distance, n, mean, sd, median."""
+        return _sodaevo.read_generation(os.fspath(self.path), index)
+
+    def best(self, count: int = 1) -> List[Dict[str, Any]]:
+        """The `count` best distinct creatures of the last saved generation, best first."""
+        return _sodaevo.best_individuals(os.fspath(self.path), count)
+
+    def best_model(self, generation: int) -> Model:
+        """best/gen_NNNNN.xml: a generation's best creature as it was evaluated."""
+        return Model.load(os.fspath(self.path / "best" / f"gen_{generation:05d}.xml"))
+
+
+_GENERATION_COLUMNS = [("generation", "i8"), ("evaluations", "i8"), ("best", "f8"), ("mean", "f8"),
+                       ("median", "f8"), ("worst", "f8"), ("invalid", "i8"), ("diverged", "i8"),
+                       ("best_id", "U32"), ("best_replicas", "i8"), ("best_sd", "f8"),
+                       ("best_interval95_lo", "f8"), ("best_interval95_hi", "f8")]
+
+
+def _read_generations_csv(path: Path) -> np.ndarray:
+    rows = []
+    with open(path, newline="", encoding="utf-8") as f:
+        for row in csv.DictReader(f):
+            cells = []
+            for name, kind in _GENERATION_COLUMNS:
+                text = row.get(name, "")
+                if kind == "U32":
+                    cells.append(text)
+                elif text == "":
+                    cells.append(np.nan if kind == "f8" else 0)
+                else:
+                    cells.append(float(text) if kind == "f8" else int(text))
+            rows.append(tuple(cells))
+    return np.array(rows, dtype=_GENERATION_COLUMNS)
+
+
+def open_run(path: PathLike) -> Run:
+    """Reads a run folder written by `evolve` or ``sodaevo evolve``."""
+    p = Path(path)
+    if not (p / "config.json").is_file():
+        raise InputError(f"{p}: not a run folder (no config.json)")
+    with open(p / "config.json", encoding="utf-8") as f:
+        config = json.load(f)
+    manifest: Dict[str, Any] = {}
+    if (p / "manifest.json").is_file():
+        with open(p / "manifest.json", encoding="utf-8") as f:
+            manifest = json.load(f)
+    champions = None
+    if (p / "champions.json").is_file():
+        with open(p / "champions.json", encoding="utf-8") as f:
+            champions = json.load(f)
+    generations = _read_generations_csv(p / "generations.csv") if (p / "generations.csv").is_file() \
+        else np.array([], dtype=_GENERATION_COLUMNS)
+    return Run(p, config, manifest, generations, champions, list(_sodaevo.saved_generations(os.fspath(p))))
+
+
+def mutate(model: Model, rng_seed: int, config: Config = None) -> Model:
+    """A mutated copy of `model` made by the GA's mutation (each operator at its
+    /mutation rate, at least one change, limits kept), drawn from `rng_seed`."""
+    return _sodaevo.mutate(model, rng_seed, _config_arg(config))
+
+
+def crossover(a: Model, b: Model, rng_seed: int, config: Config = None) -> Model:
+    """The GA's one-point crossover on mass order of `a` and `b` (a copy of `a`
+    when the child breaks the limits), drawn from `rng_seed`."""
+    return _sodaevo.crossover(a, b, rng_seed, _config_arg(config))
+
+
+def random_creature(rng_seed: int, config: Config = None) -> Model:
+    """A random connected creature as the GA's first generation makes them
+    (/population/random), drawn from `rng_seed`."""
+    return _sodaevo.random_creature(rng_seed, _config_arg(config))
+
+
+def creature(model: Model, config: Config = None) -> Model:
+    """A seed model made fit for evolution, as ``evolve`` takes its seed models:
+    fixed nodes and bars removed, the largest connected piece, canonical form."""
+    return _sodaevo.creature(model, _config_arg(config))
+
+
+def _config_arg(config: Config) -> Any:
+    if config is None or isinstance(config, dict):
+        return config
+    if isinstance(config, Mapping):
+        return dict(config)
+    return os.fspath(config)

@@ -1,0 +1,37 @@
+"""The examples in examples/python run (with small budgets)."""
+import os
+import subprocess
+import sys
+
+import pytest
+
+import sodaevo
+
+from conftest import ROOT
+
+EXAMPLES = ROOT / "examples" / "python"
+
+
+def run_example(name, *args, cwd):
+    env = dict(os.environ)
+    # The package this suite imports, wherever it came from (the build tree or an install).
+    env["PYTHONPATH"] = os.path.dirname(os.path.dirname(os.path.abspath(sodaevo.__file__)))
+    return subprocess.run([sys.executable, str(EXAMPLES / name), *args], cwd=cwd, env=env, capture_output=True,
+                          text=True, check=True).stdout
+
+
+def test_deap_loop(tmp_path):
+    pytest.importorskip("deap")
+    out = run_example("deap_walkers.py", "--generations", "3", "--population", "24", cwd=tmp_path)
+    assert "Dainty Walker" in out and (tmp_path / "deap_champion.xml").is_file()
+
+
+def test_random_search(tmp_path):
+    out = run_example("random_search.py", "--batches", "2", "--batch", "40", cwd=tmp_path)
+    assert "best so far" in out and (tmp_path / "random_search_best.xml").is_file()
+
+
+def test_trajectory_plot(tmp_path):
+    pytest.importorskip("matplotlib")
+    run_example("plot_trajectory.py", "--frames", "300", "--out", "t.png", cwd=tmp_path)
+    assert (tmp_path / "t.png").read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
