@@ -221,7 +221,7 @@
       var card = document.createElement('figure');
       card.className = 'ev-card' + (c.status !== 'ok' ? ' ev-bad' : '');
       var canvas = document.createElement('canvas');
-      canvas.width = 150; canvas.height = 100;
+      canvas.width = 300; canvas.height = 220; // shown at half size: whole creatures
       card.appendChild(canvas);
       var caption = document.createElement('figcaption');
       caption.textContent = c.id + ': ' + (c.status === 'ok' ? shownFitness(c.fitness).toFixed(1) : c.status);
@@ -334,7 +334,11 @@
     window.sodaDesigner.setMode('evolve');
     if (!params.has('run')) return;
     var done = function () { document.documentElement.setAttribute('data-evolve-done', '1'); };
-    startRun(text).then(done, function (e) {
+    startRun(text).then(function () {
+      // A run that stopped on an error (a worker failed) pauses; the hook reports it.
+      if (ev.state !== 'done') $('evolve-result').setAttribute('data-error', $('ev-progress').textContent);
+      done();
+    }, function (e) {
       $('evolve-result').setAttribute('data-error', e.message);
       done();
     });

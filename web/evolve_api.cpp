@@ -44,6 +44,8 @@
 #include "evolve/wire_format.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/model_file.hpp"
+#include "core/fast_step.hpp"
+#include "core/model.hpp"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -415,6 +417,30 @@ EMSCRIPTEN_KEEPALIVE int sev_export(const char* out_dir, int best_count) {
     const fs::path champions_file = fs::path(out_dir) / "champions.json";
     soda::write_file_atomically(champions_file, champions.dump(2) + "\n");
     j["files"].push_back(champions_file.string());
+    set_out(j.dump());
+    return 0;
+  } catch (const std::exception& e) {
+    return fail(e);
+  }
+}
+
+/// The speed of the fast stepper here (web/README.md, "Speed"): `frames` frames of
+/// the model `xml` from its start, on this thread. JSON in sev_out: frames,
+/// seconds, frames_per_second and centroid_dx (as `sodaevo simulate --json`
+/// gives it: the same number is the same run).
+EMSCRIPTEN_KEEPALIVE int sev_fast_run(const char* xml, int size, double frames) {
+  try {
+    const soda::LoadedModel loaded = soda::read_model_text(std::string_view(xml, static_cast<std::size_t>(size)), "model.xml");
+    const soda::Model model = soda::build_model(loaded.def);
+    soda::State state = soda::make_state(model);
+    const double start = soda::mass_centroid(model, state).x;
+    const long long n = static_cast<long long>(frames);
+    soda::FastStepper stepper(model, n);
+    const double t0 = emscripten_get_now();
+    stepper.run(state, n);
+    const double seconds = (emscripten_get_now() - t0) / 1000.0;
+    const json j = {{"frames", n}, {"seconds", seconds}, {"frames_per_second", seconds > 0 ? frames / seconds : 0.0},
+                    {"centroid_dx", soda::mass_centroid(model, state).x - start}};
     set_out(j.dump());
     return 0;
   } catch (const std::exception& e) {

@@ -34,8 +34,7 @@
       g.beginPath(); g.moveTo(pad.l, Y(v)); g.lineTo(w - pad.r, Y(v)); g.stroke();
       g.fillText(v.toFixed(Math.abs(hi - lo) < 10 ? 2 : 0), 4, Y(v) + 4);
     }
-    g.fillText('generation ' + rows[rows.length - 1].generation, w - pad.r - 110, h - 8);
-    g.fillText(unit, 4, pad.t + 4);
+    g.fillText('generation ' + rows[rows.length - 1].generation + ' (' + unit + ')', w - pad.r - 140, h - 8);
     // The best's interval, a band.
     var band = rows.filter(function (r) { return finite(r.best) && finite(r.best_sd); });
     if (band.length > 0) {

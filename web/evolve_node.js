@@ -48,9 +48,9 @@ function bundledModels(dir, prefix, out) {
   } while (r.kind !== 'done');
   const exported = run.exportChampions('/export', 5);
   const seconds = (Date.now() - t0) / 1000;
-  const xml = run.readFile(exported.champion.file);
+  const xml = exported.champion ? run.readFile(exported.champion.file) : new Uint8Array(0);
   if (outDir) {
-    for (const dir of ['/run', '/export']) {
+    for (const dir of ['/run', '/export'].filter((d) => c.id || d === '/run')) {
       for (const file of run.listFiles(dir)) {
         const target = path.join(outDir, file);
         fs.mkdirSync(path.dirname(target), { recursive: true });
@@ -58,7 +58,8 @@ function bundledModels(dir, prefix, out) {
       }
     }
   }
-  console.log(JSON.stringify({ id: exported.champion.id, fitness_bits: exported.champion.fitness_bits,
+  const c = exported.champion || {}; // MAP-Elites: the archive is the result (OUT_DIR/run/archive.json)
+  console.log(JSON.stringify({ id: c.id, fitness_bits: c.fitness_bits, qd_score: r.progress.qd_score,
     xml_sha256: crypto.createHash('sha256').update(xml).digest('hex'), evaluations: run.evaluations,
     seconds, evaluate_seconds: run.evaluateSeconds, stopped_because: r.progress.stopped_because }));
 })().catch((e) => { console.error(e); process.exit(1); });
