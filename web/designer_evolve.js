@@ -51,8 +51,8 @@
       '</div>' +
       '<p id="ev-progress" class="hint">Choose a start and press Start: the run is the one `sodaevo evolve` makes of the same config.</p>' +
       '<div class="evolve-views"><canvas id="ev-chart" width="620" height="260" aria-label="Fitness per generation"></canvas>' +
-      '<canvas id="ev-champion" width="420" height="260" aria-label="The champion walking"></canvas></div>' +
-      '<canvas id="ev-heatmap" width="620" height="300" aria-label="MAP-Elites archive" hidden></canvas>' +
+      '<canvas id="ev-champion" width="420" height="260" aria-label="The champion walking"></canvas>' +
+      '<canvas id="ev-heatmap" width="620" height="420" aria-label="MAP-Elites archive" hidden></canvas></div>' +
       '<h2>The generation\'s best <span class="hint">(click one to open it in Construct)</span></h2><div id="ev-strip"></div>' +
       '<div class="evolve-downloads"><button type="button" id="ev-dl-champion" disabled>Champion XML</button> ' +
       '<button type="button" id="ev-dl-config" disabled>Config</button> ' +
@@ -95,8 +95,8 @@
              fitness: { frames: 1000, settle_frames: 100 } };
   }
 
-  function fillFields() {
-    var c = sourceConfig(), f = c.fitness || {}, p = c.population || {};
+  function fillFields(given) {
+    var c = given && given.population ? given : sourceConfig(), f = c.fitness || {}, p = c.population || {};
     $('ev-population').value = p.size || 100;
     $('ev-generations').value = c.generations || (c.map_elites && c.map_elites.iterations) || 100;
     $('ev-replicas').value = f.replicas || 1;
@@ -153,6 +153,7 @@
       $('ev-dl-config').disabled = false;
       $('ev-heatmap').hidden = ev.info.algorithm !== 'map-elites';
       $('ev-chart').hidden = ev.info.algorithm === 'map-elites';
+      $('ev-champion').hidden = ev.info.algorithm === 'map-elites';
       ev.started = performance.now();
       ev.state = 'running';
       $('ev-pause').disabled = false;
@@ -332,6 +333,7 @@
     if (!params.has('evolve')) return;
     var text = new TextDecoder('utf-8').decode(SodaShare.fromBase64url(params.get('evolve')));
     window.sodaDesigner.setMode('evolve');
+    try { fillFields(JSON.parse(text)); } catch (e) { /* the reader says what is wrong with it */ }
     if (!params.has('run')) return;
     var done = function () { document.documentElement.setAttribute('data-evolve-done', '1'); };
     startRun(text).then(function () {

@@ -105,7 +105,8 @@
     g.fillStyle = '#6b5a45';
     g.fillText(axes[0].descriptor + ' \u2192', pad.l, h - 12);
     g.save(); g.translate(14, h - pad.b); g.rotate(-Math.PI / 2); g.fillText(axes[1].descriptor + ' \u2192', 0, 0); g.restore();
-    g.fillText(Object.keys(best).length + ' of ' + bx * by + ' cells (' + archive.cells.length + ' elites)', w - 220, h - 12);
+    g.fillText(Object.keys(best).length + ' of ' + bx * by + ' cells (' + archive.cells.length + ' elites); colour: best, blue ' +
+               lo.toFixed(0) + ' to red ' + hi.toFixed(0), pad.l + 90, h - 12);
   }
 
   // --- zip, stored ---
