@@ -3,7 +3,9 @@
 // its Web Workers (the evolution compiled to WebAssembly, web/evolve_api.cpp), and
 // its champion must be `sodaevo evolve`'s for the same config: the same id, the
 // same fitness bits and the same bytes of the XML `sodaevo export` writes. A
-// config the command line refuses is refused in the page with its message.
+// config the command line refuses is refused in the page with its message. A
+// worker that crashes mid-generation loses no finished generation: the run pauses,
+// resumes, and ends with the same champion.
 //
 // The page is driven by web/chromium_wait.js (Node, the DevTools protocol on a
 // pipe), which waits for <html data-evolve-done="1">: --dump-dom's virtual time
@@ -37,13 +39,13 @@ std::string quoted(const std::string& s) {
 
 /// What the page's #evolve-result says once the run (or its refusal) is done.
 nlohmann::json run_in_page(const std::string& chromium, const fs::path& page, const std::string& config_text,
-                           const fs::path& work) {
-  const std::string url = "file://" + page.string() + "#evolve=" + sodaevo::app::base64url(config_text) + "&run";
+                           const fs::path& work, const std::string& more = "") {
+  const std::string url = "file://" + page.string() + "#evolve=" + sodaevo::app::base64url(config_text) + "&run" + more;
   const std::string condition = "document.documentElement.getAttribute('data-evolve-done') === '1'";
   const std::string expression =
       "(function () { var r = document.getElementById('evolve-result'); return r && {id: r.getAttribute('data-id'), "
       "bits: r.getAttribute('data-fitness-bits'), sha256: r.getAttribute('data-xml-sha256'), "
-      "error: r.getAttribute('data-error'), errors: window.sodaErrors || []}; })()";
+      "error: r.getAttribute('data-error'), resumed: r.getAttribute('data-resumed'), errors: window.sodaErrors || []}; })()";
   const fs::path out = work / "page-result.json";
   const ShellResult r = run_shell("node " + quoted((kSourceDir / "web" / "chromium_wait.js").string()) + " " +
                                   quoted(chromium) + " " + quoted(url) + " " + quoted(condition) + " " +
@@ -103,6 +105,17 @@ TEST_CASE("Evolve mode runs configs/quick.json in Chromium to the command line's
   CHECK(got["id"] == best[0].id);
   CHECK(got["bits"] == hex_bits(best[0].evaluation.fitness));
   CHECK(got["sha256"] == sha256_of(champion));
+
+  // A worker crashes part way (its 5th chunk: generation 0 or 1): the generation is
+  // dropped, the run pauses, Resume goes on from the last finished generation, and
+  // the champion is the same.
+  const nlohmann::json crashed = run_in_page(chromium, page, soda::read_whole_file(config), work, "&crash=5&resume");
+  INFO("page with a crash: " << crashed.dump());
+  CHECK(crashed["resumed"] == "1");
+  CHECK(crashed["error"].is_null());
+  CHECK(crashed["id"] == best[0].id);
+  CHECK(crashed["bits"] == hex_bits(best[0].evaluation.fitness));
+  CHECK(crashed["sha256"] == sha256_of(champion));
 }
 
 TEST_CASE("Evolve mode refuses a config the command line refuses, with its message", "[browser][evolve]") {

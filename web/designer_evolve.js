@@ -147,6 +147,7 @@
     ['ev-dl-champion', 'ev-dl-champions', 'ev-dl-run'].forEach(function (id) { $(id).disabled = true; });
     return createSodaEvolve().then(function (module) {
       if (!ev.pool) ev.pool = new SodaWorkerPool(navigator.hardwareConcurrency || 2);
+      if (ev.crashAt) ev.pool.crashAt = ev.crashAt;
       ev.run = new SodaEvolve(module, ev.pool);
       var path = ev.run.placeInputs(configText, models);
       ev.info = ev.run.start(path, '/run');
@@ -336,11 +337,22 @@
     try { fillFields(JSON.parse(text)); } catch (e) { /* the reader says what is wrong with it */ }
     if (!params.has('run')) return;
     var done = function () { document.documentElement.setAttribute('data-evolve-done', '1'); };
-    startRun(text).then(function () {
+    // "&crash=N": the worker given the N-th chunk crashes; "&resume": a paused run is
+    // resumed (once per pause), as a user would press Resume.
+    if (params.has('crash')) ev.crashAt = Number(params.get('crash'));
+    var resumeOnPause = params.has('resume');
+    var settle = function () {
+      if (ev.state === 'paused' && resumeOnPause) {
+        ev.resumed = (ev.resumed || 0) + 1;
+        $('evolve-result').setAttribute('data-resumed', String(ev.resumed));
+        ev.state = 'running';
+        return loop().then(settle);
+      }
       // A run that stopped on an error (a worker failed) pauses; the hook reports it.
       if (ev.state !== 'done') $('evolve-result').setAttribute('data-error', $('ev-progress').textContent);
       done();
-    }, function (e) {
+    };
+    startRun(text).then(settle, function (e) {
       $('evolve-result').setAttribute('data-error', e.message);
       done();
     });

@@ -32,6 +32,8 @@
       }
     }
     self.onmessage = function (e) {
+      // The test hook's crash (designer_evolve.js, "&crash=N"): an uncaught error, as a bug would throw.
+      if (e.data.crash) throw new Error('this worker crashed on purpose (test hook)');
       if (module) evaluate(e.data);
       else queue.push(e.data);
     };
@@ -51,6 +53,8 @@
     this.workers = [];
     for (var k = 0; k < this.count; ++k) this.workers.push(this.spawn());
     this.nextId = 0;
+    this.chunksGiven = 0;
+    this.crashAt = 0; // > 0: that chunk's worker crashes (tests: a crash loses no finished generation)
   }
 
   SodaWorkerPool.prototype.spawn = function () {
@@ -82,7 +86,8 @@
         };
         slot.worker.onerror = function (e) { e.preventDefault(); fail(k, 'a worker crashed: ' + (e.message || 'unknown error')); };
         var bytes = chunks[index].slice(); // transferred: the caller keeps its copy
-        slot.worker.postMessage({ id: id, bytes: bytes.buffer }, [bytes.buffer]);
+        var crash = ++self.chunksGiven === self.crashAt;
+        slot.worker.postMessage({ id: id, bytes: bytes.buffer, crash: crash }, [bytes.buffer]);
       }
       function fail(k, why) {
         if (failed) return;
