@@ -53,7 +53,7 @@
       '<div class="evolve-views"><canvas id="ev-chart" width="620" height="260" aria-label="Fitness per generation"></canvas>' +
       '<canvas id="ev-champion" width="420" height="260" aria-label="The champion walking"></canvas>' +
       '<canvas id="ev-heatmap" width="620" height="420" aria-label="MAP-Elites archive" hidden></canvas></div>' +
-      '<h2>The generation\'s best <span class="hint">(click one to open it in Construct)</span></h2><div id="ev-strip"></div>' +
+      '<div id="ev-strip-box"><h2>The generation\'s best <span class="hint">(click one to watch it; Construct opens it in the designer)</span></h2><div id="ev-strip"></div></div>' +
       '<div class="evolve-downloads"><button type="button" id="ev-dl-champion" disabled>Champion XML</button> ' +
       '<button type="button" id="ev-dl-config" disabled>Config</button> ' +
       '<button type="button" id="ev-dl-champions" disabled>champions.json</button> ' +
@@ -143,6 +143,7 @@
     Object.keys(ev.files).forEach(function (p) { if (p.indexOf('models/') === 0) models[p.slice(7)] = ev.files[p]; });
     ev.rows = [];
     ev.champion = null;
+    ev.pinned = null;
     ev.configText = configText;
     ['ev-dl-champion', 'ev-dl-champions', 'ev-dl-run'].forEach(function (id) { $(id).disabled = true; });
     return createSodaEvolve().then(function (module) {
@@ -155,6 +156,8 @@
       $('ev-heatmap').hidden = ev.info.algorithm !== 'map-elites';
       $('ev-chart').hidden = ev.info.algorithm === 'map-elites';
       $('ev-champion').hidden = ev.info.algorithm === 'map-elites';
+      $('ev-strip-box').hidden = ev.info.algorithm === 'map-elites';
+      $('ev-strip').textContent = '';
       ev.started = performance.now();
       ev.state = 'running';
       $('ev-pause').disabled = false;
@@ -227,14 +230,21 @@
       card.appendChild(canvas);
       var caption = document.createElement('figcaption');
       caption.textContent = c.id + ': ' + (c.status === 'ok' ? shownFitness(c.fitness).toFixed(1) : c.status);
-      card.title = c.status === 'ok' ? 'open in Construct' : c.status + ': ' + c.reason;
+      if (c.status !== 'ok') card.title = c.status + ': ' + c.reason;
       card.appendChild(caption);
       box.appendChild(card);
       if (c.xml) {
         drawStill(canvas, c.xml);
-        card.addEventListener('click', function () { openInDesigner(c); });
+        canvas.title = 'watch it walk (above)';
+        canvas.addEventListener('click', function () { ev.pinned = c; watch(c); });
+        var open = document.createElement('button');
+        open.type = 'button';
+        open.textContent = 'Construct';
+        open.title = 'open it in Construct mode';
+        open.addEventListener('click', function () { openInDesigner(c); });
+        card.appendChild(open);
       }
-      if (k === 0 && c.xml) watch(c);
+      if (k === 0 && c.xml && !ev.pinned) watch(c);
     });
   }
 
@@ -278,6 +288,10 @@
         w.engine.step(4);
         fitCamera(stage, w.engine.positions());
         stage.draw(w.engine.design(), w.engine.positions(), {});
+        var g = canvas.getContext('2d');
+        g.fillStyle = '#6b5a45';
+        g.font = '12px system-ui, sans-serif';
+        g.fillText((ev.pinned === c ? '' : 'the best: ') + c.id + ', frame ' + w.engine.frame(), 10, 18);
       } catch (e) {
         var g = canvas.getContext('2d');
         g.fillStyle = '#b00';

@@ -48,6 +48,7 @@ function bundledModels(dir, prefix, out) {
   } while (r.kind !== 'done');
   const exported = run.exportChampions('/export', 5);
   const seconds = (Date.now() - t0) / 1000;
+  const c = exported.champion || {}; // MAP-Elites: the archive is the result (OUT_DIR/run/archive.json)
   const xml = exported.champion ? run.readFile(exported.champion.file) : new Uint8Array(0);
   if (outDir) {
     for (const dir of ['/run', '/export'].filter((d) => c.id || d === '/run')) {
@@ -58,7 +59,6 @@ function bundledModels(dir, prefix, out) {
       }
     }
   }
-  const c = exported.champion || {}; // MAP-Elites: the archive is the result (OUT_DIR/run/archive.json)
   console.log(JSON.stringify({ id: c.id, fitness_bits: c.fitness_bits, qd_score: r.progress.qd_score,
     xml_sha256: crypto.createHash('sha256').update(xml).digest('hex'), evaluations: run.evaluations,
     seconds, evaluate_seconds: run.evaluateSeconds, stopped_because: r.progress.stopped_because }));
