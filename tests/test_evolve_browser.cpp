@@ -45,7 +45,7 @@ nlohmann::json run_in_page(const std::string& chromium, const fs::path& page, co
   const std::string expression =
       "(function () { var r = document.getElementById('evolve-result'); return r && {id: r.getAttribute('data-id'), "
       "bits: r.getAttribute('data-fitness-bits'), sha256: r.getAttribute('data-xml-sha256'), "
-      "error: r.getAttribute('data-error'), resumed: r.getAttribute('data-resumed'), errors: window.sodaErrors || []}; })()";
+      "error: r.getAttribute('data-error'), archive: r.getAttribute('data-archive-sha256'), resumed: r.getAttribute('data-resumed'), errors: window.sodaErrors || []}; })()";
   const fs::path out = work / "page-result.json";
   const ShellResult r = run_shell("node " + quoted((kSourceDir / "web" / "chromium_wait.js").string()) + " " +
                                   quoted(chromium) + " " + quoted(url) + " " + quoted(condition) + " " +
@@ -139,4 +139,29 @@ TEST_CASE("Evolve mode refuses a config the command line refuses, with its messa
   CHECK(got["errors"].empty());
   REQUIRE(got["error"].is_string());
   CHECK(got["error"].get<std::string>() == message);
+}
+
+TEST_CASE("Evolve mode runs a MAP-Elites config to the command line's archive, byte for byte", "[browser][evolve]") {
+  const std::string chromium = require_browser_and_node();
+  const fs::path work = fresh_temp_dir("evolve-browser-map-elites");
+  const fs::path page = work / "designer.html";
+  soda::write_file_atomically(page, sodaevo::app::designer_page());
+  // A small archive; the seed named by an absolute path, which the page resolves by
+  // its file name among its bundled models.
+  const std::string text = "{\"name\": \"me_small\", \"seed\": 3, \"algorithm\": \"map-elites\", \"population\": {\"size\": 40, "
+                           "\"seed_models\": [\"" + (kSourceDir / "models" / "dainty_walker.xml").string() + "\"], "
+                           "\"random_fraction\": 0.9, \"random\": {\"masses_min\": 3, \"masses_max\": 8}}, "
+                           "\"fitness\": {\"frames\": 600, \"settle_frames\": 100, \"replicas\": 2, \"replicas_max\": 4}, "
+                           "\"map_elites\": {\"descriptors\": [\"width\", \"height\"], \"bins\": [10, 10], "
+                           "\"ranges\": [[40, 300], [0, 100]], \"iterations\": 8, \"batch_size\": 30, \"check_replicas\": 0}}\n";
+  soda::write_file_atomically(work / "me.json", text);
+  const fs::path native = work / "native";
+  REQUIRE(run_sodaevo("evolve " + quoted((work / "me.json").string()) + " --out " + quoted(native.string()) + " --quiet")
+              .exit_code == 0);
+
+  const nlohmann::json got = run_in_page(chromium, page, text, work);
+  INFO("page: " << got.dump());
+  CHECK(got["errors"].empty());
+  CHECK(got["error"].is_null());
+  CHECK(got["archive"] == sha256_of(native / "archive.json"));
 }
