@@ -321,7 +321,9 @@
     var result = $('evolve-result');
     if (ev.info.algorithm === 'map-elites') {
       result.setAttribute('data-stopped', p.stopped_because);
+      ev.run.exportChampions('/export', 5); // every elite checked, as `sodaevo export --archive`
       $('ev-dl-run').disabled = false;
+      $('ev-dl-champions').disabled = false;
       setProgress($('ev-progress').textContent + '\nfinished (' + p.stopped_because + ')');
       // The archive is the result: archive.json, byte for byte the command line's.
       return sha256Hex(ev.run.readFile('/run/archive.json')).then(function (hex) { result.setAttribute('data-archive-sha256', hex); });

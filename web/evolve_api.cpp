@@ -32,6 +32,8 @@
 
 #include "app/score_unit.hpp"
 #include "core/input_error.hpp"
+#include "evolve/archive_check.hpp"
+#include "evolve/archive_store.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
 #include "evolve/map_elites_run.hpp"
@@ -384,6 +386,35 @@ EMSCRIPTEN_KEEPALIVE int sev_export(const char* out_dir, int best_count) {
     const RunConfig config = read_run_config(run / "config.json");
     json j = {{"stopped_because", g_run->stopped_because}, {"files", json::array()}};
     if (config.algorithm == AlgorithmKind::MapElites) {
+      // As app/evolve_map_elites.cpp ends a run (RUN/archive_checked.json) and
+      // app/export_command.cpp's export --archive writes DIR: every elite as
+      // cell<N>_<id>.xml, archive.json and champions.json.
+      const GridArchive archive = read_run_archive(run, config);
+      if (archive.elites().empty()) {
+        set_out(j.dump());
+        return 0;
+      }
+      if (config.map_elites.check_replicas > 0) write_checked_archive(run, 1);
+      const std::unique_ptr<Problem> problem = problem_of(config, 0);
+      const CheckedArchive checked =
+          check_archive(archive, *problem, replica_plan(config), 16, 1, config.map_elites.qd_offset);
+      const std::string unit = sodaevo::app::ScoreUnit::of(config).unit();
+      fs::create_directories(out_dir);
+      json champions = json::array();
+      for (std::size_t i = 0; i < checked.cells.size(); ++i) {
+        const std::size_t cell = checked.cells[i];
+        const ArchiveEntry& e = *archive.elite(cell);
+        const std::string name = "cell" + std::to_string(cell) + "_" + e.id + ".xml";
+        soda::ModelDef prepared = soda::read_model_file(run / elite_file(e.id)).def;
+        prepared.comment += "; " + check_comment(checked.checks[i], unit);
+        soda::write_model_file(fs::path(out_dir) / name, prepared);
+        json c = champion_json(checked.checks[i], name, config);
+        c["cell"] = cell;
+        champions.push_back(std::move(c));
+      }
+      soda::write_file_atomically(fs::path(out_dir) / "archive.json", soda::read_whole_file(run / "archive.json"));
+      soda::write_file_atomically(fs::path(out_dir) / "champions.json", champions.dump(2) + "\n");
+      j["files"].push_back((fs::path(out_dir) / "champions.json").string());
       set_out(j.dump());
       return 0;
     }

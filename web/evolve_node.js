@@ -51,7 +51,7 @@ function bundledModels(dir, prefix, out) {
   const c = exported.champion || {}; // MAP-Elites: the archive is the result (OUT_DIR/run/archive.json)
   const xml = exported.champion ? run.readFile(exported.champion.file) : new Uint8Array(0);
   if (outDir) {
-    for (const dir of ['/run', '/export'].filter((d) => c.id || d === '/run')) {
+    for (const dir of ['/run', '/export']) {
       for (const file of run.listFiles(dir)) {
         const target = path.join(outDir, file);
         fs.mkdirSync(path.dirname(target), { recursive: true });
