@@ -4,6 +4,8 @@
 #pragma once
 
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace sodaevo::app {
 
@@ -14,5 +16,11 @@ std::string_view designer_asset(std::string_view name);
 /// without it (then designer_engine_missing() says why).
 std::string_view designer_engine_js();
 std::string_view designer_engine_missing();
+/// web/build_wasm.sh's soda_evolve_wasm.js (the evolution, for Evolve mode); empty
+/// when it was not built.
+std::string_view designer_evolve_js();
+/// Every file of models/ and configs/*.json, by path under the source tree
+/// ("models/dainty_walker.xml"), byte for byte: what Evolve mode seeds runs with.
+std::vector<std::pair<std::string_view, std::string_view>> designer_bundled_files();
 
 } // namespace sodaevo::app

@@ -42,7 +42,9 @@ void add_designer_command(CLI::App& app) {
       "the exact engine in WebAssembly. Construct, simulate and delete modes; the wave bar (drag a\n"
       "muscle to set its phase and amplitude); sliders for the world; open and save SodaConstructor\n"
       "XML; share a creature by URL; distance, px/frame and the replica spread; \"Evolve from this\"\n"
-      "downloads a run config seeded with the design.");
+      "downloads a run config seeded with the design. Evolve mode runs `sodaevo evolve` in the page\n"
+      "(Web Workers, one per core): the same run as the command line for the same config, with a\n"
+      "live chart, the champion, the best few, a MAP-Elites heat map and the run folder to download.");
   cmd->add_option("model", opt->model, "Model to start with (SodaConstructor XML, v1 or v2); default: an empty design")
       ->check(non_empty_path());
   cmd->add_option("-o,--out", opt->out, "Output page")->default_val("designer.html");

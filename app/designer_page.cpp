@@ -11,8 +11,9 @@ namespace {
 
 /// The page's scripts in the order they need each other: the engine factory, its
 /// API, then the designer's parts (web/README.md).
-constexpr const char* kScripts[] = {"soda_engine.js", "designer_share.js", "designer_view.js", "designer_wave_bar.js",
-                                    "designer.js"};
+constexpr const char* kScripts[] = {"soda_engine.js",      "designer_share.js",  "designer_view.js",
+                                    "designer_wave_bar.js", "designer.js",        "evolve_driver.js",
+                                    "evolve_workers.js",    "evolve_chart.js",    "designer_evolve.js"};
 
 void replace_marker(std::string& text, const std::string& marker, const std::string& with) {
   const std::size_t at = text.find(marker);
@@ -66,6 +67,16 @@ std::string designer_page(std::string_view initial_xml, std::string_view initial
   scripts += "<script type=\"text/plain\" id=\"initial-model\" data-name=\"" + html_escape(std::string(initial_name)) +
              "\">" + base64url(initial_xml) + "</script>\n";
   scripts += "<script>\n" + std::string(designer_engine_js()) + "\n</script>\n";
+  // Evolve mode: the evolution's engine (its text is also each Web Worker's, from a
+  // Blob URL) and the files runs are seeded with, as base64url by path.
+  if (!designer_evolve_js().empty()) {
+    scripts += "<script id=\"soda-evolve-engine\">\n" + std::string(designer_evolve_js()) + "\n</script>\n";
+  }
+  std::string bundled = "{";
+  for (const auto& [path, bytes] : designer_bundled_files()) {
+    bundled += std::string(bundled.size() > 1 ? ",\n" : "") + "\"" + std::string(path) + "\":\"" + base64url(bytes) + "\"";
+  }
+  scripts += "<script type=\"application/json\" id=\"soda-bundled\">" + bundled + "}</script>\n";
   for (const char* name : kScripts) scripts += "<script>\n" + asset(name) + "\n</script>\n";
   replace_marker(page, "<!--soda:scripts-->", scripts);
   return page;

@@ -52,25 +52,37 @@ Decimal neighbour(Decimal d, int step) {
 /// nearest such decimal (%.*e rounds correctly); at a power of two, where the
 /// values that read back reach further on one side, a neighbour may read back when
 /// the nearest does not.
+/// The decimal of `count` digits that reads back to v (negative: its sign), if any.
+bool digits_of_count(double v, bool negative, int count, Decimal& out) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*e", count - 1, std::fabs(v));
+  Decimal d;
+  const char* e = std::strchr(buf, 'e');
+  for (const char* c = buf; c < e; ++c) {
+    if (*c != '.') d.digits.push_back(*c);
+  }
+  d.exponent = std::atoi(e + 1);
+  if (read_back(d, negative) == v) return out = d, true;
+  for (int step : {-1, 1}) {
+    const Decimal n = neighbour(d, step);
+    if (!n.digits.empty() && read_back(n, negative) == v) return out = n, true;
+  }
+  return false;
+}
+
 Decimal shortest_digits(double v) {
   const bool negative = std::signbit(v);
-  for (int count = 1; count <= 17; ++count) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.*e", count - 1, std::fabs(v));
-    Decimal d;
-    const char* e = std::strchr(buf, 'e');
-    for (const char* c = buf; c < e; ++c) {
-      if (*c != '.') d.digits.push_back(*c);
-    }
-    d.exponent = std::atoi(e + 1);
-    if (read_back(d, negative) == v) return d;
-    for (int step : {-1, 1}) {
-      const Decimal n = neighbour(d, step);
-      if (!n.digits.empty() && read_back(n, negative) == v) return n;
-    }
+  Decimal d;
+  // Most numbers a run writes need 16 or 17 digits. A decimal of fewer than 15
+  // digits that reads back is, padded with zeros, one of 15 digits that does; and
+  // 15-digit decimals lie further apart than the values that read back to v span,
+  // so such a one is the nearest or its neighbour. No 15: start at 16 (the same
+  // answer, two tries instead of sixteen; printf and strtod are slow in WebAssembly).
+  const int first = digits_of_count(v, negative, 15, d) ? 1 : 16;
+  for (int count = first; count <= 17; ++count) {
+    if (digits_of_count(v, negative, count, d)) return d;
   }
-  Decimal d; // unreachable: 17 digits always read back
-  return d;
+  return d; // unreachable: 17 digits always read back
 }
 
 } // namespace

@@ -6,8 +6,13 @@ bool simd_level_supported(SimdLevel level) {
   switch (level) {
     case SimdLevel::Auto:
     case SimdLevel::Sse2: return true;
+#if defined(__x86_64__) || defined(__i386__)
     case SimdLevel::Avx2: return __builtin_cpu_supports("avx2");
     case SimdLevel::Avx512: return __builtin_cpu_supports("avx512f");
+#else // WebAssembly: 128-bit vectors only (core/detail/simd_ops.hpp)
+    case SimdLevel::Avx2:
+    case SimdLevel::Avx512: return false;
+#endif
   }
   return false;
 }

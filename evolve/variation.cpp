@@ -255,7 +255,12 @@ soda::ModelDef random_creature(const RunConfig& cfg, Rng& rng) {
     c.nodes.push_back(m);
   }
   for (int i = 1; i < n && static_cast<int>(c.links.size()) < cfg.limits.max_links; ++i) {
-    c.links.push_back(new_link(c, i, static_cast<int>(rng.below(i)), rng.chance(r.muscle_fraction), rng));
+    // Drawn in this order, spelled out: as arguments of one call their order was
+    // the compiler's (GCC right to left, clang left to right: the WebAssembly
+    // build drew other creatures). This is the order every run so far drew them in.
+    const bool muscle = rng.chance(r.muscle_fraction);
+    const int to = static_cast<int>(rng.below(i));
+    c.links.push_back(new_link(c, i, to, muscle, rng));
   }
   const int extra = static_cast<int>(std::lround(r.extra_links_per_mass * n));
   for (int k = 0; k < extra; ++k) {

@@ -64,3 +64,42 @@ em++ "${flags[@]}" "${objects[@]}" -o "$out/soda_engine_wasm.js" \
   -sEXPORTED_FUNCTIONS=_malloc,_free \
   -sEXPORTED_RUNTIME_METHODS=UTF8ToString,stringToUTF8,lengthBytesUTF8
 echo "build_wasm.sh: wrote $out/soda_engine_wasm.js ($(wc -c < "$out/soda_engine_wasm.js") bytes)"
+
+# The evolution (web/evolve_api.cpp): evolve/, formats/ and the whole engine with
+# its fast stepper, whose SSE2 kernels Emscripten compiles to 128-bit WebAssembly
+# SIMD (-msimd128 -msse2; every operation is one IEEE operation per lane, so the
+# bits are x86-64's). Not the AVX-512 lockstep batch (web/wasm_lockstep_stub.cpp).
+# Its run folders live in the instance's memory file system. nlohmann/json and
+# Eigen are Debian's headers; Eigen unvectorised (its x86 headers are not
+# WebAssembly's; only the implicit integrators use it).
+mkdir -p "$out/evolve-include"
+ln -sfn /usr/include/nlohmann "$out/evolve-include/nlohmann"
+evolve_sources=("$root/web/evolve_api.cpp" "$root/web/wasm_lockstep_stub.cpp" "$out/pugixml_oiio.cpp")
+for src in "$root"/core/*.cpp "$root"/core/fused/*.cpp "$root"/formats/*.cpp "$root"/evolve/*.cpp; do
+  case "$(basename "$src")" in lockstep_batch.cpp | lockstep_plan.cpp) continue ;; esac
+  evolve_sources+=("$src")
+done
+evolve_flags=("${flags[@]}" -msimd128 -msse2 -DEIGEN_DONT_VECTORIZE -DSODAEVO_HAS_MPI=0 -I"$out/evolve-include"
+  -I/usr/include/eigen3)
+evolve_headers=$(find "$root/core" "$root/web" "$root/formats" "$root/evolve" "$root/app" -name '*.hpp' 2>/dev/null || true)
+evolve_objects=()
+pids=()
+mkdir -p "$out/evolve-obj"
+for src in "${evolve_sources[@]}"; do
+  rel=${src#"$root"/}
+  obj="$out/evolve-obj/${rel//\//_}.o"
+  if [ ! -f "$obj" ] || [ -n "$(find "$src" $evolve_headers -newer "$obj" -print -quit)" ]; then
+    rm -f "$obj"
+    em++ "${evolve_flags[@]}" -c "$src" -o "$obj" &
+    pids+=($!)
+    if [ ${#pids[@]} -ge "$jobs_max" ]; then wait "${pids[0]}"; pids=("${pids[@]:1}"); fi
+  fi
+  evolve_objects+=("$obj")
+done
+for pid in "${pids[@]}"; do wait "$pid"; done
+em++ "${evolve_flags[@]}" "${evolve_objects[@]}" -o "$out/soda_evolve_wasm.js" \
+  -sSINGLE_FILE=1 -sMINIFY_HTML=0 -sMODULARIZE=1 -sEXPORT_NAME=createSodaEvolve \
+  -sALLOW_MEMORY_GROWTH=1 -sENVIRONMENT=web,worker,node -sFILESYSTEM=1 \
+  -sEXPORTED_FUNCTIONS=_malloc,_free \
+  -sEXPORTED_RUNTIME_METHODS=UTF8ToString,stringToUTF8,lengthBytesUTF8
+echo "build_wasm.sh: wrote $out/soda_evolve_wasm.js ($(wc -c < "$out/soda_evolve_wasm.js") bytes)"

@@ -462,6 +462,11 @@
 
   function start(engine) {
     app.engine = engine;
+    // For Evolve mode (designer_evolve.js): open a creature, switch modes, name files.
+    app.loadBytes = loadBytes;
+    app.setMode = setMode;
+    app.baseName = baseName;
+    app.message = message;
     app.stage = new SodaView.Stage($('stage'), STYLE);
     app.waveBar = new SodaWaveBar.WaveBar($('wave-bar'), STYLE);
     buildSliders();

@@ -26,10 +26,13 @@ endif()
 set(SODAEVO_WASM_PREBUILT "" CACHE FILEPATH "A soda_engine_wasm.js built before, used instead of building one")
 
 set(SODAEVO_WASM_ENGINE "")
+set(SODAEVO_WASM_EVOLVE "")
 set(SODAEVO_WASM_MISSING "")
 if(SODAEVO_WASM_PREBUILT AND EXISTS ${SODAEVO_WASM_PREBUILT})
   message(STATUS "sodaevo: WebAssembly engine ${SODAEVO_WASM_PREBUILT} (built before)")
   set(SODAEVO_WASM_ENGINE ${SODAEVO_WASM_PREBUILT})
+  get_filename_component(_soda_prebuilt_dir ${SODAEVO_WASM_PREBUILT} DIRECTORY)
+  set(SODAEVO_WASM_EVOLVE ${_soda_prebuilt_dir}/soda_evolve_wasm.js)
 elseif(NOT SODAEVO_WASM)
   set(SODAEVO_WASM_MISSING "it was configured with -DSODAEVO_WASM=OFF")
 elseif(NOT SODAEVO_EMXX)
@@ -43,20 +46,27 @@ if(SODAEVO_WASM_MISSING)
 elseif(NOT SODAEVO_WASM_ENGINE)
   message(STATUS "sodaevo: WebAssembly engine with ${SODAEVO_EMXX}, pugixml from ${_soda_pugixml_dir}")
   set(SODAEVO_WASM_ENGINE ${CMAKE_BINARY_DIR}/web/soda_engine_wasm.js)
+  # The evolution (web/evolve_api.cpp): evolve/ and the engine's fast stepper.
+  set(SODAEVO_WASM_EVOLVE ${CMAKE_BINARY_DIR}/web/soda_evolve_wasm.js)
   file(GLOB_RECURSE _soda_wasm_inputs CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/core/*.cpp ${CMAKE_SOURCE_DIR}/core/*.hpp
-       ${CMAKE_SOURCE_DIR}/formats/*.cpp ${CMAKE_SOURCE_DIR}/formats/*.hpp)
-  add_custom_command(OUTPUT ${SODAEVO_WASM_ENGINE}
+       ${CMAKE_SOURCE_DIR}/formats/*.cpp ${CMAKE_SOURCE_DIR}/formats/*.hpp ${CMAKE_SOURCE_DIR}/evolve/*.cpp
+       ${CMAKE_SOURCE_DIR}/evolve/*.hpp ${CMAKE_SOURCE_DIR}/web/*.cpp ${CMAKE_SOURCE_DIR}/web/*.hpp)
+  add_custom_command(OUTPUT ${SODAEVO_WASM_ENGINE} ${SODAEVO_WASM_EVOLVE}
     COMMAND ${CMAKE_SOURCE_DIR}/web/build_wasm.sh ${CMAKE_BINARY_DIR}/web ${_soda_pugixml_dir}
-    DEPENDS ${_soda_wasm_inputs} ${CMAKE_SOURCE_DIR}/web/engine_api.cpp ${CMAKE_SOURCE_DIR}/web/build_wasm.sh
+    DEPENDS ${_soda_wasm_inputs} ${CMAKE_SOURCE_DIR}/web/build_wasm.sh
     COMMENT "WebAssembly engine (web/build_wasm.sh)" VERBATIM)
 endif()
 
 # The page's own files and the engine, as strings in the binary.
 file(GLOB _soda_web_assets CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/web/*.js ${CMAKE_SOURCE_DIR}/web/*.html
      ${CMAKE_SOURCE_DIR}/web/*.css)
+# The files the page bundles for Evolve mode: every file of models/ (seed models and
+# terrains, byte for byte) and the run configs of configs/.
+file(GLOB_RECURSE _soda_bundled CONFIGURE_DEPENDS ${CMAKE_SOURCE_DIR}/models/* ${CMAKE_SOURCE_DIR}/configs/*.json)
 add_custom_command(OUTPUT ${CMAKE_BINARY_DIR}/generated/designer_assets.cpp
   COMMAND ${CMAKE_COMMAND} -DOUT=${CMAKE_BINARY_DIR}/generated/designer_assets.cpp "-DASSETS=${_soda_web_assets}"
-          -DENGINE=${SODAEVO_WASM_ENGINE} "-DMISSING=${SODAEVO_WASM_MISSING}" -P ${CMAKE_SOURCE_DIR}/web/embed_assets.cmake
-  DEPENDS ${_soda_web_assets} ${SODAEVO_WASM_ENGINE} ${CMAKE_SOURCE_DIR}/web/embed_assets.cmake
+          -DENGINE=${SODAEVO_WASM_ENGINE} -DEVOLVE=${SODAEVO_WASM_EVOLVE} "-DMISSING=${SODAEVO_WASM_MISSING}"
+          -DROOT=${CMAKE_SOURCE_DIR} "-DBUNDLED=${_soda_bundled}" -P ${CMAKE_SOURCE_DIR}/web/embed_assets.cmake
+  DEPENDS ${_soda_web_assets} ${_soda_bundled} ${SODAEVO_WASM_ENGINE} ${SODAEVO_WASM_EVOLVE} ${CMAKE_SOURCE_DIR}/web/embed_assets.cmake
   COMMENT "Designer page assets" VERBATIM)
 target_sources(sodaevo_app PRIVATE ${CMAKE_BINARY_DIR}/generated/designer_assets.cpp)

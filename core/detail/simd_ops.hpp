@@ -12,7 +12,9 @@
 
 // GCC 12's AVX-512 headers trip -Wmaybe-uninitialized inside their own intrinsics
 // (the "undefined" source operand idiom); nothing here is uninitialised.
+#if !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 
 namespace soda::simd {
 // ---------------------------------------------------------------------------
@@ -102,6 +104,16 @@ struct Sse2Ops {
   }
 };
 
+// AVX2 and AVX-512 exist on x86 only. In WebAssembly (web/build_wasm.sh: 128-bit
+// SIMD, which takes the SSE2 intrinsics) the wide levels are stand-ins of SSE2 so
+// that the kernels compile unchanged; simd_level_supported never offers them there.
+#if defined(__x86_64__) || defined(__i386__)
+#define SODA_SIMD_WIDE 1
+#else
+#define SODA_SIMD_WIDE 0
+#endif
+
+#if SODA_SIMD_WIDE
 #pragma GCC push_options
 #pragma GCC target("avx2")
 struct Avx2Ops {
@@ -337,6 +349,12 @@ struct Avx512Ops {
   }
 };
 #pragma GCC pop_options
+#else
+struct Avx2Ops : Sse2Ops {};
+struct Avx512Ops : Sse2Ops {
+  static constexpr int kRegisterPoints = 16;
+};
+#endif
 
 // Widest SIMD width; every array is padded to a multiple of it.
 constexpr int kMaxWidth = 8;

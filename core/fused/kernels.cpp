@@ -4,7 +4,9 @@
 #include "core/fused/kernel_table.hpp"
 
 #include "core/fused/kernels.hpp"
+#if SODA_SIMD_WIDE // AVX-512 only (core/detail/simd_ops.hpp)
 #include "core/fused/register_frame.hpp"
+#endif
 
 namespace soda::fused {
 
@@ -81,6 +83,7 @@ SODA_KERNELS(Avx2Ops)
 #pragma GCC push_options
 #pragma GCC target("avx512f")
 SODA_KERNELS(Avx512Ops)
+#if SODA_SIMD_WIDE
 template void link_kernel<Avx512Ops, true>(SceneData&);
 #define SODA_REGISTER_CHUNK(_, G, F, C, S) template void register_chunk<G, F, C, S>(SceneData&, State* const*, long long);
 #define SODA_REGISTER_CHUNK_ADDRESS(_, G, F, C, S) &register_chunk<G, F, C, S>,
@@ -90,6 +93,10 @@ ChunkFn register_chunk_fn(bool g, const WallNeeds& w) {
   constexpr ChunkFn table[16] = {SODA_EACH_SPECIALISATION(SODA_REGISTER_CHUNK_ADDRESS, 0)};
   return table[specialisation_index(g, w.floor, w.ceiling, w.sides)];
 }
+#else
+// WebAssembly: no AVX-512, so no frame in registers (SceneData::frame_in_registers).
+ChunkFn register_chunk_fn(bool, const WallNeeds&) { return nullptr; }
+#endif
 #pragma GCC pop_options
 
 #undef SODA_REGISTER_CHUNK_ADDRESS

@@ -1,0 +1,167 @@
+// Evolve mode of the designer in real Chromium (headless), against the command
+// line: the page opened with "#evolve=<base64url config>&run" runs the config on
+// its Web Workers (the evolution compiled to WebAssembly, web/evolve_api.cpp), and
+// its champion must be `sodaevo evolve`'s for the same config: the same id, the
+// same fitness bits and the same bytes of the XML `sodaevo export` writes. A
+// config the command line refuses is refused in the page with its message. A
+// worker that crashes mid-generation loses no finished generation: the run pauses,
+// resumes, and ends with the same champion.
+//
+// The page is driven by web/chromium_wait.js (Node, the DevTools protocol on a
+// pipe), which waits for <html data-evolve-done="1">: --dump-dom's virtual time
+// does not wait for Web Workers.
+#include <catch2/catch.hpp>
+
+#include <cstring>
+#include <fstream>
+
+#include <nlohmann/json.hpp>
+
+#include "app/designer_assets.hpp"
+#include "app/designer_page.hpp"
+#include "browser_support.hpp"
+#include "evolve/run_reader.hpp"
+#include "formats/atomic_file.hpp"
+#include "test_support.hpp"
+
+namespace fs = std::filesystem;
+using namespace sodaevo::test;
+
+namespace {
+
+const fs::path kSourceDir = fs::path(SODAEVO_MODELS_DIR).parent_path();
+
+std::string quoted(const std::string& s) {
+  std::string out = "'";
+  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+/// What the page's #evolve-result says once the run (or its refusal) is done.
+nlohmann::json run_in_page(const std::string& chromium, const fs::path& page, const std::string& config_text,
+                           const fs::path& work, const std::string& more = "") {
+  const std::string url = "file://" + page.string() + "#evolve=" + sodaevo::app::base64url(config_text) + "&run" + more;
+  const std::string condition = "document.documentElement.getAttribute('data-evolve-done') === '1'";
+  const std::string expression =
+      "(function () { var r = document.getElementById('evolve-result'); return r && {id: r.getAttribute('data-id'), "
+      "bits: r.getAttribute('data-fitness-bits'), sha256: r.getAttribute('data-xml-sha256'), "
+      "error: r.getAttribute('data-error'), archive: r.getAttribute('data-archive-sha256'), resumed: r.getAttribute('data-resumed'), errors: window.sodaErrors || []}; })()";
+  const fs::path out = work / "page-result.json";
+  const ShellResult r = run_shell("node " + quoted((kSourceDir / "web" / "chromium_wait.js").string()) + " " +
+                                  quoted(chromium) + " " + quoted(url) + " " + quoted(condition) + " " +
+                                  quoted(expression) + " 240 > " + quoted(out.string()));
+  INFO("chromium_wait.js: " << r.output);
+  REQUIRE(r.exit_code == 0);
+  return nlohmann::json::parse(soda::read_whole_file(out));
+}
+
+std::string hex_bits(double v) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &v, sizeof v);
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(bits));
+  return buf;
+}
+
+std::string sha256_of(const fs::path& file) {
+  const ShellResult r = run_shell("sha256sum " + quoted(file.string()));
+  REQUIRE(r.exit_code == 0);
+  return r.output.substr(0, 64);
+}
+
+std::string require_browser_and_node() {
+  const std::string chromium = find_chromium();
+  if (chromium.empty()) FAIL("Chromium not found (./build.sh test installs Debian's chromium)");
+  if (!sodaevo::app::designer_available()) FAIL(sodaevo::app::designer_unavailable_reason());
+  if (sodaevo::app::designer_evolve_js().empty()) FAIL("this sodaevo was built without the evolution in WebAssembly");
+  if (run_shell("command -v node").exit_code != 0) FAIL("node not found (Debian's nodejs, which emscripten needs)");
+  return chromium;
+}
+
+} // namespace
+
+TEST_CASE("Evolve mode runs configs/quick.json in Chromium to the command line's champion, bit for bit",
+          "[browser][evolve]") {
+  const std::string chromium = require_browser_and_node();
+  const fs::path work = fresh_temp_dir("evolve-browser");
+  const fs::path page = work / "designer.html";
+  soda::write_file_atomically(page, sodaevo::app::designer_page());
+  const fs::path config = kSourceDir / "configs" / "quick.json";
+
+  // The command line: evolve, then export the champion as a user would.
+  const fs::path native = work / "native";
+  REQUIRE(run_sodaevo("evolve " + quoted(config.string()) + " --out " + quoted(native.string()) + " --quiet").exit_code == 0);
+  REQUIRE(run_sodaevo("export " + quoted(native.string()) + " --best 1 --out " + quoted((work / "export").string()))
+              .exit_code == 0);
+  const std::vector<sodaevo::Individual> best = sodaevo::best_individuals(native, 1);
+  REQUIRE(best.size() == 1);
+  const fs::path champion = work / "export" / ("rank01_" + best[0].id + ".xml");
+  REQUIRE(fs::exists(champion));
+
+  const nlohmann::json got = run_in_page(chromium, page, soda::read_whole_file(config), work);
+  INFO("page: " << got.dump());
+  CHECK(got["errors"].empty());
+  CHECK(got["error"].is_null());
+  CHECK(got["id"] == best[0].id);
+  CHECK(got["bits"] == hex_bits(best[0].evaluation.fitness));
+  CHECK(got["sha256"] == sha256_of(champion));
+
+  // A worker crashes part way (its 5th chunk: generation 0 or 1): the generation is
+  // dropped, the run pauses, Resume goes on from the last finished generation, and
+  // the champion is the same.
+  const nlohmann::json crashed = run_in_page(chromium, page, soda::read_whole_file(config), work, "&crash=5&resume");
+  INFO("page with a crash: " << crashed.dump());
+  CHECK(crashed["resumed"] == "1");
+  CHECK(crashed["error"].is_null());
+  CHECK(crashed["id"] == best[0].id);
+  CHECK(crashed["bits"] == hex_bits(best[0].evaluation.fitness));
+  CHECK(crashed["sha256"] == sha256_of(champion));
+}
+
+TEST_CASE("Evolve mode refuses a config the command line refuses, with its message", "[browser][evolve]") {
+  const std::string chromium = require_browser_and_node();
+  const fs::path work = fresh_temp_dir("evolve-browser-refused");
+  const fs::path page = work / "designer.html";
+  soda::write_file_atomically(page, sodaevo::app::designer_page());
+  // Two problems at once (a population of one; random_fraction with no seeds).
+  const std::string text = "{\"name\": \"bad\", \"population\": {\"size\": 1}}\n";
+  soda::write_file_atomically(work / "config.json", text);
+  const ShellResult cli = run_shell("cd " + quoted(work.string()) + " && " + sodaevo_command("evolve config.json --out run"));
+  REQUIRE(cli.exit_code != 0);
+  const std::string prefix = "sodaevo: error: ";
+  REQUIRE(cli.output.rfind(prefix, 0) == 0);
+  std::string message = cli.output.substr(prefix.size());
+  while (!message.empty() && message.back() == '\n') message.pop_back();
+  REQUIRE(message.find("/population/size") != std::string::npos);
+
+  const nlohmann::json got = run_in_page(chromium, page, text, work);
+  INFO("page: " << got.dump());
+  CHECK(got["errors"].empty());
+  REQUIRE(got["error"].is_string());
+  CHECK(got["error"].get<std::string>() == message);
+}
+
+TEST_CASE("Evolve mode runs a MAP-Elites config to the command line's archive, byte for byte", "[browser][evolve]") {
+  const std::string chromium = require_browser_and_node();
+  const fs::path work = fresh_temp_dir("evolve-browser-map-elites");
+  const fs::path page = work / "designer.html";
+  soda::write_file_atomically(page, sodaevo::app::designer_page());
+  // A small archive; the seed named by an absolute path, which the page resolves by
+  // its file name among its bundled models.
+  const std::string text = "{\"name\": \"me_small\", \"seed\": 3, \"algorithm\": \"map-elites\", \"population\": {\"size\": 40, "
+                           "\"seed_models\": [\"" + (kSourceDir / "models" / "dainty_walker.xml").string() + "\"], "
+                           "\"random_fraction\": 0.9, \"random\": {\"masses_min\": 3, \"masses_max\": 8}}, "
+                           "\"fitness\": {\"frames\": 600, \"settle_frames\": 100, \"replicas\": 2, \"replicas_max\": 4}, "
+                           "\"map_elites\": {\"descriptors\": [\"width\", \"height\"], \"bins\": [10, 10], "
+                           "\"ranges\": [[40, 300], [0, 100]], \"iterations\": 8, \"batch_size\": 30, \"check_replicas\": 0}}\n";
+  soda::write_file_atomically(work / "me.json", text);
+  const fs::path native = work / "native";
+  REQUIRE(run_sodaevo("evolve " + quoted((work / "me.json").string()) + " --out " + quoted(native.string()) + " --quiet")
+              .exit_code == 0);
+
+  const nlohmann::json got = run_in_page(chromium, page, text, work);
+  INFO("page: " << got.dump());
+  CHECK(got["errors"].empty());
+  CHECK(got["error"].is_null());
+  CHECK(got["archive"] == sha256_of(native / "archive.json"));
+}
