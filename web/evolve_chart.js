@@ -6,6 +6,20 @@
 
   var COLORS = { best: '#1f4e8c', mean: '#c0762b', median: '#3d8b4f', band: 'rgba(31,78,140,0.15)', axis: '#6b5a45' };
 
+  /// Ticks at round values (1, 2 or 5 times a power of ten apart, about five of
+  /// them, at most seven) inside [lo, hi], as the run report's charts have (charts::round_ticks).
+  function roundTicks(lo, hi) {
+    var raw = (hi - lo) / 6, mag = Math.pow(10, Math.floor(Math.log10(raw)));
+    var step = [1, 2, 5, 10].map(function (m) { return m * mag; }).find(function (s) { return s >= raw; });
+    var digits = Math.max(0, -Math.floor(Math.log10(step) + 1e-9));
+    var ticks = [];
+    for (var v = Math.ceil(lo / step) * step; v <= hi + step * 1e-9; v += step) {
+      var value = Math.abs(v) < step * 1e-9 ? 0 : v;
+      ticks.push({ value: value, label: value.toFixed(digits) });
+    }
+    return ticks;
+  }
+
   /// rows: [{generation, best, mean, median, best_sd}]; `shown(v)` turns a fitness
   /// into what is plotted (px, or frames for races). Draws best, mean, median and
   /// the best's interval (best +- 1.96 sd of its replicas).
@@ -29,11 +43,10 @@
     var Y = function (v) { return h - pad.b - (h - pad.t - pad.b) * (v - lo) / (hi - lo); };
     g.strokeStyle = '#d8d0c2';
     g.lineWidth = 1;
-    for (var k = 0; k <= 4; ++k) {
-      var v = lo + (hi - lo) * k / 4;
-      g.beginPath(); g.moveTo(pad.l, Y(v)); g.lineTo(w - pad.r, Y(v)); g.stroke();
-      g.fillText(v.toFixed(Math.abs(hi - lo) < 10 ? 2 : 0), 4, Y(v) + 4);
-    }
+    roundTicks(lo, hi).forEach(function (t) {
+      g.beginPath(); g.moveTo(pad.l, Y(t.value)); g.lineTo(w - pad.r, Y(t.value)); g.stroke();
+      g.fillText(t.label, 4, Y(t.value) + 4);
+    });
     g.fillText('generation ' + rows[rows.length - 1].generation + ' (' + unit + ')', w - pad.r - 140, h - 8);
     // The best's interval, a band.
     var band = rows.filter(function (r) { return finite(r.best) && finite(r.best_sd); });
