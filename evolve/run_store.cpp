@@ -235,12 +235,24 @@ Generation generation_from_xml(const std::string& text, const std::string& sourc
 
 namespace {
 
+/// The compiler that built this program, by name: __VERSION__ alone is "12.2.0" for
+/// g++ and "Debian Clang 14.0.6" for clang (and so em++, the page's engine).
+std::string compiler_name() {
+#if defined(__EMSCRIPTEN__)
+  return std::string("em++ (WebAssembly) ") + __VERSION__;
+#elif defined(__clang__)
+  return std::string("clang++ ") + __VERSION__;
+#else
+  return std::string("g++ ") + __VERSION__;
+#endif
+}
+
 /// `sine`: the sine that made the run (evolve/run_sine.hpp); none: not known.
 void write_manifest(const fs::path& dir, const RunConfig& config, const std::string& command_line,
                     const std::optional<std::string>& sine) {
   nlohmann::json manifest = {{"program", "sodaevo"},
                              {"version", "0.1.0"},
-                             {"compiler", std::string("g++ ") + __VERSION__},
+                             {"compiler", compiler_name()},
                              {"seed", config.seed},
                              {"started", now_iso8601()},
                              {"command", command_line}};
