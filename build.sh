@@ -25,7 +25,7 @@ cd "$(dirname "$0")"
 BUILD_DIR=${SODAEVO_BUILD_DIR:-build}
 ASAN_DIR=${SODAEVO_ASAN_DIR:-build-asan}
 FUZZ_DIR=${SODAEVO_FUZZ_DIR:-build-fuzz}
-PACKAGES=(g++ cmake make libpugixml-dev libcli11-dev nlohmann-json3-dev catch2 libeigen3-dev libopenmpi-dev openmpi-bin zlib1g-dev)
+PACKAGES=(g++ cmake ninja-build libpugixml-dev libcli11-dev nlohmann-json3-dev catch2 libeigen3-dev libopenmpi-dev openmpi-bin zlib1g-dev)
 # Only the test suite needs these: headless Chromium opens the rendered pages.
 TEST_PACKAGES=(chromium)
 # The Python module (python/, docs/python.md) and its tests and examples; the
@@ -68,10 +68,25 @@ install_web_deps() {
   fetch_pugixml_source
 }
 
-# build [TARGET...]: configure, then build TARGETs (default: everything, tests included).
+# Ninja for a new build folder (a folder configured before keeps its generator:
+# CMake refuses to switch one).
+generator_for() {
+  [ -f "$1/CMakeCache.txt" ] || echo "-GNinja"
+}
+
+# build [TARGET...]: configure with the test suite, then build TARGETs (default:
+# everything, tests included).
 build() {
-  cmake -S . -B "$BUILD_DIR" -DCMAKE_BUILD_TYPE=Release
+  cmake -S . -B "$BUILD_DIR" $(generator_for "$BUILD_DIR") -DCMAKE_BUILD_TYPE=Release -DSODAEVO_BUILD_TESTS=ON
   cmake --build "$BUILD_DIR" -j "$(nproc)" ${1:+--target "$@"}
+}
+
+# The sodaevo binary alone, configured without the test suite (`run`, `designer`):
+# the first result should not wait for Catch2. The same folder as `build`: a later
+# `test` configures the suite back in and compiles only what is missing.
+build_sodaevo() {
+  cmake -S . -B "$BUILD_DIR" $(generator_for "$BUILD_DIR") -DCMAKE_BUILD_TYPE=Release -DSODAEVO_BUILD_TESTS=OFF
+  cmake --build "$BUILD_DIR" -j "$(nproc)" --target sodaevo
 }
 
 # A fresh build prints no warning and no note, so a new one is news: the test
@@ -98,7 +113,7 @@ fail_on_warnings() {
 # optional MPI evaluator: Open MPI keeps memory it never frees, which LeakSanitizer
 # would report as findings of ours (the MPI tests run in the Release suite).
 build_asan() {
-  cmake -S . -B "$ASAN_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
+  cmake -S . -B "$ASAN_DIR" $(generator_for "$ASAN_DIR") -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1" \
     -DSODAEVO_SANITIZE=address,undefined -DSODAEVO_MPI=OFF \
     -DSODAEVO_WASM_PREBUILT="$(cd "$BUILD_DIR" && pwd)/web/soda_engine_wasm.js"
   cmake --build "$ASAN_DIR" -j "$(nproc)"
@@ -113,7 +128,7 @@ run_asan_tests() {
 }
 
 build_fuzz() {
-  CC=clang-14 CXX=clang++-14 cmake -S . -B "$FUZZ_DIR" -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  CC=clang-14 CXX=clang++-14 cmake -S . -B "$FUZZ_DIR" $(generator_for "$FUZZ_DIR") -DCMAKE_BUILD_TYPE=RelWithDebInfo \
     -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DSODAEVO_BUILD_TESTS=OFF -DSODAEVO_FUZZ=ON -DSODAEVO_MPI=OFF \
     -DCMAKE_CXX_FLAGS="-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer"
   cmake --build "$FUZZ_DIR" -j "$(nproc)" --target fuzz_model_xml fuzz_run_config fuzz_checkpoint
@@ -124,7 +139,7 @@ case "${1:-}" in
   build) install_web_deps; build ;;
   run)
     # Only what the main job needs: the sodaevo binary, not the test suite.
-    install_deps; build sodaevo
+    install_deps; build_sodaevo
     # The main job: evolve walkers from the default config into
     # results/default-<timestamp>/, then show how the Dainty Walker does.
     run_dir="results/default-$(date +%Y%m%d-%H%M%S)"
@@ -138,7 +153,7 @@ case "${1:-}" in
     echo "  ./build.sh designer ${best:-models/dainty_walker.xml}"
     ;;
   designer)
-    install_web_deps; build sodaevo
+    install_web_deps; build_sodaevo
     "$BUILD_DIR/sodaevo" designer ${2:+"$2"} -o designer.html
     ;;
   test)

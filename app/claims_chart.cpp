@@ -20,7 +20,7 @@ bool claim_flagged(const ClaimRow& row) {
 
 namespace {
 
-std::string number(double v) {
+std::string svg_number(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.1f", v);
   return buf;
@@ -73,8 +73,8 @@ std::string render_claims_chart(const std::vector<ClaimRow>& rows) {
   // Ticks at round values (1, 2 or 5 times a power of ten), as the other charts.
   for (const double v : charts::round_ticks(lo, hi)) {
     const double x = x_of(v);
-    o << "<line x1=\"" << number(x) << "\" y1=\"" << top - 5 << "\" x2=\"" << number(x) << "\" y2=\"" << axis_y
-      << "\" stroke=\"#eee\"/>\n<text class=\"tick\" x=\"" << number(x) << "\" y=\"" << axis_y + 16
+    o << "<line x1=\"" << svg_number(x) << "\" y1=\"" << top - 5 << "\" x2=\"" << svg_number(x) << "\" y2=\"" << axis_y
+      << "\" stroke=\"#eee\"/>\n<text class=\"tick\" x=\"" << svg_number(x) << "\" y=\"" << axis_y + 16
       << "\" text-anchor=\"middle\">" << charts::svg_escape(charts::format_tick(v)) << "</text>\n";
   }
   o << "<text x=\"" << left + plot / 2 << "\" y=\"" << axis_y + 36
@@ -85,17 +85,17 @@ std::string render_claims_chart(const std::vector<ClaimRow>& rows) {
     const ClaimRow& r = rows[i];
     const double y = top + row_height * (static_cast<double>(i) + 0.5);
     const bool flag = claim_flagged(r);
-    o << "<text class=\"label\" x=\"" << left - kLabelGap << "\" y=\"" << number(y + 4) << "\" text-anchor=\"end\""
+    o << "<text class=\"label\" x=\"" << left - kLabelGap << "\" y=\"" << svg_number(y + 4) << "\" text-anchor=\"end\""
       << (flag ? " fill=\"#b00\"" : "") << ">" << charts::svg_escape(row_label(r)) << "</text>\n";
-    o << "<line x1=\"" << number(x_of(r.check_lo)) << "\" y1=\"" << number(y) << "\" x2=\"" << number(x_of(r.check_hi))
-      << "\" y2=\"" << number(y) << "\" stroke=\"#1f77b4\" stroke-width=\"2\"/>\n";
-    o << "<circle cx=\"" << number(x_of(r.check_median)) << "\" cy=\"" << number(y)
-      << "\" r=\"4\" fill=\"#1f77b4\"><title>checked median " << number(r.check_median) << " "
-      << unit << ", interval [" << number(r.check_lo) << ", " << number(r.check_hi) << "]</title></circle>\n";
+    o << "<line x1=\"" << svg_number(x_of(r.check_lo)) << "\" y1=\"" << svg_number(y) << "\" x2=\"" << svg_number(x_of(r.check_hi))
+      << "\" y2=\"" << svg_number(y) << "\" stroke=\"#1f77b4\" stroke-width=\"2\"/>\n";
+    o << "<circle cx=\"" << svg_number(x_of(r.check_median)) << "\" cy=\"" << svg_number(y)
+      << "\" r=\"4\" fill=\"#1f77b4\"><title>checked median " << svg_number(r.check_median) << " "
+      << unit << ", interval [" << svg_number(r.check_lo) << ", " << svg_number(r.check_hi) << "]</title></circle>\n";
     const double cx = x_of(r.claim);
-    o << "<path d=\"M" << number(cx) << ' ' << number(y - 6) << " L" << number(cx + 6) << ' ' << number(y) << " L"
-      << number(cx) << ' ' << number(y + 6) << " L" << number(cx - 6) << ' ' << number(y) << " Z\" fill=\""
-      << (flag ? "#d62728" : "#ff7f0e") << "\"><title>claim " << number(r.claim) << " " << unit << " (" << r.claim_n
+    o << "<path d=\"M" << svg_number(cx) << ' ' << svg_number(y - 6) << " L" << svg_number(cx + 6) << ' ' << svg_number(y) << " L"
+      << svg_number(cx) << ' ' << svg_number(y + 6) << " L" << svg_number(cx - 6) << ' ' << svg_number(y) << " Z\" fill=\""
+      << (flag ? "#d62728" : "#ff7f0e") << "\"><title>claim " << svg_number(r.claim) << " " << unit << " (" << r.claim_n
       << " replicas)</title></path>\n";
   }
   o << "</svg>\n";

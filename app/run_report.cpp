@@ -111,7 +111,6 @@ std::vector<GenerationRow> read_generations_csv(const fs::path& path) {
 /// A table or caption number; none (NaN: no creature scored) shows as a dash.
 std::string table_number(double v, int digits) { return std::isfinite(v) ? fixed(v, digits) : "&#8211;"; }
 
-std::string esc(const std::string& s) { return html_escape(s); }
 
 /// "TerrainFlat, TerrainHilly" for the run's race files; a curriculum's stages
 /// joined by "then".
@@ -132,7 +131,7 @@ struct Shown {
 
 void config_table(std::ostringstream& o, const RunConfig& c, const nlohmann::json& manifest, const RunSine& sine) {
   auto row = [&](const std::string& k, const std::string& v) {
-    o << "<tr><th>" << esc(k) << "</th><td>" << esc(v) << "</td></tr>\n";
+    o << "<tr><th>" << html_escape(k) << "</th><td>" << html_escape(v) << "</td></tr>\n";
   };
   using soda::format_double_plain;
   o << "<table class=\"config\">\n";
@@ -191,7 +190,7 @@ void walk_players(std::ostringstream& o, const RunConfig& config, const std::vec
   const soda::Stepping stepping = config.fitness.stepping();
   const long long trial_frames = config.fitness.settle_frames + config.fitness.frames;
   o << "<p class=\"note\">Each animation is the fitness trial, simulated again by the engine ("
-    << esc(stepping == soda::Stepping{} ? std::string("soda mode, as the original")
+    << html_escape(stepping == soda::Stepping{} ? std::string("soda mode, as the original")
                                         : "the run's physics mode: " + soda::stepping_label(stepping))
     << "): " << config.fitness.settle_frames << " settle frames, then " << config.fitness.frames
     << " scored frames (the dashed mark under the floor shows where scoring starts). Masses blue, springs grey, muscles red (dark and "
@@ -205,7 +204,7 @@ void walk_players(std::ostringstream& o, const RunConfig& config, const std::vec
       const Motion motion = record_motion(s.prepared, trial_frames, every, stepping);
       o << player_element(motion, {"player" + std::to_string(index++), s.caption, config.fitness.settle_frames, 640, 280});
     } catch (const soda::InputError& e) {
-      o << "<p class=\"note\">" << esc(s.caption) << ": " << esc(e.what()) << "</p>\n";
+      o << "<p class=\"note\">" << html_escape(s.caption) << ": " << html_escape(e.what()) << "</p>\n";
     }
   }
 }
@@ -217,7 +216,7 @@ void race_players(std::ostringstream& o, const Problem& problem, const std::vect
   const auto* race = dynamic_cast<const RaceProblem*>(&problem);
   if (race == nullptr) return;
   const RaceTerrain& terrain = race->terrains().front();
-  o << "<p class=\"note\">Each animation is the creature's race on " << esc(fs::path(terrain.file).stem().string())
+  o << "<p class=\"note\">Each animation is the creature's race on " << html_escape(fs::path(terrain.file).stem().string())
     << ", raced again as the original racer races it (2004 bar rule) to the finish or the timeout ("
     << race->timeout_of(0) << " frames). Fixed bars are the terrain; the lines are the start and the finish. Masses "
        "blue, springs grey, muscles red. Add <code>#frame=N</code> to the address to stop every player at frame N.</p>\n"
@@ -228,12 +227,12 @@ void race_players(std::ostringstream& o, const Problem& problem, const std::vect
       const Motion motion = record_race_motion(terrain.race, race->timeout_of(0), s.prepared, s.caption, options.max_samples);
       o << player_element(motion, {"player" + std::to_string(index++), s.caption, -1, 640, 280});
     } catch (const std::exception& e) {
-      o << "<p class=\"note\">" << esc(s.caption) << ": " << esc(e.what()) << "</p>\n";
+      o << "<p class=\"note\">" << html_escape(s.caption) << ": " << html_escape(e.what()) << "</p>\n";
     }
   }
 }
 
-constexpr const char* kPageStyle = R"css(
+constexpr const char* kRunPageStyle = R"css(
 body { font-family: Helvetica, Arial, sans-serif; margin: 20px auto; max-width: 1560px; color: #222; padding: 0 16px; }
 h1 { margin-bottom: 4px; } h2 { margin-top: 28px; border-bottom: 1px solid #ddd; padding-bottom: 4px; }
 table { border-collapse: collapse; font-size: 14px; }
@@ -278,10 +277,10 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   const std::string sine_note = report_sine_note(run_dir);
 
   std::ostringstream o;
-  o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>sodaevo run " << esc(config.name)
-    << "</title>\n<style>" << kPageStyle << "</style>\n" << player_head() << "</head>\n<body>\n"
+  o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>sodaevo run " << html_escape(config.name)
+    << "</title>\n<style>" << kRunPageStyle << "</style>\n" << player_head() << "</head>\n<body>\n"
     << "<pre id=\"page-errors\" hidden></pre>\n"
-    << "<h1>Run <code>" << esc(config.name) << "</code></h1>\n<p class=\"note\">" << esc(run_dir.string()) << " &#183; ";
+    << "<h1>Run <code>" << html_escape(config.name) << "</code></h1>\n<p class=\"note\">" << html_escape(run_dir.string()) << " &#183; ";
   if (rows.empty()) {
     o << "no generation finished yet";
   } else {
@@ -289,7 +288,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
       << " evaluations";
   }
   o << " &#183; report written by sodaevo 0.1.0</p>\n";
-  if (!sine_note.empty()) o << "<p class=\"sine-note\">Made with another sine: " << esc(sine_note) << ".</p>\n";
+  if (!sine_note.empty()) o << "<p class=\"sine-note\">Made with another sine: " << html_escape(sine_note) << ".</p>\n";
 
   o << "<h2>Config</h2>\n";
   config_table(o, config, manifest, sine);
@@ -425,13 +424,13 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     for (const Ranked& k : ranked) {
       const GenerationRow& r = k.row;
       ++rank;
-      std::string distance = esc(k.problem), speed;
+      std::string distance = html_escape(k.problem), speed;
       if (k.problem.empty()) {
         const Evaluation e = scored->rollouts({&k.prepared}).front();
         if (e.ok()) distance = table_number(e.distance, 1), speed = table_number(e.px_per_frame, 3);
-        else distance = esc(e.reason);
+        else distance = html_escape(e.reason);
       }
-      o << "<tr><td class=\"n\">" << rank << "</td><td>" << esc(r.best_id) << "</td><td class=\"n\">" << generation_ranges(k.generations)
+      o << "<tr><td class=\"n\">" << rank << "</td><td>" << html_escape(r.best_id) << "</td><td class=\"n\">" << generation_ranges(k.generations)
         << "</td><td class=\"n\">" << table_number(score.shown(r.best), 1) << "</td><td class=\"n\">" << distance << "</td>"
         << (score.race ? "" : "<td class=\"n\">" + speed + "</td>") << "<td><a href=\"best/" << generation_file_name(r.generation) << "\">best/"
         << generation_file_name(r.generation) << "</a>" << designer_link(file_text(best_file(r.generation))) << "</td></tr>\n";
@@ -470,12 +469,12 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
                               table_number(score.shown(row->best), 1) + " " + score.unit() + ")",
                           def});
       } catch (const soda::InputError& e) {
-        o << "<p class=\"note\">" << esc(e.what()) << "</p>\n";
+        o << "<p class=\"note\">" << html_escape(e.what()) << "</p>\n";
       }
     }
   }
   if (classic) shown.push_back(*classic);
-  if (!classic_problem.empty()) classic_problem = "<p class=\"note\">Dainty Walker not shown: " + esc(classic_problem) + "</p>\n";
+  if (!classic_problem.empty()) classic_problem = "<p class=\"note\">Dainty Walker not shown: " + html_escape(classic_problem) + "</p>\n";
   o << "<h2>Watch them</h2>\n";
   if (score.race) race_players(o, *scored, shown, classic_problem, options);
   else walk_players(o, config, shown, classic_problem, options);

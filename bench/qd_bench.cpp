@@ -40,7 +40,7 @@ QdMetrics population_archive(const RunConfig& config, const MapElitesConfig& me,
   return archive.metrics(me.qd_offset);
 }
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
+double elapsed_seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -71,7 +71,7 @@ std::vector<QdRow> run_qd_bench(const QdOptions& opt) {
     ThreadEvaluator evaluator(opt.threads);
     auto started = std::chrono::steady_clock::now();
     const MapElitesOutcome me = run_map_elites(me_dir, me_config, me_config.map_elites, evaluator, {});
-    QdRow me_row{seed, "map-elites", me.evaluations, me.metrics, 0.0, seconds_since(started)};
+    QdRow me_row{seed, "map-elites", me.evaluations, me.metrics, 0.0, elapsed_seconds(started)};
     me_row.best_checked = write_checked_archive(me_dir, opt.threads).checked.best;
     rows.push_back(me_row);
 
@@ -85,7 +85,7 @@ std::vector<QdRow> run_qd_bench(const QdOptions& opt) {
     RunStore store = RunStore::create(ga_dir, ga_config, true, "sodaevo bench qd");
     started = std::chrono::steady_clock::now();
     const EvolutionOutcome ga = run_evolution(store, evaluator, {});
-    const double ga_seconds = seconds_since(started);
+    const double ga_seconds = elapsed_seconds(started);
     const std::optional<Checkpoint> last = store.read_checkpoint();
     if (!last) throw std::runtime_error(ga_dir.string() + ": the GA run left no checkpoint");
     QdRow ga_row{seed, "ga", ga.evaluations,

@@ -42,7 +42,7 @@ int inside(const std::vector<double>& runs, double lo, double hi) {
 
 /// The held-out runs of `individual`: seeds of their own purpose, never seen by
 /// selection nor by the check.
-std::vector<double> holdout_distances(const Problem& problem, const Individual& individual, const ReplicaPlan& plan,
+std::vector<double> holdout_distances(const Problem& problem, const Individual& individual, const sodaevo::ReplicaPlan& plan,
                                       int count) {
   const soda::ModelDef prepared = problem.prepare(individual.creature);
   const std::uint64_t key = creature_key(individual.creature);
@@ -110,7 +110,7 @@ TransferResult run_transfer_bench(const TransferOptions& opt) {
         }
         const RunConfig saved = read_run_config(dir / "config.json");
         const RunRoles roles = roles_of(saved);
-        const ReplicaPlan plan = replica_plan(saved);
+        const sodaevo::ReplicaPlan plan = replica_plan(saved);
         const std::vector<Individual> best = best_individuals(dir, opt.top);
         std::vector<TransferRow> rows(best.size());
         parallel_for_index(best.size(), opt.threads, [&](std::size_t i) {

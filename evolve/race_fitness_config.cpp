@@ -35,9 +35,9 @@ fs::path find_race_terrain(const std::string& entry, const fs::path& base_dir) {
 
 namespace {
 
-class Reader {
+class RaceFitnessReader {
  public:
-  Reader(const fs::path& base_dir, RaceFitnessConfig& config, std::vector<ConfigProblem>& problems)
+  RaceFitnessReader(const fs::path& base_dir, RaceFitnessConfig& config, std::vector<ConfigProblem>& problems)
       : base_dir_(base_dir), config_(config), problems_(problems) {}
 
   void read(const json& v) {
@@ -169,7 +169,7 @@ class Reader {
 
 void read_race_fitness(const json& value, const fs::path& base_dir, RaceFitnessConfig& config,
                        std::vector<ConfigProblem>& problems) {
-  Reader(base_dir, config, problems).read(value);
+  RaceFitnessReader(base_dir, config, problems).read(value);
 }
 
 std::vector<ConfigProblem> race_fitness_conflicts(FitnessKind kind, const RaceFitnessConfig& race, bool race_given,

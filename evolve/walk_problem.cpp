@@ -67,7 +67,7 @@ WalkProblem::WalkProblem(const RunConfig& config)
 
 namespace {
 
-bool evolves(const WorldConfig& world, const char* name) {
+bool world_evolves(const WorldConfig& world, const char* name) {
   return std::find(world.evolve.begin(), world.evolve.end(), name) != world.evolve.end();
 }
 
@@ -78,11 +78,11 @@ soda::ModelDef WalkProblem::prepare(const soda::ModelDef& creature) const {
     throw soda::InputError("creature " + *invalid);
   }
   soda::ModelDef m = creature;
-  if (!evolves(world_, "gravity")) m.environment.gravity = world_.gravity;
-  if (!evolves(world_, "friction")) m.environment.friction = world_.friction;
-  if (!evolves(world_, "springyness")) m.environment.springyness = world_.springyness;
-  if (!evolves(world_, "surface_friction")) m.collisions.surface_friction = world_.surface_friction;
-  if (!evolves(world_, "surface_reflection")) m.collisions.surface_reflection = world_.surface_reflection;
+  if (!world_evolves(world_, "gravity")) m.environment.gravity = world_.gravity;
+  if (!world_evolves(world_, "friction")) m.environment.friction = world_.friction;
+  if (!world_evolves(world_, "springyness")) m.environment.springyness = world_.springyness;
+  if (!world_evolves(world_, "surface_friction")) m.collisions.surface_friction = world_.surface_friction;
+  if (!world_evolves(world_, "surface_reflection")) m.collisions.surface_reflection = world_.surface_reflection;
   m.settings.gravity_direction = world_.gravity_direction;
   m.settings.wave_direction = soda::WaveDirection::Forward;
   m.settings.autoreverse = false;

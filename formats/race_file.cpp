@@ -127,7 +127,7 @@ void read_contenders(xml::ReadContext& ctx, const xml::SourceText& source, pugi:
   }
 }
 
-std::string read_whole_file(const std::filesystem::path& path) {
+std::string read_race_file_contents(const std::filesystem::path& path) {
   if (path.empty()) throw InputError("race file: expected a path, got an empty one");
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) throw InputError(path.string() + ": cannot read race file: it is a directory");
@@ -170,10 +170,10 @@ RaceDef read_race_text(std::string_view text, const std::string& source_name) {
 }
 
 RaceDef read_race_file(const std::filesystem::path& path) {
-  return read_race_text(read_whole_file(path), path.string());
+  return read_race_text(read_race_file_contents(path), path.string());
 }
 
-std::string read_race_file_text(const std::filesystem::path& path) { return read_whole_file(path); }
+std::string read_race_file_text(const std::filesystem::path& path) { return read_race_file_contents(path); }
 
 bool looks_like_race(std::string_view text) {
   const std::size_t open = text.find("<race");

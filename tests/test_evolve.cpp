@@ -65,17 +65,17 @@ fs::path run_to_end(const RunConfig& config, const std::string& name, int thread
   return dir;
 }
 
-std::string file(const fs::path& p) { return soda::read_whole_file(p); }
+std::string evolve_file_text(const fs::path& p) { return soda::read_whole_file(p); }
 
-void require_same_results(const fs::path& a, const fs::path& b) {
-  CHECK(file(a / "generations.csv") == file(b / "generations.csv"));
+void require_same_evolve_results(const fs::path& a, const fs::path& b) {
+  CHECK(evolve_file_text(a / "generations.csv") == evolve_file_text(b / "generations.csv"));
   const auto saved = saved_generations(a);
   REQUIRE(!saved.empty());
   CHECK(saved == saved_generations(b));
   for (int g : saved) {
     INFO("generation " << g);
-    CHECK(file(a / "generations" / generation_file_name(g)) == file(b / "generations" / generation_file_name(g)));
-    CHECK(file(a / "best" / generation_file_name(g)) == file(b / "best" / generation_file_name(g)));
+    CHECK(evolve_file_text(a / "generations" / generation_file_name(g)) == evolve_file_text(b / "generations" / generation_file_name(g)));
+    CHECK(evolve_file_text(a / "best" / generation_file_name(g)) == evolve_file_text(b / "best" / generation_file_name(g)));
   }
 }
 
@@ -169,10 +169,10 @@ TEST_CASE("same config and seed: identical results with 1, 2 and 8 threads", "[e
   const fs::path one = run_to_end(config, "one", 1);
   const fs::path two = run_to_end(config, "two", 2);
   const fs::path eight = run_to_end(config, "eight", 8);
-  require_same_results(one, two);
-  require_same_results(one, eight);
+  require_same_evolve_results(one, two);
+  require_same_evolve_results(one, eight);
   // The run must have done something worth comparing.
-  const std::string csv = file(one / "generations.csv");
+  const std::string csv = evolve_file_text(one / "generations.csv");
   CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + config.budget.generations);
   fs::remove_all(one.parent_path());
 }
@@ -198,7 +198,7 @@ TEST_CASE("an interrupted run resumes to exactly the uninterrupted result", "[ev
     const EvolutionOutcome o = run_evolution(store, evaluator, {});
     CHECK(o.stopped_because == "completed");
   }
-  require_same_results(whole, dir);
+  require_same_evolve_results(whole, dir);
   fs::remove_all(dir.parent_path());
 }
 
@@ -233,7 +233,7 @@ TEST_CASE("a run folder is self-contained: moved away from its seed models it is
   plain.budget.generations = 3;
   plain.save.generation_every = 1;
   const fs::path whole = run_to_end(plain, "moved_whole", 2);
-  require_same_results(whole, moved);
+  require_same_evolve_results(whole, moved);
   // Replayed there: every saved creature gives its logged fitness.
   const RunConfig read_back = read_run_config(moved / "config.json");
   for (int g : saved_generations(moved)) {
@@ -381,10 +381,10 @@ TEST_CASE("creatures that were not scored: no infinity in any file, and they rea
   for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir)) {
     if (!e.is_regular_file()) continue;
     INFO(e.path());
-    const std::string text = file(e.path());
+    const std::string text = evolve_file_text(e.path());
     CHECK(text.find("inf") == std::string::npos);
   }
-  CHECK(file(dir / "generations.csv").find("\n3,2,,,,,1,1,,,,,\n") != std::string::npos);
+  CHECK(evolve_file_text(dir / "generations.csv").find("\n3,2,,,,,1,1,,,,,\n") != std::string::npos);
   fs::remove_all(dir);
 }
 
@@ -414,7 +414,7 @@ TEST_CASE("a run folder without its manifest (killed right after its config) get
   fs::remove(dir / "manifest.json");
   RunStore::open(dir);
   REQUIRE(fs::exists(dir / "manifest.json"));
-  const std::string manifest = file(dir / "manifest.json");
+  const std::string manifest = evolve_file_text(dir / "manifest.json");
   CHECK(manifest.find("killed before its manifest was written") != std::string::npos);
   CHECK(manifest.find("\"seed\": 42") != std::string::npos);
   fs::remove_all(dir);

@@ -355,24 +355,24 @@ TEST_CASE("jittered replicas of each bundled model: lockstep lanes and BatchStep
 namespace {
 
 /// A lane of a batch of several shapes: its model and its sine jitter.
-struct Lane {
+struct LockstepLane {
   const soda::Model* model;
   std::uint64_t seed;
   double probability;
 };
 
 /// `k` replicas of `model` (replica r with seed first_seed + r, seed 0 exact).
-std::vector<Lane> replicas_of(const soda::Model& model, int k, std::uint64_t first_seed, double probability) {
-  std::vector<Lane> lanes;
+std::vector<LockstepLane> replicas_of(const soda::Model& model, int k, std::uint64_t first_seed, double probability) {
+  std::vector<LockstepLane> lanes;
   for (int r = 0; r < k; ++r) lanes.push_back({&model, first_seed + static_cast<std::uint64_t>(r), probability});
   return lanes;
 }
 
 /// The states of `shapes`' lanes, flattened, with their jitter.
-std::vector<soda::State> states_of(const std::vector<std::vector<Lane>>& shapes) {
+std::vector<soda::State> states_of(const std::vector<std::vector<LockstepLane>>& shapes) {
   std::vector<soda::State> states;
-  for (const std::vector<Lane>& lanes : shapes) {
-    for (const Lane& l : lanes) {
+  for (const std::vector<LockstepLane>& lanes : shapes) {
+    for (const LockstepLane& l : lanes) {
       states.push_back(soda::make_state(*l.model));
       states.back().jitter = {l.seed, l.probability};
     }
@@ -391,9 +391,9 @@ TEST_CASE("lockstep batch of several shapes: replicas sharing their sines, mixed
   const std::vector<soda::Model> variants = variants_of(walker);
   const soda::Model& boxed = variants[7]; // a tight box with autoreverse: the replicas' waves turn apart
   REQUIRE(boxed.autoreverse);
-  std::vector<Lane> mixed; // walker's shape, 9 different models: 8 + 1 lanes, no sine shared
+  std::vector<LockstepLane> mixed; // walker's shape, 9 different models: 8 + 1 lanes, no sine shared
   for (std::size_t k = 0; k < 9; ++k) mixed.push_back({&variants[k % variants.size()], k % 2, 0.05});
-  const std::vector<std::vector<Lane>> shapes = {
+  const std::vector<std::vector<LockstepLane>> shapes = {
       replicas_of(walker, 8, 0, 0.01),  // one creature's replicas: sines shared, jittered lanes
       mixed,                            // the same links: stepped side by side with the group before
       replicas_of(slug, 3, 5, 0.01),    // another shape, a partial group
@@ -402,9 +402,9 @@ TEST_CASE("lockstep batch of several shapes: replicas sharing their sines, mixed
   };
   std::vector<std::vector<const soda::Model*>> models;
   std::vector<const soda::Model*> flat;
-  for (const std::vector<Lane>& lanes : shapes) {
+  for (const std::vector<LockstepLane>& lanes : shapes) {
     models.emplace_back();
-    for (const Lane& l : lanes) {
+    for (const LockstepLane& l : lanes) {
       models.back().push_back(l.model);
       flat.push_back(l.model);
     }
@@ -430,9 +430,9 @@ TEST_CASE("lockstep batch of several shapes: replicas sharing their sines, mixed
   for (int r = 1; r < 8; ++r) waves_parted = waves_parted || states[20].wave_phase != states[20 + static_cast<std::size_t>(r)].wave_phase;
   CHECK(waves_parted);
   // The same batch on other states: other seeds, from another start.
-  std::vector<std::vector<Lane>> again = shapes;
-  for (std::vector<Lane>& lanes : again) {
-    for (Lane& l : lanes) l.seed = l.seed == 0 ? 0 : l.seed + 100;
+  std::vector<std::vector<LockstepLane>> again = shapes;
+  for (std::vector<LockstepLane>& lanes : again) {
+    for (LockstepLane& l : lanes) l.seed = l.seed == 0 ? 0 : l.seed + 100;
   }
   std::vector<soda::State> other = states_of(again);
   for (soda::State& s : other) s.x[0] += 1.5;
@@ -455,13 +455,13 @@ TEST_CASE("BatchStepper: the GA's batch of replicas (creatures of several shapes
   const std::vector<soda::Model> variants = variants_of(walker);
   // As the replica estimator orders its rollouts: each creature's replicas in a
   // row, replica 0 exact; one creature scored once, exact.
-  std::vector<std::vector<Lane>> runs = {replicas_of(walker, 8, 0, 0.01), replicas_of(slug, 8, 0, 0.01),
+  std::vector<std::vector<LockstepLane>> runs = {replicas_of(walker, 8, 0, 0.01), replicas_of(slug, 8, 0, 0.01),
                                          replicas_of(variants[7], 8, 0, 0.05), {{&wheel, 0, 0.0}},
                                          replicas_of(variants[2], 8, 0, 0.01)};
   std::vector<const soda::Model*> models;
   std::vector<bool> jittered;
-  for (const std::vector<Lane>& lanes : runs) {
-    for (const Lane& l : lanes) {
+  for (const std::vector<LockstepLane>& lanes : runs) {
+    for (const LockstepLane& l : lanes) {
       models.push_back(l.model);
       jittered.push_back(l.seed != 0);
     }
@@ -469,9 +469,9 @@ TEST_CASE("BatchStepper: the GA's batch of replicas (creatures of several shapes
   soda::BatchStepper stepper(models, 3000, {}, jittered);
   if (soda::LockstepBatch::usable()) CHECK(stepper.lockstep_count() == 32);
   for (int round = 0; round < 2; ++round) {
-    std::vector<std::vector<Lane>> these = runs;
-    for (std::vector<Lane>& lanes : these) {
-      for (Lane& l : lanes) l.seed = l.seed == 0 ? 0 : l.seed + 50 * static_cast<std::uint64_t>(round);
+    std::vector<std::vector<LockstepLane>> these = runs;
+    for (std::vector<LockstepLane>& lanes : these) {
+      for (LockstepLane& l : lanes) l.seed = l.seed == 0 ? 0 : l.seed + 50 * static_cast<std::uint64_t>(round);
     }
     std::vector<soda::State> states = states_of(these);
     std::vector<soda::State*> pointers;

@@ -481,7 +481,7 @@ std::filesystem::path run_dir(const std::string& name) {
   return test::fresh_temp_dir("map_elites_" + name);
 }
 
-std::string text_of(const std::filesystem::path& p) { return soda::read_whole_file(p); }
+std::string archive_file_text(const std::filesystem::path& p) { return soda::read_whole_file(p); }
 
 } // namespace
 
@@ -498,13 +498,13 @@ TEST_CASE("MAP-Elites run: the same archive on 1, 2 and 8 threads, and resumed a
   CHECK(a.rollouts >= 2 * a.evaluations); // 2 replicas a creature, 2 more at a time
   CHECK(a.metrics.filled > 3);
   CHECK(b.evaluations == a.evaluations);
-  CHECK(text_of(one / "qd.csv") == text_of(two / "qd.csv"));
-  CHECK(text_of(one / "archive.json") == text_of(two / "archive.json"));
+  CHECK(archive_file_text(one / "qd.csv") == archive_file_text(two / "qd.csv"));
+  CHECK(archive_file_text(one / "archive.json") == archive_file_text(two / "archive.json"));
   const auto eight = run_dir("eight");
   ThreadEvaluator threads8(8, 3); // and batches of 3 creatures
   run_map_elites(eight, run.config, run.me, threads8, {});
-  CHECK(text_of(one / "qd.csv") == text_of(eight / "qd.csv"));
-  CHECK(text_of(one / "archive.json") == text_of(eight / "archive.json"));
+  CHECK(archive_file_text(one / "qd.csv") == archive_file_text(eight / "qd.csv"));
+  CHECK(archive_file_text(one / "archive.json") == archive_file_text(eight / "archive.json"));
 
   // Stopped after iteration 2 (as Ctrl-C stops it), then resumed to the end.
   std::atomic<bool> stop{false};
@@ -518,8 +518,8 @@ TEST_CASE("MAP-Elites run: the same archive on 1, 2 and 8 threads, and resumed a
   CHECK(first.last_iteration == 2);
   const MapElitesOutcome rest = run_map_elites(stopped, run.config, run.me, threads2, {});
   CHECK(rest.last_iteration == 4);
-  CHECK(text_of(one / "qd.csv") == text_of(stopped / "qd.csv"));
-  CHECK(text_of(one / "archive.json") == text_of(stopped / "archive.json"));
+  CHECK(archive_file_text(one / "qd.csv") == archive_file_text(stopped / "qd.csv"));
+  CHECK(archive_file_text(one / "archive.json") == archive_file_text(stopped / "archive.json"));
 
   // Killed in iteration 3, its qd.csv row written but checkpointed only at 2:
   // resumed from the checkpoint, the run ends as the uninterrupted one.
@@ -530,13 +530,13 @@ TEST_CASE("MAP-Elites run: the same archive on 1, 2 and 8 threads, and resumed a
     if (p.iteration == 3) throw std::runtime_error("killed");
   };
   CHECK_THROWS_WITH(run_map_elites(crashed, every2.config, every2.me, threads1, crash), "killed");
-  CHECK(text_of(crashed / "qd.csv").find("\n3,") != std::string::npos);
+  CHECK(archive_file_text(crashed / "qd.csv").find("\n3,") != std::string::npos);
   run_map_elites(crashed, every2.config, every2.me, threads2, {});
-  CHECK(text_of(one / "qd.csv") == text_of(crashed / "qd.csv"));
-  CHECK(text_of(one / "archive.json") == text_of(crashed / "archive.json"));
+  CHECK(archive_file_text(one / "qd.csv") == archive_file_text(crashed / "qd.csv"));
+  CHECK(archive_file_text(one / "archive.json") == archive_file_text(crashed / "archive.json"));
 
   // Elites carry their replica estimates; insertion resampled some of them.
-  const nlohmann::json archive = nlohmann::json::parse(text_of(one / "archive.json"));
+  const nlohmann::json archive = nlohmann::json::parse(archive_file_text(one / "archive.json"));
   REQUIRE(archive["cells"].size() == a.metrics.filled);
   long long gathered = 0;
   for (const auto& cell : archive["cells"]) {
@@ -602,8 +602,8 @@ TEST_CASE("corrected archive: every elite checked on fresh replicas; export --ar
   run_map_elites(dir, config, config.map_elites, threads, {});
   const CheckedArchive checked = write_checked_archive(dir, 2);
 
-  const nlohmann::json archive = nlohmann::json::parse(text_of(dir / "archive.json"));
-  const nlohmann::json j = nlohmann::json::parse(text_of(dir / "archive_checked.json"));
+  const nlohmann::json archive = nlohmann::json::parse(archive_file_text(dir / "archive.json"));
+  const nlohmann::json j = nlohmann::json::parse(archive_file_text(dir / "archive_checked.json"));
   REQUIRE(j["cells"].size() == archive["cells"].size());
   CHECK(j["check_replicas"] == 3);
   std::size_t ok = 0;
@@ -645,7 +645,7 @@ TEST_CASE("corrected archive: every elite checked on fresh replicas; export --ar
                                                 out.string());
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
-  const nlohmann::json champions = nlohmann::json::parse(text_of(out / "champions.json"));
+  const nlohmann::json champions = nlohmann::json::parse(archive_file_text(out / "champions.json"));
   REQUIRE(champions.size() == j["cells"].size());
   for (std::size_t i = 0; i < champions.size(); ++i) {
     nlohmann::json expected = j["cells"][i];

@@ -40,7 +40,7 @@ std::string mpirun(int ranks, const std::string& args, const std::string& env = 
          sodaevo_command(args);
 }
 
-fs::path work_dir(const std::string& name) { return sodaevo::test::fresh_temp_dir("mpi_" + name); }
+fs::path mpi_work_dir(const std::string& name) { return sodaevo::test::fresh_temp_dir("mpi_" + name); }
 
 fs::path write_config(const fs::path& dir, int generations) {
   const fs::path config = dir / "mpi_test.json";
@@ -54,23 +54,23 @@ fs::path write_config(const fs::path& dir, int generations) {
   return config;
 }
 
-std::string file(const fs::path& p) { return soda::read_whole_file(p); }
+std::string mpi_file_text(const fs::path& p) { return soda::read_whole_file(p); }
 
 /// Everything but timing.csv, manifest.json and checkpoint.json (wall times).
 void require_same_run_folder(const fs::path& a, const fs::path& b) {
-  CHECK(file(a / "config.json") == file(b / "config.json"));
-  CHECK(file(a / "generations.csv") == file(b / "generations.csv"));
+  CHECK(mpi_file_text(a / "config.json") == mpi_file_text(b / "config.json"));
+  CHECK(mpi_file_text(a / "generations.csv") == mpi_file_text(b / "generations.csv"));
   const std::vector<int> saved = sodaevo::saved_generations(a);
   REQUIRE(!saved.empty());
   CHECK(saved == sodaevo::saved_generations(b));
   for (const auto& entry : fs::directory_iterator(a / "best")) {
     INFO(entry.path().filename());
-    CHECK(file(entry.path()) == file(b / "best" / entry.path().filename()));
+    CHECK(mpi_file_text(entry.path()) == mpi_file_text(b / "best" / entry.path().filename()));
   }
   for (int g : saved) {
     INFO("generation " << g);
-    CHECK(file(a / "generations" / sodaevo::generation_file_name(g)) ==
-          file(b / "generations" / sodaevo::generation_file_name(g)));
+    CHECK(mpi_file_text(a / "generations" / sodaevo::generation_file_name(g)) ==
+          mpi_file_text(b / "generations" / sodaevo::generation_file_name(g)));
   }
   CHECK(std::distance(fs::directory_iterator(a / "best"), fs::directory_iterator()) ==
         std::distance(fs::directory_iterator(b / "best"), fs::directory_iterator()));
@@ -83,7 +83,7 @@ TEST_CASE("mpirun -np 3 (and -np 2 with 2 threads each) writes the same run fold
     WARN("skipped: " << why);
     return;
   }
-  const fs::path dir = work_dir("identical");
+  const fs::path dir = mpi_work_dir("identical");
   const fs::path config = write_config(dir, 6);
   const Ran one = run_sodaevo("evolve " + config.string() + " --out " + (dir / "one").string() + " --threads 2 --quiet");
   INFO(one.output);
@@ -108,7 +108,7 @@ TEST_CASE("a rank killed mid-run leaves a run folder that resumes on another N",
     WARN("skipped: " << why);
     return;
   }
-  const fs::path dir = work_dir("killed");
+  const fs::path dir = mpi_work_dir("killed");
   const fs::path config = write_config(dir, 8);
   REQUIRE(run_sodaevo("evolve " + config.string() + " --out " + (dir / "ref").string() + " --quiet").exit_code == 0);
 
@@ -128,7 +128,7 @@ TEST_CASE("a rank killed mid-run leaves a run folder that resumes on another N",
   sodaevo::RunStore store = sodaevo::RunStore::open(dir / "run");
   const auto checkpoint = store.read_checkpoint();
   if (checkpoint) CHECK(checkpoint->generation.index <= 1);
-  const std::string log = file(dir / "run" / "generations.csv");
+  const std::string log = mpi_file_text(dir / "run" / "generations.csv");
   CHECK(std::count(log.begin(), log.end(), '\n') <= 1 + 2); // header and at most generations 0 and 1
 
   const Ran resumed = run_shell(mpirun(2, "evolve --resume " + (dir / "run").string() + " --threads 1 --quiet"));
@@ -143,7 +143,7 @@ TEST_CASE("a failed evaluation on a worker stops the run with a message; it resu
     WARN("skipped: " << why);
     return;
   }
-  const fs::path dir = work_dir("failed");
+  const fs::path dir = mpi_work_dir("failed");
   const fs::path config = write_config(dir, 6);
   REQUIRE(run_sodaevo("evolve " + config.string() + " --out " + (dir / "ref").string() + " --quiet").exit_code == 0);
   const Ran failed = run_shell(mpirun(3, "evolve " + config.string() + " --out " + (dir / "run").string() + " --threads 1 --quiet",
@@ -168,7 +168,7 @@ TEST_CASE("MAP-Elites over mpirun -np 3 writes the archive of one process", "[mp
     WARN("skipped: " << why);
     return;
   }
-  const fs::path dir = work_dir("map_elites");
+  const fs::path dir = mpi_work_dir("map_elites");
   const fs::path config = dir / "me.json";
   std::ofstream(config) << R"({ "name": "mpime", "seed": 5, "algorithm": "map-elites",
   "population": { "size": 12, "seed_models": [")"
@@ -184,12 +184,12 @@ TEST_CASE("MAP-Elites over mpirun -np 3 writes the archive of one process", "[mp
   const Ran three = run_shell(mpirun(3, "evolve " + config.string() + " --out " + (dir / "three").string() + " --threads 1 --quiet"));
   INFO(three.output);
   REQUIRE(three.exit_code == 0);
-  CHECK(file(dir / "one" / "qd.csv") == file(dir / "three" / "qd.csv"));
-  CHECK(file(dir / "one" / "archive.json") == file(dir / "three" / "archive.json"));
+  CHECK(mpi_file_text(dir / "one" / "qd.csv") == mpi_file_text(dir / "three" / "qd.csv"));
+  CHECK(mpi_file_text(dir / "one" / "archive.json") == mpi_file_text(dir / "three" / "archive.json"));
   int elites = 0;
   for (const auto& entry : fs::directory_iterator(dir / "one" / "elites")) {
     INFO(entry.path().filename());
-    CHECK(file(entry.path()) == file(dir / "three" / "elites" / entry.path().filename()));
+    CHECK(mpi_file_text(entry.path()) == mpi_file_text(dir / "three" / "elites" / entry.path().filename()));
     ++elites;
   }
   CHECK(elites > 0);
@@ -202,7 +202,7 @@ TEST_CASE("the CLI says whether MPI is built in", "[mpi]") {
   CHECK(version.output.find(SODAEVO_HAS_MPI ? "MPI: yes" : "MPI: no") != std::string::npos);
   if (SODAEVO_HAS_MPI == 0) {
     // Started as if by mpirun with 3 ranks: refused with a clear message, nothing written.
-    const fs::path dir = work_dir("no_mpi");
+    const fs::path dir = mpi_work_dir("no_mpi");
     const fs::path config = write_config(dir, 2);
     const Ran r = run_shell("OMPI_COMM_WORLD_SIZE=3 " + sodaevo_command("evolve " + config.string() + " --out " + (dir / "run").string()));
     INFO(r.output);

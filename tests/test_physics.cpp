@@ -16,7 +16,7 @@ namespace {
 
 using sodaevo::bench::open_world;
 
-soda::NodeDef mass(double x, double y, double vx = 0, double vy = 0) {
+soda::NodeDef physics_mass(double x, double y, double vx = 0, double vy = 0) {
   return {"m", false, x, y, vx, vy};
 }
 
@@ -27,7 +27,7 @@ TEST_CASE("free fall follows the closed form of the frame recurrence", "[physics
   // y_n = y_0 + v*(n - a*(1 - a^n)/(1 - a)). Terminal speed a*g/f stays below 20.
   const double g = 0.3, f = 0.05, a = 1.0 - f, y0 = 90000.0;
   soda::ModelDef def = open_world(g, f, 0.2);
-  def.nodes.push_back(mass(500.0, y0));
+  def.nodes.push_back(physics_mass(500.0, y0));
   const soda::Model model = soda::build_model(def);
   soda::State s = soda::make_state(model);
   const double v_inf = -a * g / f;
@@ -47,7 +47,7 @@ TEST_CASE("the syrup threshold caps the speed at 20 px/frame", "[physics]") {
   // Without air friction gravity 1 would reach 21 px/frame after 21 frames; the
   // speed limiter scales it back to 20 (docs/physics.md, part 2 step 2).
   soda::ModelDef def = open_world(1.0, 0.0, 0.2);
-  def.nodes.push_back(mass(500.0, 90000.0));
+  def.nodes.push_back(physics_mass(500.0, 90000.0));
   const soda::Model model = soda::build_model(def);
   soda::State s = soda::make_state(model);
   for (int n = 1; n <= 200; ++n) {
@@ -66,7 +66,7 @@ TEST_CASE("a single spring oscillates with the period the recurrence predicts", 
   const double k = 0.2, rest = 100.0, e0 = 10.0;
   soda::ModelDef def = open_world(0.0, 0.0, k);
   def.nodes.push_back({"n", true, 50000.0, 50000.0, 0, 0});
-  def.nodes.push_back(mass(50000.0 + rest + e0, 50000.0));
+  def.nodes.push_back(physics_mass(50000.0 + rest + e0, 50000.0));
   def.links.push_back({soda::LinkKind::Spring, 0, 1, rest, 0, 0});
   const soda::Model model = soda::build_model(def);
   soda::State s = soda::make_state(model);
@@ -103,7 +103,7 @@ TEST_CASE("without friction, gravity and walls, momentum is conserved", "[physic
   def.wave = {1.0, 0.3, 0.02};
   const int masses = 12;
   for (int i = 0; i < masses; ++i) {
-    def.nodes.push_back(mass(50000 + 100 * uniform(), 50000 + 100 * uniform(), uniform() - 0.5, uniform() - 0.5));
+    def.nodes.push_back(physics_mass(50000 + 100 * uniform(), 50000 + 100 * uniform(), uniform() - 0.5, uniform() - 0.5));
   }
   for (int i = 0; i < masses; ++i) {
     for (int j = i + 1; j < masses; j += 3) {
@@ -144,7 +144,7 @@ TEST_CASE("without friction, gravity and walls, momentum is conserved", "[physic
 
 TEST_CASE("a mass at rest is not moved and fixed nodes ignore impulses", "[physics]") {
   soda::ModelDef def = open_world(0.0, 0.0, 0.5);
-  def.nodes.push_back(mass(100.0, 100.0, 5e-6, -5e-6)); // below the rest threshold 1e-5
+  def.nodes.push_back(physics_mass(100.0, 100.0, 5e-6, -5e-6)); // below the rest threshold 1e-5
   const soda::Model model = soda::build_model(def);
   soda::State s = soda::make_state(model);
   soda::step(model, s);
@@ -161,7 +161,7 @@ TEST_CASE("a mass crossing a fixed bar responds as the fixed-bar rule says (docs
   soda::ModelDef def = open_world(0.0, 0.0, 0.2);
   def.nodes.push_back({"n0", true, 100.0, 100.0, 0, 0});
   def.nodes.push_back({"n1", true, 500.0, 100.0, 0, 0});
-  def.nodes.push_back(mass(300.0, 105.0, 2.0, -10.0));
+  def.nodes.push_back(physics_mass(300.0, 105.0, 2.0, -10.0));
   def.links.push_back({soda::LinkKind::FixedBar, 0, 1, 0, 0, 0});
   const soda::Model model = soda::build_model(def);
   soda::State s = soda::make_state(model);
@@ -208,9 +208,9 @@ TEST_CASE("a model's derived constants are formed once, by hand-checked values",
   // 0.4 under a wave of amplitude 0.5: power 0.2 (a halving, exact); a spring: 0.
   soda::ModelDef def = open_world(0.3, 0.25, 0.2);
   def.wave.amplitude = 0.5;
-  def.nodes.push_back(mass(100.0, 100.0));
-  def.nodes.push_back(mass(150.0, 100.0));
-  def.nodes.push_back(mass(125.0, 140.0));
+  def.nodes.push_back(physics_mass(100.0, 100.0));
+  def.nodes.push_back(physics_mass(150.0, 100.0));
+  def.nodes.push_back(physics_mass(125.0, 140.0));
   def.links.push_back({soda::LinkKind::Muscle, 0, 1, 50.0, 0.4, 0.25});
   def.links.push_back({soda::LinkKind::Spring, 1, 2, 47.0, 0.0, 0.0});
   soda::Model model = soda::build_model(def);

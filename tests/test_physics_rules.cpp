@@ -36,7 +36,7 @@ ModelDef quiet_world() {
   return d;
 }
 
-soda::NodeDef mass(double x, double y, double vx = 0.0, double vy = 0.0) {
+soda::NodeDef rule_mass(double x, double y, double vx = 0.0, double vy = 0.0) {
   soda::NodeDef n;
   n.x = x;
   n.y = y;
@@ -53,7 +53,7 @@ soda::NodeDef fixed_node(double x, double y) {
   return n;
 }
 
-soda::LinkDef spring(int a, int b, double rest) {
+soda::LinkDef rule_spring(int a, int b, double rest) {
   soda::LinkDef l;
   l.kind = LinkKind::Spring;
   l.a = a;
@@ -81,7 +81,7 @@ Stepped stepped(const ModelDef& d, int frames = 1) {
 
 TEST_CASE("rule: the wave advances by speed times mode and wraps below 1", "[physics_rules]") {
   ModelDef d = quiet_world();
-  d.nodes = {mass(100, 100)};
+  d.nodes = {rule_mass(100, 100)};
   d.wave.speed = 0.01;
   d.wave.phase = 0.995;
   d.settings.wave_direction = WaveDirection::Forward;
@@ -107,8 +107,8 @@ TEST_CASE("rule: the wave advances by speed times mode and wraps below 1", "[phy
 
 TEST_CASE("rule: a spring pushes its ends by c = k (L - D) / L along B - A", "[physics_rules]") {
   ModelDef d = quiet_world();
-  d.nodes = {mass(10, 50), mass(40, 54)};
-  d.links = {spring(0, 1, 25.0)};
+  d.nodes = {rule_mass(10, 50), rule_mass(40, 54)};
+  d.links = {rule_spring(0, 1, 25.0)};
   const Stepped s = stepped(d);
   const double dx = 40.0 - 10.0, dy = 54.0 - 50.0;
   const double length = std::sqrt(dx * dx + dy * dy);
@@ -125,8 +125,8 @@ TEST_CASE("rule: a spring pushes its ends by c = k (L - D) / L along B - A", "[p
 
 TEST_CASE("rule: a muscle's length is rest (1 + (Aw Am) sin(2 pi (phi_m - phi_w)))", "[physics_rules]") {
   ModelDef d = quiet_world();
-  d.nodes = {mass(10, 50), mass(40, 50)};
-  soda::LinkDef muscle = spring(0, 1, 25.0);
+  d.nodes = {rule_mass(10, 50), rule_mass(40, 50)};
+  soda::LinkDef muscle = rule_spring(0, 1, 25.0);
   muscle.kind = LinkKind::Muscle;
   muscle.amplitude = 0.5;
   muscle.phase = 0.3;
@@ -149,8 +149,8 @@ TEST_CASE("rule: a muscle's length is rest (1 + (Aw Am) sin(2 pi (phi_m - phi_w)
 TEST_CASE("rule: links act in file order, each impulse added at once", "[physics_rules]") {
   // Mass 1 between two springs: its velocity is ((0 + i0) + i1) in file order.
   ModelDef d = quiet_world();
-  d.nodes = {mass(0.1, 50), mass(30.3, 50.7), mass(71.9, 49.3)};
-  d.links = {spring(0, 1, 20.0), spring(1, 2, 33.3)};
+  d.nodes = {rule_mass(0.1, 50), rule_mass(30.3, 50.7), rule_mass(71.9, 49.3)};
+  d.links = {rule_spring(0, 1, 20.0), rule_spring(1, 2, 33.3)};
   const Stepped s = stepped(d);
   const double dx0 = 30.3 - 0.1, dy0 = 50.7 - 50.0;
   const double l0 = std::sqrt(dx0 * dx0 + dy0 * dy0);
@@ -164,8 +164,8 @@ TEST_CASE("rule: links act in file order, each impulse added at once", "[physics
 
 TEST_CASE("rule: a link of length 0 is skipped", "[physics_rules]") {
   ModelDef d = quiet_world();
-  d.nodes = {mass(20, 50, 0.5, 0.25), mass(20, 50, -1.5, 0.0)};
-  d.links = {spring(0, 1, 10.0)};
+  d.nodes = {rule_mass(20, 50, 0.5, 0.25), rule_mass(20, 50, -1.5, 0.0)};
+  d.links = {rule_spring(0, 1, 10.0)};
   const Stepped s = stepped(d);
   CHECK(same(s.state.vx[0], 0.5));
   CHECK(same(s.state.vy[0], 0.25));
@@ -176,8 +176,8 @@ TEST_CASE("rule: a link of length 0 is skipped", "[physics_rules]") {
 TEST_CASE("rule: a fixed node is neither pushed nor moved", "[physics_rules]") {
   ModelDef d = quiet_world();
   d.environment.gravity = 0.3;
-  d.nodes = {fixed_node(10, 50), mass(10, 80)};
-  d.links = {spring(0, 1, 20.0)};
+  d.nodes = {fixed_node(10, 50), rule_mass(10, 80)};
+  d.links = {rule_spring(0, 1, 20.0)};
   Stepped s = stepped(d, 3);
   const int fixed = s.model.point_of_node[0];
   CHECK(same(s.state.x[fixed], 10.0));
@@ -195,7 +195,7 @@ TEST_CASE("rule: a fixed node is neither pushed nor moved", "[physics_rules]") {
 TEST_CASE("rule: gravity changes vy by -g d, d = +1 down, -1 up, 0 off", "[physics_rules]") {
   ModelDef d = quiet_world();
   d.environment.gravity = 0.3;
-  d.nodes = {mass(100, 100, 0.0, 0.7)};
+  d.nodes = {rule_mass(100, 100, 0.0, 0.7)};
   d.settings.gravity_direction = GravityDirection::Down;
   CHECK(same(stepped(d).state.vy[0], 0.7 - 0.3));
   d.settings.gravity_direction = GravityDirection::Up;
@@ -208,7 +208,7 @@ TEST_CASE("rule: air friction keeps 1 - f, and gravity's kick is damped too", "[
   ModelDef d = quiet_world();
   d.environment.gravity = 0.3;
   d.environment.friction = 0.05;
-  d.nodes = {mass(100, 100, 2.5, 1.0)};
+  d.nodes = {rule_mass(100, 100, 2.5, 1.0)};
   const Stepped s = stepped(d);
   CHECK(same(s.state.vx[0], (1.0 - 0.05) * 2.5));
   CHECK(same(s.state.vy[0], (1.0 - 0.05) * (1.0 - 0.3)));
@@ -218,7 +218,7 @@ TEST_CASE("rule: air friction keeps 1 - f, and gravity's kick is damped too", "[
 TEST_CASE("rule: above 20 px/frame the syrup scales by 20/v, the quotient formed first", "[physics_rules]") {
   ModelDef d = quiet_world();
   d.environment.friction = 0.05;
-  d.nodes = {mass(500, 500, 30.0, 41.0)};
+  d.nodes = {rule_mass(500, 500, 30.0, 41.0)};
   const double v = std::sqrt(30.0 * 30.0 + 41.0 * 41.0);
   const double factor = (1.0 - 0.05) * (20.0 / v);
   REQUIRE(!same(factor * 30.0, ((1.0 - 0.05) * 20.0) / v * 30.0)); // the order shows here
@@ -227,13 +227,13 @@ TEST_CASE("rule: above 20 px/frame the syrup scales by 20/v, the quotient formed
   CHECK(same(s.state.vy[0], factor * 41.0));
   CHECK(same(s.state.x[0], 500.0 + factor * 30.0));
   // At 20 px/frame exactly there is no syrup.
-  d.nodes = {mass(500, 500, 12.0, 16.0)};
+  d.nodes = {rule_mass(500, 500, 12.0, 16.0)};
   CHECK(same(stepped(d).state.vx[0], (1.0 - 0.05) * 12.0));
 }
 
 TEST_CASE("rule: a mass slower than 1e-5 in both components is not moved", "[physics_rules]") {
   ModelDef d = quiet_world();
-  d.nodes = {mass(100, 100, 9.9e-6, -9.9e-6), mass(200, 100, 1e-5, 0.0)};
+  d.nodes = {rule_mass(100, 100, 9.9e-6, -9.9e-6), rule_mass(200, 100, 1e-5, 0.0)};
   const Stepped s = stepped(d);
   CHECK(same(s.state.x[0], 100.0));
   CHECK(same(s.state.y[0], 100.0));
@@ -245,7 +245,7 @@ TEST_CASE("rule: the floor and the ceiling clamp y and respond with Rs and Fs", 
   ModelDef d = quiet_world();
   d.collisions.surface_friction = 0.1;
   d.collisions.surface_reflection = -0.75;
-  d.nodes = {mass(100, 1, 2.0, -3.0), mass(100, 998, 2.0, 3.0)};
+  d.nodes = {rule_mass(100, 1, 2.0, -3.0), rule_mass(100, 998, 2.0, 3.0)};
   const Stepped s = stepped(d);
   CHECK(same(s.state.y[0], 0.0));
   CHECK(same(s.state.x[0], 102.0)); // x keeps its full move
@@ -260,7 +260,7 @@ TEST_CASE("rule: side walls clamp x and respond with Rs and Fs, except in a corn
   ModelDef d = quiet_world();
   d.collisions.surface_friction = 0.1;
   d.collisions.surface_reflection = -0.75;
-  d.nodes = {mass(1, 100, -3.0, 2.0), mass(999, 100, 3.0, 2.0), mass(1, 1, -3.0, -2.0)};
+  d.nodes = {rule_mass(1, 100, -3.0, 2.0), rule_mass(999, 100, 3.0, 2.0), rule_mass(1, 1, -3.0, -2.0)};
   const Stepped s = stepped(d);
   CHECK(same(s.state.x[0], 0.0));
   CHECK(same(s.state.y[0], 102.0));
@@ -281,13 +281,13 @@ TEST_CASE("rule: autoreverse toggles the wave once per new side wall", "[physics
   d.wave.speed = 0.01;
   d.collisions.surface_reflection = 0.0; // masses stay against the wall
   // Two masses hit the right wall in the same frame: one toggle.
-  d.nodes = {mass(999, 100, 3.0, 0.0), mass(998, 200, 5.0, 0.0)};
+  d.nodes = {rule_mass(999, 100, 3.0, 0.0), rule_mass(998, 200, 5.0, 0.0)};
   Stepped s = stepped(d);
   CHECK(s.state.wave_mode == WaveDirection::Reverse);
   CHECK(s.state.last_side_wall == soda::SideWall::Right);
   CHECK(same(s.state.wave_phase, (0.0 + 0.01 * -1.0) + 1.0)); // the wave moves after the toggle
   // Hitting the same wall again: nothing.
-  d.nodes = {mass(999, 100, 3.0, 0.0), mass(500, 200, 0.0, 0.0)};
+  d.nodes = {rule_mass(999, 100, 3.0, 0.0), rule_mass(500, 200, 0.0, 0.0)};
   s = stepped(d);
   CHECK(s.state.wave_mode == WaveDirection::Reverse);
   s.state.vx[0] = 4.0;

@@ -203,7 +203,7 @@ const char* const kTerrain =
     "<node id=\"n0\" x=\"0.0\" y=\"10.0\"/><node id=\"n1\" x=\"651.0\" y=\"10.0\"/></nodes>"
     "<links><fixedbar a=\"n0\" b=\"n1\"/></links></model></terrain>\n";
 
-std::string error_of(const std::string& text) {
+std::string race_error_of(const std::string& text) {
   try {
     (void)soda::read_race_text(text, "bad.xml");
   } catch (const soda::InputError& e) {
@@ -216,25 +216,25 @@ std::string error_of(const std::string& text) {
 
 TEST_CASE("bad race files: errors name file, line, column, element, attribute, expected and got", "[race]") {
   const std::string timeout = "<timeout value=\"10000\"/>\n";
-  CHECK(error_of(race_text("racer=\"racer.Racer\"", timeout + kTerrain)).empty());
-  std::string e = error_of(race_text("racer=\"racer.Racer\"", timeout));
+  CHECK(race_error_of(race_text("racer=\"racer.Racer\"", timeout + kTerrain)).empty());
+  std::string e = race_error_of(race_text("racer=\"racer.Racer\"", timeout));
   CHECK_THAT(e, Catch::Contains("bad.xml:2:") && Catch::Contains("<race") && Catch::Contains("terrain"));
-  e = error_of(race_text("racer=\"my.Racer\"", timeout + kTerrain));
+  e = race_error_of(race_text("racer=\"my.Racer\"", timeout + kTerrain));
   CHECK_THAT(e, Catch::Contains("racer") && Catch::Contains("'racer.Racer'") && Catch::Contains("'my.Racer'"));
-  e = error_of(race_text("", "<timeout value=\"-5\"/>\n" + std::string(kTerrain)));
+  e = race_error_of(race_text("", "<timeout value=\"-5\"/>\n" + std::string(kTerrain)));
   CHECK_THAT(e, Catch::Contains("bad.xml:3:") && Catch::Contains("value") && Catch::Contains("'-5'"));
-  e = error_of(race_text("", "<timeout value=\"100000000\"/>\n" + std::string(kTerrain)));
+  e = race_error_of(race_text("", "<timeout value=\"100000000\"/>\n" + std::string(kTerrain)));
   CHECK_THAT(e, Catch::Contains("expected an integer in [1, 49997]"));
-  e = error_of(race_text("", timeout + kTerrain + "<race_constraints><wave speed=\"BOTH\"/></race_constraints>\n"));
+  e = race_error_of(race_text("", timeout + kTerrain + "<race_constraints><wave speed=\"BOTH\"/></race_constraints>\n"));
   CHECK_THAT(e, Catch::Contains("bad.xml:5:") && Catch::Contains("speed") && Catch::Contains("CONTENDER or RACER") &&
                     Catch::Contains("'BOTH'"));
   std::string terrain = kTerrain;
   terrain.replace(terrain.find("racer.FilterFixedBars"), 21, "racer.FilterOther");
-  e = error_of(race_text("", timeout + terrain));
+  e = race_error_of(race_text("", timeout + terrain));
   CHECK_THAT(e, Catch::Contains("filter") && Catch::Contains("'racer.FilterOther'"));
   terrain = kTerrain;
   terrain.replace(terrain.find("x=\"651.0\""), 9, "x=\"3e9\"");
-  e = error_of(race_text("", timeout + terrain));
+  e = race_error_of(race_text("", timeout + terrain));
   CHECK_THAT(e, Catch::Contains("terrain at most"));
   // A contender with only fixed nodes (so one last in <nodes>): no result, as the
   // racer's filter fails; the reason names it.

@@ -39,7 +39,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-soda::ModelDef dainty() { return soda::read_model_file(test::models_dir() / "dainty_walker.xml").def; }
+soda::ModelDef render_dainty() { return soda::read_model_file(test::models_dir() / "dainty_walker.xml").def; }
 
 int count_kind(const soda::ModelDef& def, soda::LinkKind kind) {
   return static_cast<int>(std::count_if(def.links.begin(), def.links.end(), [&](const soda::LinkDef& l) { return l.kind == kind; }));
@@ -110,7 +110,7 @@ std::string unbalanced_html(const std::string& html) {
   return open.empty() ? std::string() : "unclosed <" + open.back() + ">";
 }
 
-int count_of(const std::string& text, const std::string& needle) {
+int render_count_of(const std::string& text, const std::string& needle) {
   int n = 0;
   for (std::size_t p = 0; (p = text.find(needle, p)) != std::string::npos; p += needle.size()) ++n;
   return n;
@@ -154,7 +154,7 @@ fs::path finished_run(const RunConfig& config, const std::string& name) {
 } // namespace
 
 TEST_CASE("motion: samples every k frames and the last, positions from the reference step", "[render]") {
-  const soda::ModelDef def = dainty();
+  const soda::ModelDef def = render_dainty();
   const Motion m = record_motion(def, 1000, 7);
   REQUIRE(m.samples() == 1000 / 7 + 2); // 0, 7, ..., 994, then 1000
   CHECK(m.sample_frames.front() == 0);
@@ -178,7 +178,7 @@ TEST_CASE("motion: samples every k frames and the last, positions from the refer
 }
 
 TEST_CASE("motion: in the continuous mode, the positions of the continuous stepper", "[render]") {
-  const soda::ModelDef def = dainty();
+  const soda::ModelDef def = render_dainty();
   const soda::Stepping verlet{soda::PhysicsMode::Continuous, soda::Integrator::Verlet, 4};
   const Motion m = record_motion(def, 300, 50, verlet);
   const Motion original = record_motion(def, 300, 50);
@@ -208,7 +208,7 @@ TEST_CASE("motion: the sample interval keeps at most the asked number of samples
 }
 
 TEST_CASE("filmstrip: well-formed SVG, a panel per still, every mass and link drawn", "[render]") {
-  soda::ModelDef def = dainty();
+  soda::ModelDef def = render_dainty();
   def.name = "Dainty <& friends>";
   const Motion m = record_motion(def, 1200, 4);
   FilmstripOptions options;
@@ -249,7 +249,7 @@ TEST_CASE("filmstrip: well-formed SVG, a panel per still, every mass and link dr
 }
 
 TEST_CASE("player page: self-contained, controls present, every sample embedded", "[render]") {
-  const soda::ModelDef def = dainty();
+  const soda::ModelDef def = render_dainty();
   const Motion m = record_motion(def, 600, 3);
   const std::string html = render_player_page(m, "Dainty </script> Walker", "subtitle");
   CHECK(html.rfind("<!DOCTYPE html>", 0) == 0);
@@ -263,7 +263,7 @@ TEST_CASE("player page: self-contained, controls present, every sample embedded"
   CHECK(html.find("src=") == std::string::npos);
   CHECK(html.find("http://") == std::string::npos);
   CHECK(html.find("https://") == std::string::npos);
-  CHECK(count_of(html, "</script>") == count_of(html, "<script")); // the title cannot end a script early
+  CHECK(render_count_of(html, "</script>") == render_count_of(html, "<script")); // the title cannot end a script early
   const nlohmann::json j = embedded_json(html, "player-motion");
   CHECK(j["frames"].size() == 201); // 0, 3, ..., 600
   CHECK(j["frames"].back() == 600);
@@ -302,7 +302,7 @@ TEST_CASE("run report: config, charts, table and players for a finished run", "[
   CHECK(first_table_row_holds(html, best_of_generations_csv(dir)));
 
   // The Dainty Walker, scored as the run scores, in the table and as a player.
-  const Evaluation classic = evaluate_creature(creature_from_seed(dainty(), c), c);
+  const Evaluation classic = evaluate_creature(creature_from_seed(render_dainty(), c), c);
   REQUIRE(classic.ok());
   char classic_text[32];
   std::snprintf(classic_text, sizeof classic_text, "%.1f", classic.fitness);
@@ -311,7 +311,7 @@ TEST_CASE("run report: config, charts, table and players for a finished run", "[
   CHECK(html.find(classic_text, classic_row) < html.find("</tr>", classic_row));
 
   // Players: the champion first, the classic last; each the whole trial.
-  const int players = count_of(html, "<div class=\"soda-player\"");
+  const int players = render_count_of(html, "<div class=\"soda-player\"");
   REQUIRE(players >= 2);
   for (int p = 0; p < players; ++p) {
     const nlohmann::json j = embedded_json(html, "player" + std::to_string(p) + "-motion");

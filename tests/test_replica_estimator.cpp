@@ -33,7 +33,7 @@ RunConfig walker_config(int replicas, int replicas_max) {
   return c;
 }
 
-soda::ModelDef dainty() { return soda::read_model_file(test::models_dir() / "dainty_walker.xml").def; }
+soda::ModelDef estimator_dainty() { return soda::read_model_file(test::models_dir() / "dainty_walker.xml").def; }
 
 /// The distance of one replica run by hand with the reference step (soda::run),
 /// independent of the problem's batched rollouts.
@@ -53,7 +53,7 @@ Generation generation_of(int count, const std::function<void(soda::ModelDef&, in
   for (int i = 0; i < count; ++i) {
     Individual ind;
     ind.id = "g0-" + std::to_string(i);
-    ind.creature = dainty();
+    ind.creature = estimator_dainty();
     vary(ind.creature, i);
     g.individuals.push_back(ind);
   }
@@ -64,7 +64,7 @@ Generation generation_of(int count, const std::function<void(soda::ModelDef&, in
 
 TEST_CASE("replica seeds: replica 0 exact, the others nonzero, distinct, and apart from the check's",
           "[replicas]") {
-  const std::uint64_t key = creature_key(dainty());
+  const std::uint64_t key = creature_key(estimator_dainty());
   CHECK(replica_seed(1, ReplicaPurpose::Selection, key, 0) == 0);
   std::set<std::uint64_t> seen;
   for (int r = 1; r < 200; ++r) {
@@ -77,7 +77,7 @@ TEST_CASE("replica seeds: replica 0 exact, the others nonzero, distinct, and apa
   CHECK(replica_seed(1, ReplicaPurpose::Check, key, 0) != 0);
   CHECK(replica_seed(2, ReplicaPurpose::Selection, key, 5) != replica_seed(1, ReplicaPurpose::Selection, key, 5));
   // The key is the genome: a renamed copy has the same replicas.
-  soda::ModelDef renamed = dainty();
+  soda::ModelDef renamed = estimator_dainty();
   renamed.name = "another name";
   CHECK(creature_key(renamed) == key);
   renamed.nodes[0].x += 1.0;
@@ -99,7 +99,7 @@ TEST_CASE("replicas: each replica is the reference step with its jitter; replica
   const RunConfig config = walker_config(6, 12);
   const WalkProblem problem(config);
   const ReplicaEstimator estimator(replica_plan(config));
-  const soda::ModelDef creature = dainty();
+  const soda::ModelDef creature = estimator_dainty();
   const Evaluation e = estimator.estimate(problem, {&creature}).front();
   REQUIRE(e.ok());
   REQUIRE(e.estimate.rollouts == 6);
@@ -242,7 +242,7 @@ TEST_CASE("confirmation ranks again: a lucky best falls back and the next is con
   for (const char* name : {"E", "D", "C", "B", "A"}) {
     Individual ind;
     ind.id = name;
-    ind.creature = dainty();
+    ind.creature = estimator_dainty();
     ind.creature.name = name;
     g.individuals.push_back(ind);
   }
@@ -273,7 +273,7 @@ TEST_CASE("a saved generation keeps each creature's estimate", "[replicas]") {
   Generation g;
   Individual ind;
   ind.id = "g0-0";
-  ind.creature = dainty();
+  ind.creature = estimator_dainty();
   g.individuals.push_back(ind);
   ThreadEvaluator one(1);
   evaluate_generation(one, g, problem, estimator);
@@ -292,7 +292,7 @@ TEST_CASE("the check on fresh replicas: exact distance, the fresh ensemble, the 
   const ReplicaEstimator estimator(replica_plan(config));
   Individual ind;
   ind.id = "g3-1";
-  ind.creature = dainty();
+  ind.creature = estimator_dainty();
   ind.evaluation = estimator.estimate(problem, {&ind.creature}).front();
   const ReplicaCheck c = check_on_fresh_replicas(problem, ind, replica_plan(config), 5);
   REQUIRE(c.ok);

@@ -49,7 +49,7 @@ struct TempDir {
 };
 
 /// The message of the InputError parsing `text` throws ("" and a failed check if none).
-std::string error_of(const std::string& text, const fs::path& base = fs::temp_directory_path()) {
+std::string config_error_of(const std::string& text, const fs::path& base = fs::temp_directory_path()) {
   try {
     sodaevo::parse_run_config(text, "t.json", base);
   } catch (const soda::InputError& e) {
@@ -216,7 +216,7 @@ TEST_CASE("config: defaults of an (almost) empty config", "[config]") {
 }
 
 TEST_CASE("config: no seed models demand random_fraction 1", "[config]") {
-  const std::string e = error_of("{}");
+  const std::string e = config_error_of("{}");
   CHECK(lines_of(e).size() == 1);
   CHECK(e.rfind("t.json: /population/random_fraction: expected 1 when /population/seed_models is empty", 0) == 0);
   CHECK(e.find("got 0.5") != std::string::npos);
@@ -360,7 +360,7 @@ TEST_CASE("config: the sodarace preset", "[config]") {
             .world.evolve == std::vector<std::string>{"friction"});
   CHECK(parse(R"({"preset": "sodarace", "world": {"evolve": []}, "population": {"random_fraction": 1}})")
             .world.evolve.empty());
-  const std::string e = error_of(R"({"preset": "Sodarace", "population": {"random_fraction": 1}})");
+  const std::string e = config_error_of(R"({"preset": "Sodarace", "population": {"random_fraction": 1}})");
   CHECK(e == R"(t.json: /preset: expected one of "none" or "sodarace", got "Sodarace")");
 }
 
@@ -497,7 +497,7 @@ TEST_CASE("config: one error per problem, each naming pointer, expectation and v
   };
   for (const Row& row : rows) {
     INFO(row.text);
-    const std::string e = error_of(row.text);
+    const std::string e = config_error_of(row.text);
     INFO(e);
     const auto lines = lines_of(e);
     // The /world/evolve duplicate-key row also reports the element itself.
@@ -508,17 +508,17 @@ TEST_CASE("config: one error per problem, each naming pointer, expectation and v
 }
 
 TEST_CASE("config: unknown keys come with a suggestion", "[config]") {
-  const std::string e = error_of(R"({"mutation": {"add_lnk": {"rate": 0.1}}, "population": {"random_fraction": 1}})");
+  const std::string e = config_error_of(R"({"mutation": {"add_lnk": {"rate": 0.1}}, "population": {"random_fraction": 1}})");
   for (const char* op : {"muscle_phase", "muscle_amplitude", "rest_length", "wave", "move_mass", "add_link",
                          "remove_link", "toggle_muscle", "add_mass", "remove_mass", "world"}) {
     CHECK(e.find(op) != std::string::npos);
   }
   CHECK(e.find("did you mean \"add_link\"?") != std::string::npos);
-  CHECK(error_of(R"({"zzzzzzzz": 1, "population": {"random_fraction": 1}})").find("did you mean") == std::string::npos);
+  CHECK(config_error_of(R"({"zzzzzzzz": 1, "population": {"random_fraction": 1}})").find("did you mean") == std::string::npos);
 }
 
 TEST_CASE("config: all errors are reported together", "[config]") {
-  const std::string e = error_of(R"({
+  const std::string e = config_error_of(R"({
     "seed": -1,
     "population": {"size": 1, "random_fraction": 2},
     "mutation": {"add_lnk": {}},
@@ -537,17 +537,17 @@ TEST_CASE("config: all errors are reported together", "[config]") {
 }
 
 TEST_CASE("config: JSON syntax errors give line and column", "[config]") {
-  CHECK(error_of("{\n  \"seed\": 1,\n  \"name\": \n}").rfind("t.json:4:1: ", 0) == 0);
-  CHECK(error_of("{\r\n  \"seed\": 1,\r\n  \"name\" 3\r\n}").rfind("t.json:3:10: ", 0) == 0);
-  CHECK(error_of("{\"seed\": 1").rfind("t.json:1:11: ", 0) == 0); // end of input
-  CHECK(error_of("").rfind("t.json:1:1: ", 0) == 0);
-  CHECK(error_of("{\n  \"a\": 1,\n  \"b\": [1, 2,, 3]\n}").rfind("t.json:3:14: ", 0) == 0);
+  CHECK(config_error_of("{\n  \"seed\": 1,\n  \"name\": \n}").rfind("t.json:4:1: ", 0) == 0);
+  CHECK(config_error_of("{\r\n  \"seed\": 1,\r\n  \"name\" 3\r\n}").rfind("t.json:3:10: ", 0) == 0);
+  CHECK(config_error_of("{\"seed\": 1").rfind("t.json:1:11: ", 0) == 0); // end of input
+  CHECK(config_error_of("").rfind("t.json:1:1: ", 0) == 0);
+  CHECK(config_error_of("{\n  \"a\": 1,\n  \"b\": [1, 2,, 3]\n}").rfind("t.json:3:14: ", 0) == 0);
   // A number too large for a double: nlohmann reports no position; we find it.
-  const std::string big = error_of("{\n  \"comment\": \"1e999\",\n  \"seed\": 1e999\n}");
+  const std::string big = config_error_of("{\n  \"comment\": \"1e999\",\n  \"seed\": 1e999\n}");
   CHECK(big.rfind("t.json:3:11: ", 0) == 0);
   CHECK(big.find("1e999") != std::string::npos);
   // Comments are not JSON.
-  CHECK(error_of("{\n  // a comment\n  \"seed\": 1\n}").rfind("t.json:2:", 0) == 0);
+  CHECK(config_error_of("{\n  // a comment\n  \"seed\": 1\n}").rfind("t.json:2:", 0) == 0);
 }
 
 TEST_CASE("config: read_run_config resolves and checks seed models", "[config]") {
@@ -732,7 +732,7 @@ TEST_CASE("config: a seed-model pattern expands to the matching files, sorted", 
     CHECK(fs::path(c.population.seed_models[i]).filename() == expected_names[i]);
     CHECK(fs::path(c.population.seed_models[i]).is_absolute());
   }
-  const std::string error = error_of(R"({"population": {"seed_models": ["seeds/none_*.xml"]}})", dir.path);
+  const std::string error = config_error_of(R"({"population": {"seed_models": ["seeds/none_*.xml"]}})", dir.path);
   CHECK(error.find("t.json: /population/seed_models/0: expected a pattern matching at least one model file") !=
         std::string::npos);
   CHECK(error.find("\"seeds/none_*.xml\"") != std::string::npos);

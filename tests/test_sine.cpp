@@ -28,7 +28,7 @@ double contracted_sine(double x);
 namespace {
 
 std::uint64_t bits(double v) { return std::bit_cast<std::uint64_t>(v); }
-double from_bits(std::uint64_t b) { return std::bit_cast<double>(b); }
+double sine_from_bits(std::uint64_t b) { return std::bit_cast<double>(b); }
 
 struct GoldenSine {
   std::string set;
@@ -48,7 +48,7 @@ std::vector<GoldenSine> read_golden_sines(const std::string& file) {
       char set[32];
       unsigned long long x = 0, m = 0;
       if (std::sscanf(line, "%31s %llx %llx", set, &x, &m) != 3) continue;
-      out.push_back({set, from_bits(x), m});
+      out.push_back({set, sine_from_bits(x), m});
     }
     gzclose(f);
     return out;
@@ -78,7 +78,7 @@ std::map<std::string, std::pair<int, int>> compare_sets(const std::vector<Golden
       ++equal;
     } else if (compared - equal <= 3) {
       FAIL_CHECK(g.set << ": sine(" << std::hexfloat << g.x << ") = " << got << ", Math.sin gives "
-                       << from_bits(g.math_sin));
+                       << sine_from_bits(g.math_sin));
     }
   }
   for (const auto& [set, counts] : per_set) {
@@ -148,7 +148,7 @@ TEST_CASE("soda::sine at the ends: x below 2^-252, Java's NaNs", "[sine]") {  //
   // x86's NaNs: infinity times -0 is the default NaN; a NaN comes back quieted.
   CHECK(bits(soda::sine(HUGE_VAL)) == 0xfff8000000000000ULL);
   CHECK(bits(soda::sine(-HUGE_VAL)) == 0xfff8000000000000ULL);
-  CHECK(bits(soda::sine(from_bits(0x7ff0000000000001ULL))) == 0x7ff8000000000001ULL);
+  CHECK(bits(soda::sine(sine_from_bits(0x7ff0000000000001ULL))) == 0x7ff8000000000001ULL);
 }
 
 TEST_CASE("contraction into fused multiply-adds would break the sine", "[sine]") {

@@ -28,7 +28,7 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-soda::NodeDef mass(double x, double y) { return {"m" + std::to_string(static_cast<long long>(x)), false, x, y, 0, 0}; }
+soda::NodeDef stability_mass(double x, double y) { return {"m" + std::to_string(static_cast<long long>(x)), false, x, y, 0, 0}; }
 soda::NodeDef fixed(double x, double y) { return {"f" + std::to_string(static_cast<long long>(x)), true, x, y, 0, 0}; }
 
 /// Two masses `length` apart along a direction at `angle`, one spring of rest `rest`.
@@ -44,7 +44,7 @@ soda::ModelDef one_spring(double k, double length, double rest, double angle) {
 /// fixed ends, a fixed node at each end joined by a spring too.
 soda::ModelDef chain(int n, double k, bool fixed_ends) {
   soda::ModelDef def = sodaevo::bench::open_world(0.0, 0.0, k);
-  for (int i = 1; i <= n; ++i) def.nodes.push_back(mass(100.0 + 10.0 * i, 500.0));
+  for (int i = 1; i <= n; ++i) def.nodes.push_back(stability_mass(100.0 + 10.0 * i, 500.0));
   for (int i = 0; i + 1 < n; ++i) def.links.push_back({soda::LinkKind::Spring, i, i + 1, 10.0, 0, 0});
   if (fixed_ends) {
     def.nodes.push_back(fixed(100.0, 500.0));

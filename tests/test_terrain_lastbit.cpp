@@ -68,7 +68,7 @@ const std::vector<LastbitScene>& lastbit_scenes() {
   return scenes;
 }
 
-std::string full(double v) {
+std::string lastbit_full_text(double v) {
   char text[32];
   std::snprintf(text, sizeof text, "%.17g", v);
   return text;
@@ -86,8 +86,8 @@ std::string row_difference(const LastbitScene& scene, const soda::State& state, 
   const char* const names[] = {"x", "y", "vx", "vy"};
   for (std::size_t k = 0; k < ours.size(); ++k) {
     if (!same_bits(ours[k], gold.values[k])) {
-      return at + "mass " + std::to_string(k / 4) + " " + names[k % 4] + " ours " + full(ours[k]) + ", golden " +
-             full(gold.values[k]);
+      return at + "mass " + std::to_string(k / 4) + " " + names[k % 4] + " ours " + lastbit_full_text(ours[k]) + ", golden " +
+             lastbit_full_text(gold.values[k]);
     }
   }
   return {};
