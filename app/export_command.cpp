@@ -109,14 +109,11 @@ void run_export(const ExportOptions& opt) {
   nlohmann::json champions = nlohmann::json::array();
   for (std::size_t i = 0; i < best.size(); ++i) {
     const Individual& ind = best[i];
-    soda::ModelDef prepared = problem->export_form(ind.creature, ind.id, ind.evaluation);
-    prepared.comment += "; " + check_comment(checks[i], unit);
-    char name[64];
-    std::snprintf(name, sizeof name, "rank%02d_%s.xml", static_cast<int>(i + 1), ind.id.c_str());
-    const std::filesystem::path file = std::filesystem::path(opt.out) / name;
-    soda::write_model_file(file, prepared);
-    warn_if_in_pieces(config, prepared, file);
-    champions.push_back(champion_json(checks[i], name, config));
+    const ExportedChampion exported =
+        export_ranked_champion(*problem, ind, checks[i], config, unit, opt.out, static_cast<int>(i + 1));
+    const std::filesystem::path& file = exported.file;
+    warn_if_in_pieces(config, exported.prepared, file);
+    champions.push_back(exported.entry);
     const ReplicaCheck& c = checks[i];
     std::printf("%4zu  %-12s  %12.3f   %8d   %10.3f [%.3f, %.3f]%s   %s\n", i + 1, ind.id.c_str(), ind.evaluation.fitness,
                 ind.evaluation.estimate.rollouts, c.check.median, c.check.interval95_low, c.check.interval95_high,

@@ -18,6 +18,16 @@ inline constexpr double kWorstFitness = -std::numeric_limits<double>::infinity()
 
 enum class EvaluationStatus { Ok, Invalid, Diverged };
 
+/// The status as saved generations, run folders and the Python module name it.
+constexpr const char* status_name(EvaluationStatus s) {
+  switch (s) {
+    case EvaluationStatus::Ok: return "ok";
+    case EvaluationStatus::Invalid: return "invalid";
+    case EvaluationStatus::Diverged: return "diverged";
+  }
+  return "invalid";
+}
+
 /// The rollouts behind a fitness. rollouts == 0: not known (a creature read back
 /// from a file that does not record it, or one that was not scored).
 struct Estimate {

@@ -10,6 +10,7 @@
 #include "evolve/run_reader.hpp"
 #include "evolve/run_roles.hpp"
 #include "formats/atomic_file.hpp"
+#include "formats/model_file.hpp"
 
 namespace sodaevo {
 
@@ -108,6 +109,21 @@ std::string check_comment(const ReplicaCheck& c, const std::string& unit, int di
   return "checked on " + std::to_string(c.check.n) + " fresh replicas: median " + number(c.check.median) + " " + unit +
          ", 95 % interval [" + number(c.check.interval95_low) + ", " + number(c.check.interval95_high) + "] " + unit +
          " (exact engine " + number(c.exact_distance) + " " + unit + ")";
+}
+
+ExportedChampion export_ranked_champion(const Problem& problem, const Individual& individual, const ReplicaCheck& check,
+                                        const RunConfig& config, const std::string& unit,
+                                        const std::filesystem::path& out_dir, int rank) {
+  ExportedChampion out;
+  out.prepared = problem.export_form(individual.creature, individual.id, individual.evaluation);
+  out.prepared.comment += "; " + check_comment(check, unit);
+  char name[64];
+  std::snprintf(name, sizeof name, "rank%02d_%s.xml", rank, individual.id.c_str());
+  out.name = name;
+  out.file = out_dir / out.name;
+  soda::write_model_file(out.file, out.prepared);
+  out.entry = champion_json(check, out.name, config);
+  return out;
 }
 
 } // namespace sodaevo

@@ -67,4 +67,18 @@ std::vector<ReplicaCheck> write_run_champions(const std::filesystem::path& run_d
 /// with `digits` decimals for reading (digits >= 0).
 std::string check_comment(const ReplicaCheck& c, const std::string& unit = "px", int digits = -1);
 
+/// A run's champion as `sodaevo export` writes it: the problem's export form of the
+/// creature (what was scored, prepared), its check in the comment, into
+/// OUT_DIR/rankNN_ID.xml (`rank` from 1). The file's name and path, the creature as
+/// written, and its champions.json entry (champion_json).
+struct ExportedChampion {
+  std::string name;
+  std::filesystem::path file;
+  soda::ModelDef prepared;
+  nlohmann::json entry;
+};
+ExportedChampion export_ranked_champion(const Problem& problem, const Individual& individual, const ReplicaCheck& check,
+                                        const RunConfig& config, const std::string& unit,
+                                        const std::filesystem::path& out_dir, int rank);
+
 } // namespace sodaevo

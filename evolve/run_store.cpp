@@ -32,15 +32,6 @@ constexpr const char* kGenerationsHeader =
     "best_interval95_hi\n";
 constexpr const char* kTimingHeader = "generation,evaluations,wall_seconds,evaluations_per_second\n";
 
-const char* status_name(EvaluationStatus s) {
-  switch (s) {
-    case EvaluationStatus::Ok: return "ok";
-    case EvaluationStatus::Invalid: return "invalid";
-    case EvaluationStatus::Diverged: return "diverged";
-  }
-  return "invalid";
-}
-
 EvaluationStatus parse_status(const std::string& s, const std::string& where) {
   if (s == "ok") return EvaluationStatus::Ok;
   if (s == "invalid") return EvaluationStatus::Invalid;

@@ -45,15 +45,6 @@ RunConfig run_config_of(const py::object& config, bool whole_run) {
 
 namespace {
 
-const char* status_name(EvaluationStatus s) {
-  switch (s) {
-    case EvaluationStatus::Ok: return "ok";
-    case EvaluationStatus::Invalid: return "invalid";
-    case EvaluationStatus::Diverged: return "diverged";
-  }
-  return "invalid";
-}
-
 /// The config of evaluate(): a whole run config (a path, or a dict with a
 /// "fitness" key) or the /fitness object alone.
 RunConfig problem_config(const py::object& problem) {

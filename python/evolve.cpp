@@ -22,10 +22,6 @@ namespace sodaevo::python {
 
 namespace {
 
-const char* status_name(EvaluationStatus s) {
-  return s == EvaluationStatus::Ok ? "ok" : s == EvaluationStatus::Diverged ? "diverged" : "invalid";
-}
-
 /// An individual of a saved generation as a dict; its genome a sodaevo.Model.
 py::dict individual_dict(const Individual& ind) {
   py::dict d;

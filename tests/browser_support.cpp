@@ -2,6 +2,9 @@
 
 #include <catch2/catch.hpp>
 
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
 #include <fstream>
 
 #include "formats/atomic_file.hpp"
@@ -10,6 +13,14 @@
 namespace fs = std::filesystem;
 
 namespace sodaevo::test {
+
+std::string hex_bits(double v) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &v, sizeof v);
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(bits));
+  return buf;
+}
 
 std::string find_chromium() {
   for (const char* name : {"chromium", "chromium-browser"}) {

@@ -10,6 +10,10 @@
 
 namespace sodaevo::test {
 
+/// A double's 64 bits as 16 lowercase hex digits: how the pages report numbers
+/// (web/engine_api.cpp's state bits, Evolve mode's data-fitness-bits).
+std::string hex_bits(double v);
+
 /// The path of `chromium` or `chromium-browser` on PATH; empty if neither.
 std::string find_chromium();
 

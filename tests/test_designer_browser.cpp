@@ -39,14 +39,6 @@ std::string require_chromium() {
   return chromium;
 }
 
-std::string hex_bits(double v) {
-  std::uint64_t bits;
-  std::memcpy(&bits, &v, sizeof v);
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(bits));
-  return buf;
-}
-
 /// The state as web/engine_api.cpp's soda_state_bits writes it.
 std::string state_bits(const soda::State& s) {
   std::string out = "frame " + std::to_string(s.frame) + " wave " + hex_bits(s.wave_phase) + " " +

@@ -55,14 +55,6 @@ nlohmann::json run_in_page(const std::string& chromium, const fs::path& page, co
   return nlohmann::json::parse(soda::read_whole_file(out));
 }
 
-std::string hex_bits(double v) {
-  std::uint64_t bits;
-  std::memcpy(&bits, &v, sizeof v);
-  char buf[17];
-  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(bits));
-  return buf;
-}
-
 std::string sha256_of(const fs::path& file) {
   const ShellResult r = run_shell("sha256sum " + quoted(file.string()));
   REQUIRE(r.exit_code == 0);

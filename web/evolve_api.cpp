@@ -428,13 +428,10 @@ EMSCRIPTEN_KEEPALIVE int sev_export(const char* out_dir, int best_count) {
     json champions = json::array();
     for (std::size_t i = 0; i < best.size(); ++i) {
       const Individual& ind = best[i];
-      soda::ModelDef prepared = problem->export_form(ind.creature, ind.id, ind.evaluation);
-      prepared.comment += "; " + check_comment(checks[i], unit);
-      char name[64];
-      std::snprintf(name, sizeof name, "rank%02d_%s.xml", static_cast<int>(i + 1), ind.id.c_str());
-      const fs::path file = fs::path(out_dir) / name;
-      soda::write_model_file(file, prepared);
-      champions.push_back(champion_json(checks[i], name, config));
+      const ExportedChampion exported =
+          export_ranked_champion(*problem, ind, checks[i], config, unit, out_dir, static_cast<int>(i + 1));
+      const fs::path& file = exported.file;
+      champions.push_back(exported.entry);
       j["files"].push_back(file.string());
       if (i == 0) {
         std::uint64_t bits;
