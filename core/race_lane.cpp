@@ -193,6 +193,12 @@ bool race_ends(const RaceLane& lane, int timeout, long long updates, double min_
   return false;
 }
 
+double least_x(const Model& model, const State& state) {
+  double min_x = state.x[0];
+  for (int i = 1; i < model.mass_count; ++i) min_x = std::min(min_x, state.x[static_cast<std::size_t>(i)]);
+  return min_x;
+}
+
 namespace {
 
 constexpr long long kRacerUpdateLimit = 50000; // the racer throws after this many updates
@@ -206,6 +212,11 @@ bool ends_after(const RaceLane& lane, const Model& model, int timeout, long long
     max_x = std::max(max_x, state.x[static_cast<std::size_t>(i)]);
   }
   return race_ends(lane, timeout, u, min_x, max_x, out);
+}
+
+/// Keeps the most of a least x (NaN never counts: a diverged racer held no ground).
+void hold_furthest(double& furthest, double min_x) {
+  if (min_x > furthest) furthest = min_x;
 }
 
 /// The update that ends a race of `timeout` at the latest (the timeout's, or the racer's limit).
@@ -230,10 +241,15 @@ RaceOutcome run_race(const RaceLane& lane, const Model& model, int timeout,
                      const std::function<void(const State&)>& on_frame) {
   State state = make_state(model);
   RaceOutcome out;
+  double furthest = least_x(model, state);
   for (long long u = 1; u <= kRacerUpdateLimit; ++u) {
     step(model, state);
     if (on_frame) on_frame(state);
-    if (ends_after(lane, model, timeout, u, state, out)) return out;
+    hold_furthest(furthest, least_x(model, state));
+    if (ends_after(lane, model, timeout, u, state, out)) {
+      out.furthest_min_x = furthest;
+      return out;
+    }
   }
   racer_limit();
 }
@@ -246,15 +262,21 @@ RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout,
   // partway through its race goes on from its update state.frame.
   const long long left = std::max(0LL, last_update(timeout) - state.frame);
   FastStepper stepper(model, left);
-  const auto finished = [&](double min_x, double) { return passed_finish(lane, min_x); };
+  double furthest = least_x(model, state);
+  const auto finished = [&](double min_x, double) {
+    hold_furthest(furthest, min_x);
+    return passed_finish(lane, min_x);
+  };
   if (every <= 0 || !observe) {
     stepper.run_until(state, left, finished);
+    out.furthest_min_x = furthest;
     if (ends_after(lane, model, timeout, state.frame, state, out)) return out;
     racer_limit();
   }
   for (long long done = 0;;) { // in chunks, observed after each
     done += stepper.run_until(state, std::min(every, left - done), finished);
     observe(state);
+    out.furthest_min_x = furthest;
     if (ends_after(lane, model, timeout, state.frame, state, out)) return out;
     if (done >= left) racer_limit();
   }
@@ -270,12 +292,19 @@ std::vector<RaceOutcome> run_races_fast(const RaceLane& lane, const Model& model
   if (lockstep) {
     LockstepBatch batch(std::vector<const Model*>(static_cast<std::size_t>(share), &model));
     std::vector<long long> done;
-    batch.run_until(states.data(), last, [&](int, double min_x, double) { return passed_finish(lane, min_x); }, done);
+    std::vector<double> furthest;
+    for (int c = 0; c < share; ++c) furthest.push_back(least_x(model, *states[static_cast<std::size_t>(c)]));
+    batch.run_until(
+        states.data(), last,
+        [&](int c, double min_x, double) {
+          hold_furthest(furthest[static_cast<std::size_t>(c)], min_x);
+          return passed_finish(lane, min_x);
+        },
+        done);
     for (int c = 0; c < share; ++c) {
-      if (!ends_after(lane, model, timeout, done[static_cast<std::size_t>(c)], *states[static_cast<std::size_t>(c)],
-                      out[static_cast<std::size_t>(c)])) {
-        racer_limit();
-      }
+      const std::size_t k = static_cast<std::size_t>(c);
+      out[k].furthest_min_x = furthest[k];
+      if (!ends_after(lane, model, timeout, done[k], *states[k], out[k])) racer_limit();
     }
     first_alone = static_cast<std::size_t>(share);
   }
@@ -290,6 +319,7 @@ namespace {
 /// marks them decided.
 void race_group_fused(const std::vector<LaneRace>& races, const std::vector<std::size_t>& group,
                       std::vector<RaceOutcome>& out, std::vector<bool>& decided) {
+  // out[r].furthest_min_x holds race r's furthest least x so far (set by the caller).
   std::vector<std::size_t> active;
   for (std::size_t r : group) {
     const LaneRace& race = races[r];
@@ -313,6 +343,7 @@ void race_group_fused(const std::vector<LaneRace>& races, const std::vector<std:
     const auto stop = [&](int c, double min_x, double) {
       const std::size_t k = static_cast<std::size_t>(c);
       const LaneRace& race = races[active[k]];
+      hold_furthest(out[active[k]].furthest_min_x, min_x);
       return start[k] + ++calls[k] >= last_update(race.timeout) || passed_finish(*race.lane, min_x);
     };
     std::vector<long long> done;
@@ -330,9 +361,11 @@ void race_group_fused(const std::vector<LaneRace>& races, const std::vector<std:
         still.push_back(active[k]);
         continue;
       }
+      const double furthest = out[active[k]].furthest_min_x;
       if (!ends_after(*race.lane, *race.model, race.timeout, race.state->frame, *race.state, out[active[k]])) {
         racer_limit();
       }
+      out[active[k]].furthest_min_x = furthest;
       decided[active[k]] = true;
     }
     active = std::move(still);
@@ -376,6 +409,7 @@ std::vector<RaceOutcome> run_races_together(const std::vector<LaneRace>& races) 
   std::vector<int> links;
   for (std::size_t r = 0; r < races.size(); ++r) {
     if (decided[r]) continue;
+    out[r].furthest_min_x = least_x(*races[r].model, *races[r].state);
     rest.push_back(r);
     links.push_back(races[r].model->link_count());
   }
@@ -387,7 +421,10 @@ std::vector<RaceOutcome> run_races_together(const std::vector<LaneRace>& races) 
     first = end;
   }
   for (std::size_t r = 0; r < races.size(); ++r) { // the last of a group, or past the racer's limit
-    if (!decided[r]) out[r] = run_race_fast(*races[r].lane, *races[r].model, races[r].timeout, *races[r].state);
+    if (decided[r]) continue;
+    const double before = out[r].furthest_min_x; // from a fused scene it left partway, if any
+    out[r] = run_race_fast(*races[r].lane, *races[r].model, races[r].timeout, *races[r].state);
+    hold_furthest(out[r].furthest_min_x, before);
   }
   return out;
 }

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <functional>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -48,7 +49,15 @@ struct RaceOutcome {
   double result = 0.0;   ///< the racer's float: frames to finish, or timeout + fraction
   bool finished = false;
   long long updates = 0; ///< physics updates run
+  /// The furthest the contender's least x came in the race: the most of its free
+  /// masses' least x over the frames raced, the state it started from included. Not
+  /// part of the racer's result (which takes the last frame only); a search credits
+  /// the ground a racer held before it slid back (evolve/race_progress.hpp).
+  double furthest_min_x = -std::numeric_limits<double>::infinity();
 };
+
+/// The least x of `model`'s free masses in `state` (the racer's box's left edge).
+double least_x(const Model& model, const State& state);
 
 /// Java's (int) of a double: truncation toward zero, NaN to 0, saturated.
 int java_int(double v);

@@ -5,8 +5,10 @@
 // ../shared/models/soda/golden/terrain (README there).
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -245,4 +247,57 @@ TEST_CASE("bad race files: errors name file, line, column, element, attribute, e
   fixed_only.links.push_back({soda::LinkKind::Spring, 0, 1, 10.0, 0.0, 0.0});
   CHECK_THROWS_WITH(soda::build_lane(race.terrain, race.constraints, fixed_only, "c.xml"),
                     Catch::Contains("c.xml") && Catch::Contains("no result") && Catch::Contains("'n1'"));
+}
+
+// The furthest least x of a race (RaceOutcome::furthest_min_x, what the search's
+// progress score credits): the most, over the rows of the original racer's golden
+// trace, of the least x of the contender's masses. Every runner keeps it: the
+// reference step, the fast stepper, and the races run together in fused scenes.
+TEST_CASE("race progress: the furthest least x equals the golden trace's, by every runner", "[race][golden]") {
+  std::deque<soda::RaceLane> lanes; // stable addresses for LaneRace
+  std::deque<soda::Model> models;
+  std::vector<double> golden;
+  std::vector<int> timeouts;
+  std::vector<long long> last_frames;
+  for (const LaneCase& k : lane_cases()) {
+    const fs::path trace = terrain_dir() / "lanes" / (k.name + ".trace.txt");
+    if (!fs::exists(trace)) continue;
+    lanes.push_back(lane_for(k.race, k.contender));
+    models.push_back(soda::build_lane_model(lanes.back()));
+    // The golden rows hold frame, phase, mode, then x y vx vy per mass.
+    std::ifstream in(trace);
+    std::string line;
+    double furthest = -INFINITY;
+    long long last_frame = 0;
+    while (std::getline(in, line)) {
+      std::istringstream row(line);
+      double phase = 0.0;
+      int mode = 0;
+      row >> last_frame >> phase >> mode;
+      double least = INFINITY, v[4];
+      for (int m = 0; m < models.back().mass_count && row >> v[0] >> v[1] >> v[2] >> v[3]; ++m) least = std::min(least, v[0]);
+      furthest = std::max(furthest, least);
+    }
+    golden.push_back(furthest);
+    // A timeout T ends the race after update T + 3 at the latest: the trace's last
+    // row (where flat_m2 finishes, the others time out).
+    timeouts.push_back(static_cast<int>(last_frame) - 3);
+    last_frames.push_back(last_frame);
+  }
+  REQUIRE(golden.size() >= 7);
+  std::vector<soda::State> states;
+  std::vector<soda::LaneRace> races;
+  for (std::size_t i = 0; i < lanes.size(); ++i) states.push_back(soda::make_state(models[i]));
+  for (std::size_t i = 0; i < lanes.size(); ++i) races.push_back({&lanes[i], &models[i], timeouts[i], &states[i]});
+  const std::vector<soda::RaceOutcome> together = soda::run_races_together(races);
+  for (std::size_t i = 0; i < lanes.size(); ++i) {
+    INFO("lane " << i << ": golden furthest least x " << golden[i]);
+    const soda::RaceOutcome reference = soda::run_race(lanes[i], models[i], timeouts[i]);
+    REQUIRE(reference.updates == last_frames[i]); // the race ends on the trace's last row: every row raced
+    soda::State alone = soda::make_state(models[i]);
+    const soda::RaceOutcome fast = soda::run_race_fast(lanes[i], models[i], timeouts[i], alone);
+    CHECK(same_bits(reference.furthest_min_x, golden[i]));
+    CHECK(same_bits(fast.furthest_min_x, golden[i]));
+    CHECK(same_bits(together[i].furthest_min_x, golden[i]));
+  }
 }
