@@ -18,6 +18,7 @@ using nlohmann::json;
 
 std::string fitness_kind_name(FitnessKind k) { return k == FitnessKind::Race ? "race" : "walk"; }
 std::string race_combine_name(RaceCombine c) { return c == RaceCombine::Worst ? "worst" : "mean"; }
+std::string race_score_name(RaceScore s) { return s == RaceScore::Progress ? "progress" : "racer"; }
 
 fs::path find_race_terrain(const std::string& entry, const fs::path& base_dir) {
   std::error_code ec;
@@ -41,14 +42,21 @@ class RaceFitnessReader {
       : base_dir_(base_dir), config_(config), problems_(problems) {}
 
   void read(const json& v) {
-    static const std::vector<std::string> keys = {"terrains", "combine", "timeout", "timeout_factor", "curriculum"};
+    static const std::vector<std::string> keys = {"terrains",       "combine",    "score", "timeout",
+                                                  "timeout_factor", "curriculum"};
     if (!v.is_object()) {
-      return expected("", "an object with keys terrains, combine, timeout, timeout_factor, curriculum", v);
+      return expected("", "an object with keys terrains, combine, score, timeout, timeout_factor, curriculum", v);
     }
     for (const auto& [key, value] : v.items()) {
       if (std::find(keys.begin(), keys.end(), key) == keys.end()) {
-        problem("/" + key, "unknown key (expected one of: terrains, combine, timeout, timeout_factor, curriculum)");
+        problem("/" + key,
+                "unknown key (expected one of: terrains, combine, score, timeout, timeout_factor, curriculum)");
       }
+    }
+    if (const auto it = v.find("score"); it != v.end()) {
+      if (*it == "racer") config_.score = RaceScore::Racer;
+      else if (*it == "progress") config_.score = RaceScore::Progress;
+      else expected("/score", "one of \"racer\" or \"progress\"", *it);
     }
     if (v.contains("curriculum") && v.contains("terrains")) {
       problem("/terrains", "expected no terrains with /fitness/race/curriculum (its stages name them), got both");
@@ -209,6 +217,7 @@ std::vector<ConfigProblem> race_fitness_conflicts(FitnessKind kind, const RaceFi
 json to_json(const RaceFitnessConfig& c) {
   json j = {{"terrains", c.terrains},
           {"combine", race_combine_name(c.combine)},
+          {"score", race_score_name(c.score)},
           {"timeout", c.timeout},
           {"timeout_factor", c.timeout_factor}};
   if (!c.curriculum.empty()) { // instead of terrains

@@ -23,8 +23,14 @@ namespace sodaevo {
 enum class FitnessKind { Walk, Race };
 /// /fitness/race/combine: the score over several terrains.
 enum class RaceCombine { Mean, Worst };
+/// /fitness/race/score: what a search ranks racers by (evolve/race_progress.hpp).
+/// Racer: the original racer's result (frames, or timeout + the fraction left at
+/// the last frame). Progress: files finished first, then frames on the finished
+/// ones and the furthest ground held on the others.
+enum class RaceScore { Racer, Progress };
 std::string fitness_kind_name(FitnessKind k); ///< "walk", "race"
 std::string race_combine_name(RaceCombine c); ///< "mean", "worst"
+std::string race_score_name(RaceScore s);     ///< "racer", "progress"
 
 /// One stage of /fitness/race/curriculum: its terrain (a race file, absolute once
 /// resolved) and the result (frames) under which the best racer moves the run on
@@ -42,6 +48,9 @@ inline constexpr int kMaxCurriculumStages = 64;
 struct RaceFitnessConfig {
   std::vector<std::string> terrains; ///< /fitness/race/terrains: race files, absolute paths once resolved
   RaceCombine combine = RaceCombine::Mean;
+  /// /fitness/race/score. The logged frames (Evaluation::distance) are the racer's
+  /// result under either; only the fitness differs.
+  RaceScore score = RaceScore::Racer;
   /// /fitness/race/timeout: frames, [0, 49997]; 0 = each race file's own timeout.
   /// A shorter one makes evaluations cheaper: a creature that does not finish still
   /// scores timeout + the fraction of the way it had left.

@@ -16,6 +16,7 @@
 #include "core/number_text.hpp"
 #include "core/race_lane.hpp"
 #include "evolve/creature_limits.hpp"
+#include "evolve/race_progress.hpp"
 #include "evolve/walk_problem.hpp"
 #include "evolve/wire_format.hpp"
 #include "evolve/world_wire.hpp"
@@ -211,6 +212,7 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
       continue;
     }
     double sum = 0.0, worst = 0.0;
+    std::vector<TerrainRaceResult> raced;
     Behaviour described{};
     bool healthy = true;
     for (std::size_t t = 0; t < terrains_.size() && healthy; ++t) {
@@ -248,6 +250,10 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
       }
       sum += o.result;
       worst = t == 0 ? o.result : std::max(worst, o.result);
+      if (race_.score == RaceScore::Progress) {
+        const double start = soda::least_x(model, soda::make_state(model));
+        raced.push_back({o.result, o.finished, timeout_of(t), track_progress(it->lanes[t], start, o.furthest_min_x)});
+      }
       if (meter) {
         const Behaviour b = meter->behaviour();
         for (std::size_t d = 0; d < kDescriptorCount; ++d) described[d] += b[d] / static_cast<double>(terrains_.size());
@@ -259,7 +265,7 @@ std::vector<Evaluation> RaceProblem::rollouts(const std::vector<Rollout>& runs) 
     e.status = EvaluationStatus::Ok;
     e.distance = frames;
     e.px_per_frame = 0.0;
-    e.fitness = -frames;
+    e.fitness = race_.score == RaceScore::Progress ? -progress_cost(raced) : -frames;
   }
   return results;
 }
@@ -280,6 +286,7 @@ soda::ModelDef RaceProblem::export_form(const soda::ModelDef& creature, const st
 void RaceProblem::write(WireWriter& out) const {
   out.text(kind());
   out.u8(static_cast<std::uint8_t>(race_.combine));
+  out.u8(static_cast<std::uint8_t>(race_.score));
   out.i32(race_.timeout);
   out.u64(terrains_.size());
   for (const RaceTerrain& t : terrains_) {
@@ -296,6 +303,9 @@ RaceProblem RaceProblem::read_fields(WireReader& in) {
   const int combine = in.u8();
   if (combine > 1) throw WireError("race problem: bad combine value " + std::to_string(combine));
   race.combine = static_cast<RaceCombine>(combine);
+  const int score = in.u8();
+  if (score > 1) throw WireError("race problem: bad score value " + std::to_string(score));
+  race.score = static_cast<RaceScore>(score);
   race.timeout = in.i32();
   if (race.timeout < 0 || race.timeout > soda::kMaxRaceTimeout) throw WireError("race problem: bad timeout");
   const std::uint64_t count = in.u64();

@@ -13,7 +13,10 @@
 // /fitness/race/timeout): its result is the racer's, frames to the finish or
 // timeout + the fraction of the way left. Several terrains score their mean or the
 // worst. Fewer frames is better, so fitness = -frames; Evaluation::distance holds
-// the frames (the score in its natural unit), px_per_frame is 0.
+// the frames (the score in its natural unit), px_per_frame is 0. With
+// /fitness/race/score "progress" the fitness is instead minus the progress cost of
+// evolve/race_progress.hpp (files finished first, then frames and the furthest
+// ground held); the frames logged stay the racer's.
 //
 // With a descriptor sample interval (MAP-Elites), the same race also measures the
 // descriptors of evolve/descriptors.hpp that mean the same in a lane as on the
