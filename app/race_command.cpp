@@ -47,17 +47,6 @@ struct RaceOptions {
 
 using Entry = RaceEntry;
 
-std::string result_text(const soda::RaceOutcome& o) {
-  char text[64];
-  if (std::isnan(o.result)) return "no result";
-  if (o.finished) {
-    std::snprintf(text, sizeof text, "%.0f", o.result);
-  } else {
-    std::snprintf(text, sizeof text, "%.4f (timeout)", o.result);
-  }
-  return text;
-}
-
 std::string distribution_text(const SampleSummary& s) {
   char text[96];
   std::snprintf(text, sizeof text, "%.1f [%.1f, %.1f]", s.median, s.interval95_low, s.interval95_high);
@@ -112,12 +101,12 @@ void run_race_command(const RaceOptions& opt) {
       trace_file.flush();
       if (!trace_file) throw soda::InputError(opt.trace + ": writing the trace failed (disk full?)");
     }
-    if (opt.replicas > 0) e.replicas = race_replicas(lane, model, timeout, e.model, opt.replicas, opt.jitter, opt.threads);
+    if (opt.replicas > 0) race_entry_replicas(e, lane, model, timeout, opt.replicas, opt.jitter, opt.threads);
     if (!opt.render.empty()) {
       const Motion motion = record_race_motion(lane, model, timeout, e.name);
       std::ofstream out(opt.render, std::ios::binary | std::ios::trunc);
       out << render_player_page(motion, "Race: " + e.name,
-                                race.source + ": " + result_text(e.outcome) + " frames (fixed bars: " +
+                                race.source + ": " + race_result_text(e.outcome) + " frames (fixed bars: " +
                                     soda::bar_engine_name(soda::BarEngine::Racer2004) + " racer rule)");
       if (!out) throw soda::InputError(opt.render + ": cannot write the page");
     }
@@ -147,10 +136,10 @@ void run_race_command(const RaceOptions& opt) {
       continue;
     }
     if (replicas) {
-      std::printf("%-6d %-22s %-30s %s (%s)\n", e->place, result_text(e->outcome).c_str(),
+      std::printf("%-6d %-22s %-30s %s (%s)\n", e->place, race_result_text(e->outcome).c_str(),
                   distribution_text(e->replicas).c_str(), e->name.c_str(), e->file.c_str());
     } else {
-      std::printf("%-6d %-22s %s (%s)\n", e->place, result_text(e->outcome).c_str(), e->name.c_str(), e->file.c_str());
+      std::printf("%-6d %-22s %s (%s)\n", e->place, race_result_text(e->outcome).c_str(), e->name.c_str(), e->file.c_str());
     }
   }
 }
@@ -189,7 +178,7 @@ void add_race_command(CLI::App& app) {
   cmd->add_option("--replicas", opt->replicas,
                   "Also race K replicas with sine jitter (another machine's sine) per contender: the\n"
                   "distribution of the result (median, 95 % prediction interval; --json: n, mean, median,\n"
-                  "sd, min, max, interval95)")
+                  "sd, min, max, interval95, finished: the share that finish)")
       ->check(CLI::Range(2, 4096));
   cmd->add_option("--jitter", opt->jitter, "Share of sines a replica moves by 1 ulp")
       ->default_val(0.002)

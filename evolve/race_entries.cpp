@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 
 #include "core/contender_filter.hpp"
@@ -109,10 +110,11 @@ void race_entries_together(const RaceLanes& lanes, int timeout, std::vector<Race
   for (std::size_t i = 0; i < raced.size(); ++i) entries[raced[i]].outcome = outcomes[i];
 }
 
-SampleSummary race_replicas(const soda::RaceLane& lane, const soda::Model& model, int timeout,
-                            const soda::ModelDef& contender, int replicas, double jitter, int threads) {
+std::vector<soda::RaceOutcome> race_replica_outcomes(const soda::RaceLane& lane, const soda::Model& model, int timeout,
+                                                     const soda::ModelDef& contender, int replicas, double jitter,
+                                                     int threads) {
   const std::uint64_t key = creature_key(contender);
-  std::vector<double> results(static_cast<std::size_t>(replicas));
+  std::vector<soda::RaceOutcome> results(static_cast<std::size_t>(replicas));
   // Replicas by lockstep groups (run_races_fast: one group of 8 lanes at a time,
   // the same results as one by one), the groups spread over the threads.
   constexpr std::size_t kGroup = soda::LockstepBatch::kLanes;
@@ -126,8 +128,14 @@ SampleSummary race_replicas(const soda::RaceLane& lane, const soda::Model& model
     std::vector<soda::State*> pointers;
     for (soda::State& s : states) pointers.push_back(&s);
     const std::vector<soda::RaceOutcome> outcomes = soda::run_races_fast(lane, model, timeout, pointers);
-    for (std::size_t r = first; r < end; ++r) results[r] = outcomes[r - first].result;
+    for (std::size_t r = first; r < end; ++r) results[r] = outcomes[r - first];
   });
+  return results;
+}
+
+SampleSummary summarize_race_results(const std::vector<soda::RaceOutcome>& outcomes) {
+  std::vector<double> results;
+  for (const soda::RaceOutcome& o : outcomes) results.push_back(o.result);
   // A race result is a frame count, never below 0: the interval, mean -+ t sd, is
   // clipped there, where a contender that sometimes finishes and sometimes times
   // out stretches it below 0. (No upper clip: a timeout scores timeout + its
@@ -135,6 +143,31 @@ SampleSummary race_replicas(const soda::RaceLane& lane, const soda::Model& model
   SampleSummary s = summarize_sample(results);
   s.interval95_low = std::max(s.interval95_low, 0.0);
   return s;
+}
+
+void race_entry_replicas(RaceEntry& e, const soda::RaceLane& lane, const soda::Model& model, int timeout, int replicas,
+                         double jitter, int threads) {
+  const std::vector<soda::RaceOutcome> outcomes =
+      race_replica_outcomes(lane, model, timeout, e.model, replicas, jitter, threads);
+  e.replicas = summarize_race_results(outcomes);
+  e.replicas_finished = finished_share(outcomes);
+}
+
+double finished_share(const std::vector<soda::RaceOutcome>& outcomes) {
+  if (outcomes.empty()) return 0.0;
+  const auto finished = std::count_if(outcomes.begin(), outcomes.end(), [](const soda::RaceOutcome& o) { return o.finished; });
+  return static_cast<double>(finished) / static_cast<double>(outcomes.size());
+}
+
+std::string race_result_text(const soda::RaceOutcome& o) {
+  char text[64];
+  if (std::isnan(o.result)) return "no result";
+  if (o.finished) {
+    std::snprintf(text, sizeof text, "%.0f", o.result);
+  } else {
+    std::snprintf(text, sizeof text, "%.4f (timeout)", o.result);
+  }
+  return text;
 }
 
 void assign_places(std::vector<RaceEntry>& entries) {
@@ -168,7 +201,8 @@ nlohmann::json race_results_json(const std::string& race_path, int timeout, cons
       const SampleSummary& s = e.replicas;
       item["replicas"] = {{"n", s.n},   {"jitter", jitter}, {"mean", s.mean}, {"median", s.median},
                           {"sd", s.sd}, {"min", s.min},     {"max", s.max},
-                          {"interval95", {s.interval95_low, s.interval95_high}}};
+                          {"interval95", {s.interval95_low, s.interval95_high}},
+                          {"finished", e.replicas_finished}};
     }
     list.push_back(std::move(item));
   }

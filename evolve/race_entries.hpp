@@ -26,6 +26,7 @@ struct RaceEntry {
   std::string no_result; ///< why the racer gives this contender no result (contender_filter.hpp); empty: raced
   int place = 0;
   SampleSummary replicas; ///< the results of the jittered replicas, when asked for
+  double replicas_finished = 0.0; ///< the share of those replicas that finish
 };
 
 /// The contenders of race file `race` read from `race_path`, or of the files
@@ -56,11 +57,28 @@ RaceLanes build_race_lanes(const soda::RaceDef& race, std::vector<RaceEntry>& en
 /// one by one) and stores the outcomes.
 void race_entries_together(const RaceLanes& lanes, int timeout, std::vector<RaceEntry>& entries);
 
-/// The results of `replicas` replicas of a lane with sine jitter `jitter` (seeds of
-/// the check on fresh replicas, from the contender's genome: the same on every
+/// The outcomes of `replicas` replicas of a lane with sine jitter `jitter` (seeds
+/// of the check on fresh replicas, from the contender's genome: the same on every
 /// run), on `threads` threads (0: all cores).
-SampleSummary race_replicas(const soda::RaceLane& lane, const soda::Model& model, int timeout,
-                            const soda::ModelDef& contender, int replicas, double jitter, int threads);
+std::vector<soda::RaceOutcome> race_replica_outcomes(const soda::RaceLane& lane, const soda::Model& model, int timeout,
+                                                     const soda::ModelDef& contender, int replicas, double jitter,
+                                                     int threads);
+
+/// The share of `outcomes` that finish (0 for none).
+double finished_share(const std::vector<soda::RaceOutcome>& outcomes);
+
+/// Races `replicas` jittered replicas of entry `e` (race_replica_outcomes) and
+/// stores their summary and the share that finish.
+void race_entry_replicas(RaceEntry& e, const soda::RaceLane& lane, const soda::Model& model, int timeout, int replicas,
+                         double jitter, int threads);
+
+/// The summary of replica outcomes' results (a race result is a frame count: the
+/// interval is clipped at 0).
+SampleSummary summarize_race_results(const std::vector<soda::RaceOutcome>& outcomes);
+
+/// A result as `race` prints it: "123" frames to the finish, "10000.4600 (timeout)",
+/// or "no result" (NaN).
+std::string race_result_text(const soda::RaceOutcome& o);
 
 /// Places: 1 for the lowest result; equal results share a place; no result, no place (0).
 void assign_places(std::vector<RaceEntry>& entries);

@@ -67,8 +67,7 @@ py::object race(const py::object& race_file, const py::sequence& contenders, int
     race_entries_together(lanes, timeout, entries);
     for (std::size_t k = 0; k < entries.size() && replicas > 0; ++k) {
       if (!entries[k].no_result.empty()) continue;
-      entries[k].replicas = race_replicas(lanes.lanes[k], lanes.models[k], timeout, entries[k].model, replicas, jitter,
-                                          threads);
+      race_entry_replicas(entries[k], lanes.lanes[k], lanes.models[k], timeout, replicas, jitter, threads);
     }
   }
   assign_places(entries);
