@@ -1,5 +1,7 @@
 #include "map_elites.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <deque>
 #include <iterator>
 #include <map>
@@ -59,10 +61,18 @@ std::vector<Individual> map_elites_children(const RunConfig& config, const MapEl
   for (const auto& [cell, e] : archive.elites()) elites.push_back(&e);
   std::vector<Individual> children;
   if (elites.empty()) return children;
+  // The elite pool: the fittest elites, in cell order on ties (stable), for the
+  // first elite_share of the batch (the optimising emitter).
+  std::vector<const ArchiveEntry*> pool = elites;
+  std::stable_sort(pool.begin(), pool.end(),
+                   [](const ArchiveEntry* a, const ArchiveEntry* b) { return a->fitness.mean > b->fitness.mean; });
+  pool.resize(std::min(pool.size(), static_cast<std::size_t>(me.elite_pool)));
+  const int from_pool = static_cast<int>(std::lround(me.elite_share * me.batch_size));
   for (int k = 0; k < me.batch_size; ++k) {
     Rng rng = Rng::stream(config.seed, static_cast<std::uint64_t>(iteration), static_cast<std::uint64_t>(k),
                           kMapElitesPurpose);
-    const ArchiveEntry& a = pick_parent(elites, me.parent_tournament, rng);
+    const std::vector<const ArchiveEntry*>& parents = k < from_pool ? pool : elites;
+    const ArchiveEntry& a = pick_parent(parents, me.parent_tournament, rng);
     Individual child;
     // Appended piece by piece: "i" + std::string trips GCC 12's -Wrestrict (a false positive).
     child.id = std::to_string(iteration);
@@ -71,7 +81,7 @@ std::vector<Individual> map_elites_children(const RunConfig& config, const MapEl
     child.id += std::to_string(k);
     child.parents = {a.id};
     if (me.crossover_rate > 0.0 && rng.chance(me.crossover_rate)) {
-      const ArchiveEntry& b = pick_parent(elites, me.parent_tournament, rng);
+      const ArchiveEntry& b = pick_parent(parents, me.parent_tournament, rng);
       child.creature = crossover(a.creature, b.creature, config, rng);
       child.parents.push_back(b.id);
     } else {

@@ -27,7 +27,8 @@ std::string join(const std::vector<std::string>& names, const char* separator) {
 const std::vector<std::string>& keys() {
   static const std::vector<std::string> k = {"descriptors", "bins",          "ranges",       "iterations",
                                              "batch_size",  "crossover_rate", "snapshot_every", "sample_every",
-                                             "qd_offset",   "check_replicas", "parent_tournament"};
+                                             "qd_offset",   "check_replicas", "parent_tournament",
+                                             "elite_share", "elite_pool"};
   return k;
 }
 
@@ -53,6 +54,8 @@ class Reader {
     number(v, "qd_offset", -1e9, 1e9, config_.qd_offset);
     integer(v, "check_replicas", 0, 4096, config_.check_replicas);
     integer(v, "parent_tournament", 1, 64, config_.parent_tournament);
+    number(v, "elite_share", 0, 1, config_.elite_share);
+    integer(v, "elite_pool", 1, 100000, config_.elite_pool);
     read_axes(v);
   }
 
@@ -202,7 +205,8 @@ json to_json(const MapElitesConfig& c) {
           {"batch_size", c.batch_size},     {"crossover_rate", c.crossover_rate},
           {"snapshot_every", c.snapshot_every}, {"sample_every", c.sample_every},
           {"qd_offset", c.qd_offset},       {"check_replicas", c.check_replicas},
-          {"parent_tournament", c.parent_tournament}};
+          {"parent_tournament", c.parent_tournament}, {"elite_share", c.elite_share},
+          {"elite_pool", c.elite_pool}};
 }
 
 } // namespace sodaevo

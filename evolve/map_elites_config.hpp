@@ -37,6 +37,14 @@ struct MapElitesConfig {
   /// /map_elites/parent_tournament [1, 64]: a parent is the fittest of this many
   /// elites drawn uniformly (1: uniform over the filled cells, plain MAP-Elites).
   int parent_tournament = 1;
+  /// /map_elites/elite_share [0, 1]: the share of each batch's children (the first
+  /// ones) whose parents are drawn from the elite pool instead of every filled cell:
+  /// an optimising emitter, so that the archive's best climbs as a GA's does while
+  /// the rest of the batch keeps exploring (0: plain MAP-Elites).
+  double elite_share = 0.0;
+  /// /map_elites/elite_pool [1, 100000]: how many of the fittest elites (highest
+  /// mean) the elite share draws its parents from.
+  int elite_pool = 16;
   int snapshot_every = 10;     ///< /map_elites/snapshot_every [0, 1e6]: archive snapshots (0 = the last only)
   int sample_every = 8;        ///< /map_elites/sample_every [1, 1e6]: scored frames between descriptor samples
   double qd_offset = 0.0;      ///< /map_elites/qd_offset: subtracted from each elite's fitness in the QD-score
