@@ -31,6 +31,8 @@ void add_render_command(CLI::App& app);
 void add_report_command(CLI::App& app);
 void add_designer_command(CLI::App& app);
 void add_race_command(CLI::App& app);
+/// `records`: the Sodarace record book (app/records_command.cpp).
+void add_records_command(CLI::App& app);
 /// `bench accuracy` and `bench stress`, registered on the `bench` subcommand.
 void add_bench_accuracy_commands(CLI::App& bench);
 /// `bench races`, registered on the `bench` subcommand.

@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
   sodaevo::app::add_report_command(app);
   sodaevo::app::add_designer_command(app);
   sodaevo::app::add_race_command(app);
+  sodaevo::app::add_records_command(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
