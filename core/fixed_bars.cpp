@@ -70,6 +70,17 @@ struct Point {
   double x, y;
 };
 
+/// How far along the move o -> n it crosses the bar's line, as a share of the move:
+/// |num / den| of crossing_point, 1 for a move parallel to the bar (crossing_point is
+/// then n). The bar hit first is the one of least share (docs/physics.md, "Inferred
+/// rules": at a shared end point both crossing points round to the node, so their
+/// distances from o tie, while the shares still tell which line the move meets first).
+double crossing_share(const FixedBar& bar, const MassMove& m) {
+  const double num = bar.w * (m.y0 - bar.y1) - bar.h * (m.x0 - bar.x1);
+  const double den = bar.h * (m.x - m.x0) - bar.w * (m.y - m.y0);
+  return den == 0.0 ? 1.0 : std::fabs(num / den);
+}
+
 /// Where the line of the move o -> n crosses the bar's line; n for a move parallel to it.
 Point crossing_point(const FixedBar& bar, double ox, double oy, double nx, double ny) {
   const double mx = nx - ox;
@@ -393,7 +404,7 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
   int best = -1;
   int best_side = 0;
   Point best_point{0.0, 0.0};
-  double best_distance = 0.0;
+  double best_share = 0.0;
   // The memory changes exactly as with find / remember / forget each time: a
   // remembered side is never changed here (s0 is it), an absent pair is added.
   for (int k : candidates) {
@@ -427,26 +438,23 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
       memory.contacts.push_back({k, mass, static_cast<std::int8_t>(s0)});
       remembered_any = true;
     }
-    // The nearest crossing wins; the distances are taken only when two compete
-    // (the same square roots, later).
-    const auto distance_to = [&](Point q) {
-      const double dx = q.x - m.x0, dy = q.y - m.y0;
-      return std::sqrt(dx * dx + dy * dy);
-    };
+    // The crossing first along the move wins, by its share of the move (not by the
+    // distance of the rounded crossing point, which ties at a shared end point); at
+    // equal shares the first bar in link order. Shares are taken only when two compete.
     if (best < 0) {
       best = k;
       best_side = s0;
       best_point = p;
-      best_distance = -1.0; // not taken yet
+      best_share = -1.0; // not taken yet
       continue;
     }
-    if (best_distance < 0.0) best_distance = distance_to(best_point);
-    const double distance = distance_to(p);
-    if (distance < best_distance) {
+    if (best_share < 0.0) best_share = crossing_share(bars.bars[static_cast<std::size_t>(best)], m);
+    const double share = crossing_share(bar, m);
+    if (share < best_share) {
       best = k;
       best_side = s0;
       best_point = p;
-      best_distance = distance;
+      best_share = share;
     }
   }
   if (best < 0) return false;
