@@ -1,4 +1,4 @@
-// Sodarace lanes and races against the original racer (2004, easysoda.jar): the 7
+// Sodarace lanes and races against the original racer (2004, easysoda.jar): the 8
 // golden lanes of tests/data/terrain/lanes (the racer's lane model at frame 0 and its
 // per-frame trace) and a subset of the 880 golden race results (races.tsv); all 880
 // run in `sodaevo bench races`. Golden data copied from
@@ -11,6 +11,7 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <string>
@@ -19,6 +20,8 @@
 #include "core/input_error.hpp"
 #include "formats/model_file.hpp"
 #include "formats/race_file.hpp"
+#include "core/batch_step.hpp"
+#include "core/lockstep_batch.hpp"
 #include "core/race_lane.hpp"
 #include "core/step.hpp"
 #include "test_support.hpp"
@@ -62,7 +65,7 @@ soda::RaceLane lane_for(const std::string& race, const std::string& contender) {
 
 TEST_CASE("race lanes at frame 0 equal the racer's, bit for bit", "[race][golden]") {
   const auto cases = lane_cases();
-  REQUIRE(cases.size() == 7);
+  REQUIRE(cases.size() == 8);
   for (const LaneCase& k : cases) {
     INFO(k.name);
     const soda::RaceLane lane = lane_for(k.race, k.contender);
@@ -100,39 +103,79 @@ TEST_CASE("race lanes at frame 0 equal the racer's, bit for bit", "[race][golden
 
 namespace {
 
+/// A lane's golden trace: lanes/NAME.trace.txt, or NAME.trace.txt.gz for a long one.
+/// Each row starts with its frame, which must be the row's index.
+std::vector<GoldenRow> lane_trace(const std::string& name) {
+  fs::path path = terrain_dir() / "lanes" / (name + ".trace.txt");
+  if (!fs::exists(path)) path += ".gz";
+  std::vector<GoldenRow> rows;
+  for (const std::string& line : read_lines(path)) {
+    if (line.empty()) continue;
+    std::istringstream fields(line);
+    long long frame = -1;
+    GoldenRow row;
+    fields >> frame >> row.wave_phase >> row.wave_mode;
+    REQUIRE(frame == static_cast<long long>(rows.size()));
+    for (double v = 0.0; fields >> v;) row.values.push_back(v);
+    rows.push_back(std::move(row));
+  }
+  return rows;
+}
+
 struct LaneRun {
-  long long rows = 0, bit_exact_rows = 0;
+  long long rows = 0, bit_exact_rows = 0; ///< rows equal in every state, from frame 0 on
   double max_error = 0.0;
+  std::string first_difference; ///< "frame F, value V (mass V/4): golden G, ours O"
 };
 
-LaneRun run_lane_trace(const LaneCase& k) {
-  const soda::RaceLane lane = lane_for(k.race, k.contender);
-  const soda::Model model = soda::build_lane_model(lane);
-  std::ifstream in(terrain_dir() / "lanes" / (k.name + ".trace.txt"));
-  soda::State state = soda::make_state(model);
+/// Follows `trace` with `states` (states of `model`, at frame 0), `step` advancing
+/// each by one frame before every row after the first.
+LaneRun follow_trace(const soda::Model& model, const std::vector<GoldenRow>& trace, std::vector<soda::State>& states,
+                     const std::function<void()>& step) {
   LaneRun r;
   bool exact_so_far = true;
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream row(line);
-    long long frame = 0;
-    double phase = 0.0;
-    int mode = 0;
-    row >> frame >> phase >> mode;
-    if (frame > 0) soda::step(model, state);
-    bool exact = same_bits(phase, state.wave_phase) && mode == static_cast<int>(state.wave_mode);
-    const std::vector<double> ours = state_values(model, state);
-    for (double v : ours) {
-      double g = 0.0;
-      row >> g;
-      exact = exact && same_bits(v, g);
-      r.max_error = std::max(r.max_error, std::fabs(v - g));
+  for (const GoldenRow& row : trace) {
+    if (r.rows > 0) step();
+    for (const soda::State& state : states) {
+      bool exact = same_bits(row.wave_phase, state.wave_phase) && row.wave_mode == static_cast<int>(state.wave_mode);
+      const std::vector<double> ours = state_values(model, state);
+      REQUIRE(ours.size() == row.values.size());
+      for (std::size_t v = 0; v < ours.size(); ++v) {
+        r.max_error = std::max(r.max_error, std::fabs(ours[v] - row.values[v]));
+        if (same_bits(ours[v], row.values[v])) continue;
+        if (exact && exact_so_far) {
+          std::ostringstream d;
+          d.precision(17);
+          d << "frame " << r.rows << ", value " << v << " (mass " << v / 4 << "): golden " << row.values[v] << ", ours "
+            << ours[v];
+          r.first_difference = d.str();
+        }
+        exact = false;
+      }
+      exact_so_far = exact_so_far && exact;
     }
-    exact_so_far = exact_so_far && exact;
     r.bit_exact_rows += exact_so_far ? 1 : 0;
     ++r.rows;
   }
   return r;
+}
+
+/// The lane of case `k` as the racer builds it.
+soda::Model lane_model(const LaneCase& k) { return soda::build_lane_model(lane_for(k.race, k.contender)); }
+
+LaneRun run_lane_trace(const LaneCase& k) {
+  const soda::Model model = lane_model(k);
+  std::vector<soda::State> states{soda::make_state(model)};
+  return follow_trace(model, lane_trace(k.name), states, [&] { soda::step(model, states[0]); });
+}
+
+/// The rows of each golden lane's trace (frames 0..N).
+const std::map<std::string, long long>& lane_rows() {
+  static const std::map<std::string, long long> rows = {
+      {"flat_m2", 325},           {"hilly_dw_wavereverse", 301}, {"hilly_walker_560", 301},
+      {"race05_walker_430", 301}, {"inc1_2_walker_353", 301},    {"ai_walker_121", 301},
+      {"race10_walker_202", 301}, {"inc1_3_elite_i281", 10004}};
+  return rows;
 }
 
 } // namespace
@@ -141,19 +184,77 @@ LaneRun run_lane_trace(const LaneCase& k) {
 // race05_walker_430 and ai_walker_121 only up to frames 33 and 36 (floor-and-bar
 // collisions), the other five bit for bit over the whole trace; with the last-bit rules
 // of docs/physics.md's "The last bits" (tests/test_terrain_lastbit.cpp) all seven match
-// over their whole traces.
+// over their whole traces. inc1_3_elite_i281 (a whole race, 10,004 rows) parted at frame
+// 5994 while the nearest rounded crossing point chose between two bars at a shared end
+// point; the crossing first along the move is the original's choice.
 TEST_CASE("race lanes frame by frame: bit for bit over every row", "[race][golden]") {
-  const std::map<std::string, long long> exact_rows = { // the traces' rows
-      {"flat_m2", 325},           {"hilly_dw_wavereverse", 301}, {"hilly_walker_560", 301},
-      {"race05_walker_430", 301}, {"inc1_2_walker_353", 301},    {"ai_walker_121", 301},
-      {"race10_walker_202", 301}};
   for (const LaneCase& k : lane_cases()) {
     const LaneRun r = run_lane_trace(k);
-    INFO(k.name << ": bit-exact rows " << r.bit_exact_rows << " of " << r.rows << ", max error " << r.max_error);
-    REQUIRE(exact_rows.count(k.name) == 1);
-    CHECK(r.rows == exact_rows.at(k.name));
+    INFO(k.name << ": bit-exact rows " << r.bit_exact_rows << " of " << r.rows << ", max error " << r.max_error
+                << ", first difference " << r.first_difference);
+    REQUIRE(lane_rows().count(k.name) == 1);
+    CHECK(r.rows == lane_rows().at(k.name));
     CHECK(r.bit_exact_rows == r.rows);
   }
+}
+
+// The same traces through every other stepper: the fast one at every SIMD level this
+// CPU runs (and its per-mass ordered kernel), fused scenes (BatchStepper) and lockstep
+// lanes (LockstepBatch, where the CPU has AVX-512). All reach the bar rules through
+// rules::complete_move, but each picks the masses that take them on its own.
+TEST_CASE("race lanes frame by frame: every stepper and SIMD level, bit for bit over every row", "[race][golden]") {
+  for (const LaneCase& k : lane_cases()) {
+    const soda::Model model = lane_model(k);
+    const std::vector<GoldenRow> trace = lane_trace(k.name);
+    const long long frames = static_cast<long long>(trace.size()) - 1;
+    const auto check = [&](const std::string& stepper, std::vector<soda::State>& states,
+                           const std::function<void()>& step) {
+      const LaneRun r = follow_trace(model, trace, states, step);
+      INFO(k.name << ", " << stepper << ": bit-exact rows " << r.bit_exact_rows << " of " << r.rows
+                  << ", first difference " << r.first_difference);
+      CHECK(r.bit_exact_rows == lane_rows().at(k.name));
+    };
+    for (const soda::SimdLevel level : supported_levels()) {
+      for (const bool ordered : {false, true}) {
+        soda::FastStepOptions options;
+        options.simd = level;
+        options.force_ordered = ordered;
+        soda::FastStepper fast(model, frames, options);
+        std::vector<soda::State> states{soda::make_state(model)};
+        check(std::string("fast ") + soda::simd_level_name(level) + (ordered ? " ordered" : ""), states,
+              [&] { fast.step(states[0]); });
+      }
+    }
+    soda::FastStepOptions fused_only;
+    fused_only.lockstep = false;
+    const std::vector<const soda::Model*> three(3, &model);
+    soda::BatchStepper fused(three, frames, fused_only);
+    std::vector<soda::State> fused_states(3, soda::make_state(model));
+    std::vector<soda::State*> fused_pointers{&fused_states[0], &fused_states[1], &fused_states[2]};
+    REQUIRE(fused.fused_count() == 3);
+    check("fused", fused_states, [&] { fused.run(fused_pointers, 1); });
+    if (soda::LockstepBatch::usable()) {
+      const std::vector<const soda::Model*> lanes(soda::LockstepBatch::kLanes, &model);
+      soda::LockstepBatch lockstep(lanes);
+      std::vector<soda::State> lock_states(lanes.size(), soda::make_state(model));
+      std::vector<soda::State*> lock_pointers;
+      for (soda::State& s : lock_states) lock_pointers.push_back(&s);
+      check("lockstep", lock_states, [&] { lockstep.run(lock_pointers.data(), 1); });
+    }
+  }
+}
+
+// The original racer's result for the lane above, inc1_3_elite_i281 (a held-out race
+// of an evolved contender; golden README, "lanes/inc1_3_elite_i281"): a timeout.
+TEST_CASE("race result of elite_i281 on inc1_3: the original racer's 10001.82421875", "[race][golden]") {
+  const soda::RaceDef race = soda::read_race_file(data_dir() / "soda/wwagner4_wodka/lib_wodka_jar/terrain/inc1_3.xml");
+  const std::string contender = "elite_i281.xml";
+  const soda::RaceLane lane = soda::build_lane(
+      race.terrain, race.constraints, soda::read_model_file(terrain_dir() / "contenders" / contender).def, contender);
+  const soda::Model model = soda::build_lane_model(lane);
+  CHECK(soda::run_race(lane, model, race.timeout).result == 10001.82421875);
+  soda::State state = soda::make_state(model);
+  CHECK(soda::run_race_fast(lane, model, race.timeout, state).result == 10001.82421875);
 }
 
 // The original racer's results (races.tsv), to the last bit of the result: all 880

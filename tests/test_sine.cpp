@@ -3,7 +3,6 @@
 // and every other path to it (the vector kernels at each SIMD level) against the
 // same golden bits.
 #include <catch2/catch.hpp>
-#include <zlib.h>
 
 #include <bit>
 #include <cmath>
@@ -38,20 +37,15 @@ struct GoldenSine {
 
 /// Rows `set x math_sin [...]` of a gzipped golden file in tests/data/javasin.
 std::vector<GoldenSine> read_golden_sines(const std::string& file) {
-    std::vector<GoldenSine> out;
-    const std::string path = (sodaevo::test::data_dir() / "javasin" / file).string();
-    gzFile f = gzopen(path.c_str(), "rb");
-    if (f == nullptr) throw std::runtime_error(path + ": cannot open");
-    char line[256];
-    while (gzgets(f, line, sizeof line) != nullptr) {
-      if (line[0] == '#') continue;
-      char set[32];
-      unsigned long long x = 0, m = 0;
-      if (std::sscanf(line, "%31s %llx %llx", set, &x, &m) != 3) continue;
-      out.push_back({set, sine_from_bits(x), m});
-    }
-    gzclose(f);
-    return out;
+  std::vector<GoldenSine> out;
+  for (const std::string& line : sodaevo::test::read_lines(sodaevo::test::data_dir() / "javasin" / file)) {
+    if (line.empty() || line[0] == '#') continue;
+    char set[32];
+    unsigned long long x = 0, m = 0;
+    if (std::sscanf(line.c_str(), "%31s %llx %llx", set, &x, &m) != 3) continue;
+    out.push_back({set, sine_from_bits(x), m});
+  }
+  return out;
 }
 
 /// math_sin.tsv.gz (made with the JVM for the issue; README there).

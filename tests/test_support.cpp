@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <algorithm>
 #include <array>
@@ -62,6 +63,24 @@ fs::path models_dir() { return SODAEVO_MODELS_DIR; }
 fs::path shared_models_dir() {
   fs::path p = fs::path(SODAEVO_SHARED_DIR) / "models" / "soda";
   return fs::is_directory(p) ? p : fs::path();
+}
+
+std::vector<std::string> read_lines(const fs::path& path) {
+  gzFile f = gzopen(path.c_str(), "rb");
+  if (f == nullptr) throw std::runtime_error("cannot open " + path.string());
+  std::vector<std::string> lines;
+  std::string line;
+  char chunk[4096];
+  while (gzgets(f, chunk, sizeof chunk) != nullptr) {
+    line += chunk;
+    if (line.back() != '\n') continue; // a longer line: read on
+    line.pop_back();
+    lines.push_back(std::move(line));
+    line.clear();
+  }
+  if (!line.empty()) lines.push_back(std::move(line));
+  gzclose(f);
+  return lines;
 }
 
 std::vector<GoldenRow> read_golden_trace(const fs::path& path) {

@@ -20,6 +20,10 @@ std::filesystem::path models_dir();  ///< models/ (the bundled creatures)
 /// ../shared/models/soda if present (the developers' workspace), else empty.
 std::filesystem::path shared_models_dir();
 
+/// The lines of a text file, gzip-compressed or not (zlib reads both); throws if it
+/// cannot be opened.
+std::vector<std::string> read_lines(const std::filesystem::path& path);
+
 /// One row of a golden trace of the original engine: wave phase, wave mode, then
 /// x, y, vx, vy per mass (golden/README.md).
 struct GoldenRow {

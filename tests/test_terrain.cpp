@@ -197,3 +197,40 @@ TEST_CASE("fixed bars: a move the bar pre-test passes over changes nothing in th
   CHECK(skipped > 1000);
   CHECK(touched > 1000);
 }
+
+// Golden lane inc1_3_elite_i281 (tests/data/terrain/lanes), frame 5993 -> 5994, mass 5
+// alone: it lies on the node (50179, 6) where bar 0 ends and bar 1 begins (a concave
+// joint), 1 ulp above both lines; bar 0 remembers it on side 0. Its move crosses both
+// lines, and both crossing points round to the node, at the same distance from its
+// start. The move and velocity are the engine's after links, gravity and friction
+// (the lane test holds every other value of the frame to the trace); the expected
+// numbers are the trace's row 5994. Bar 0 with its joint would put the mass 9.25 px
+// along bar 1 (the end point projected on it, velocity bar 0's); the original answers
+// with bar 1, crossed first along the move: a slide of Fs = 0.1 of the move along it.
+TEST_CASE("fixed bars at a shared end point: the bar crossed first along the move answers (lane inc1_3_elite_i281, "
+          "frame 5994)",
+          "[terrain][golden]") {
+  const std::vector<double> px = {50000.0, 50179.0, 50407.0}, py = {-1.0, 6.0, 34.0};
+  const soda::MassMove move{50179.0,           6.000000000000001,   50188.825747131275, 2.447368186937058,
+                            50188.825747131275, 2.447368186937058, 9.8257471312728253, -3.5526318130629431};
+  REQUIRE(move.x == move.x0 + move.vx);
+  REQUIRE(move.y == move.y0 + move.vy);
+  const soda::Surface surface{0.1, -0.75, 100653.0, 422.0}; // the lane's
+  // Either link order: the answer is the geometry's, not the order's.
+  for (const bool bar_0_first : {true, false}) {
+    const std::vector<int> a = bar_0_first ? std::vector<int>{0, 1} : std::vector<int>{1, 0};
+    const std::vector<int> b = bar_0_first ? std::vector<int>{1, 2} : std::vector<int>{2, 1};
+    const soda::FixedBars bars = soda::make_fixed_bars(a, b, px.data(), py.data(), soda::BarEngine::Racer2004);
+    soda::BarMemory memory;
+    memory.corners.resize(1);
+    memory.remember(bar_0_first ? 0 : 1, 0, 0);
+    soda::MassEnd end;
+    INFO("bar 0 first in link order: " << bar_0_first);
+    REQUIRE(soda::collide_with_fixed_bars(bars, memory, 0, move, surface, end));
+    INFO("ours " << full(end.x) << " " << full(end.y) << " " << full(end.vx) << " " << full(end.vy));
+    CHECK(same_bits(end.x, 50179.924995522626)); // the trace's row 5994, as written there
+    CHECK(same_bits(end.y, 6.1135959413747365));
+    CHECK(same_bits(end.vx, 0.49315159383746754));
+    CHECK(same_bits(end.vy, 3.6300393614822000));
+  }
+}
