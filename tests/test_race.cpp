@@ -361,31 +361,23 @@ TEST_CASE("race progress: the furthest least x equals the golden trace's, by eve
   std::vector<int> timeouts;
   std::vector<long long> last_frames;
   for (const LaneCase& k : lane_cases()) {
-    const fs::path trace = terrain_dir() / "lanes" / (k.name + ".trace.txt");
-    if (!fs::exists(trace)) continue;
+    const std::vector<GoldenRow> trace = lane_trace(k.name);
     lanes.push_back(lane_for(k.race, k.contender));
     models.push_back(soda::build_lane_model(lanes.back()));
-    // The golden rows hold frame, phase, mode, then x y vx vy per mass.
-    std::ifstream in(trace);
-    std::string line;
     double furthest = -INFINITY;
-    long long last_frame = 0;
-    while (std::getline(in, line)) {
-      std::istringstream row(line);
-      double phase = 0.0;
-      int mode = 0;
-      row >> last_frame >> phase >> mode;
-      double least = INFINITY, v[4];
-      for (int m = 0; m < models.back().mass_count && row >> v[0] >> v[1] >> v[2] >> v[3]; ++m) least = std::min(least, v[0]);
+    for (const GoldenRow& row : trace) {
+      double least = INFINITY;
+      for (int m = 0; m < models.back().mass_count; ++m) least = std::min(least, row.values[4 * static_cast<std::size_t>(m)]);
       furthest = std::max(furthest, least);
     }
+    const long long last_frame = static_cast<long long>(trace.size()) - 1;
     golden.push_back(furthest);
     // A timeout T ends the race after update T + 3 at the latest: the trace's last
     // row (where flat_m2 finishes, the others time out).
     timeouts.push_back(static_cast<int>(last_frame) - 3);
     last_frames.push_back(last_frame);
   }
-  REQUIRE(golden.size() >= 7);
+  REQUIRE(golden.size() == 8);
   std::vector<soda::State> states;
   std::vector<soda::LaneRace> races;
   for (std::size_t i = 0; i < lanes.size(); ++i) states.push_back(soda::make_state(models[i]));
