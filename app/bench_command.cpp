@@ -27,12 +27,16 @@ struct BenchSpeedOptions {
   bool out_given = false;
   std::string ga_run = "results/bench/evolve-run-default";
   bool ga_run_given = false;
+  std::string simd = "auto";
+  bool cpu_time = false;
 };
 
 void run_bench_speed(const BenchSpeedOptions& opt, const std::string& command) {
   bench::SpeedOptions so;
   so.quick = opt.quick;
   so.threads = opt.threads;
+  so.simd = opt.simd;
+  so.cpu_time = opt.cpu_time;
   const bool all_sections = opt.sections.empty();
   auto wanted = [&](const char* name) {
     return all_sections || std::find(opt.sections.begin(), opt.sections.end(), name) != opt.sections.end();
@@ -109,11 +113,22 @@ void add_bench_command(CLI::App& app) {
                        "A run directory of `sodaevo evolve` whose saved generations the ga section steps (every "
                        "creature, as the GA evaluates it)")
           ->default_val(opt->ga_run);
+  speed
+      ->add_option("--simd", opt->simd,
+                   "The SIMD level every engine runs (a level the CPU lacks: its best); the environment variable "
+                   "SODAEVO_SIMD does the same for every command")
+      ->default_val(opt->simd)
+      ->check(CLI::IsMember({"auto", "sse2", "avx2", "avx512"}));
+  speed->add_flag("--cpu-time", opt->cpu_time,
+                  "Time the creature, size and ga sections by the thread's CPU time, not the wall clock: on a "
+                  "machine shared with other work, the time slices others take are not counted");
   add_bench_accuracy_commands(*bench);
   speed->callback([opt, out, ga_run] {
     std::string command = "sodaevo bench speed";
     if (opt->quick) command += " --quick";
     if (opt->threads > 0) command += " --threads " + std::to_string(opt->threads);
+    if (opt->simd != "auto") command += " --simd " + opt->simd;
+    if (opt->cpu_time) command += " --cpu-time";
     if (!opt->sections.empty()) {
       command += " --sections ";
       for (std::size_t i = 0; i < opt->sections.size(); ++i) command += (i ? "," : "") + opt->sections[i];

@@ -1,12 +1,14 @@
 #include "bench/speed_bench.hpp"
 
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 
 #include "bench/speed_engines.hpp"
 #include "bench/speed_sections.hpp"
 #include "bench/synthetic.hpp"
+#include "core/lockstep_batch.hpp"
 #include "core/model.hpp"
 #include "core/simd_level.hpp"
 #include "evolve/run_config.hpp"
@@ -15,6 +17,20 @@
 #include "formats/model_file.hpp"
 
 namespace sodaevo::bench {
+namespace {
+
+/// The first "model name" of /proc/cpuinfo ("" where there is none).
+std::string cpu_model_name() {
+  std::ifstream in("/proc/cpuinfo");
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("model name", 0) != 0) continue;
+    const std::size_t colon = line.find(':');
+    return colon == std::string::npos ? std::string() : line.substr(line.find_first_not_of(' ', colon + 1));
+  }
+  return {};
+}
+
+} // namespace
 
 void time_creature_section(const SpeedSectionInput& in, SpeedReport& report) {
   for (const auto& [name, model] : in.creatures) {
@@ -85,7 +101,16 @@ void time_ga_section(const SpeedSectionInput& in, SpeedReport& report) {
 
 SpeedReport run_speed_bench(const SpeedOptions& options) {
   SpeedReport report;
+  soda::SimdLevel forced = soda::SimdLevel::Auto;
+  if (!soda::parse_simd_level(options.simd.c_str(), forced)) {
+    throw std::invalid_argument("bench speed: --simd " + options.simd + ": expected auto, sse2, avx2 or avx512");
+  }
+  soda::force_simd_level(forced);
   report.simd = soda::simd_level_name(soda::best_simd_level());
+  report.lockstep = soda::LockstepBatch::usable() ? soda::simd_level_name(soda::LockstepBatch::level_for(soda::SimdLevel::Auto)) : "none";
+  report.cpu = cpu_model_name();
+  report.cpu_time = options.cpu_time;
+  time_engines_by_cpu(options.cpu_time);
   std::vector<std::pair<std::string, soda::Model>> creatures;
   for (const auto& [name, path] : options.creatures) {
     creatures.emplace_back(name, soda::build_model(soda::read_model_file(path).def));

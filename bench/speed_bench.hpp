@@ -49,6 +49,12 @@ struct SpeedOptions {
   /// The saved run whose creatures the GA section steps (every saved generation;
   /// the first and the last with `quick`); empty: no GA section.
   std::string ga_run;
+  /// The SIMD level every engine takes for Auto (soda::force_simd_level): "auto" is
+  /// the CPU's best; a lower one measures that level's kernels on this machine.
+  std::string simd = "auto";
+  /// Time the creature, size and GA sections by the thread's CPU time, not the
+  /// wall clock (a machine shared with other work); the population section is wall time.
+  bool cpu_time = false;
   std::vector<std::pair<std::string, std::string>> creatures; ///< name, model path
   std::function<void(const std::string&)> progress;          ///< one line per step
 };
@@ -98,6 +104,9 @@ struct PopulationRun {
 struct SpeedReport {
   std::vector<SpeedRow> rows;
   std::string simd;          ///< level of "fast"
+  std::string lockstep;      ///< level of the lockstep lanes (fast-batch, fast-replicas), "none" without
+  std::string cpu;           ///< the CPU's model name (/proc/cpuinfo), "" where unknown
+  bool cpu_time = false;     ///< timed by the thread's CPU time (SpeedOptions::cpu_time)
   int population_threads = 1;
   /// All-thread rate / 1-thread rate, the median over the rounds of the ratio within
   /// each round; the 1-thread rate is the mean over the cores of a run pinned to each.

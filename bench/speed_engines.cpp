@@ -1,6 +1,9 @@
 #include "bench/speed_engines.hpp"
 
+#include <time.h>
+
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include "bench/baselines.hpp"
@@ -12,6 +15,19 @@
 #include "evolve/evaluator.hpp"
 
 namespace sodaevo::bench {
+
+namespace {
+std::atomic<bool> g_cpu_clock{false};
+} // namespace
+
+void time_engines_by_cpu(bool on) { g_cpu_clock = on; }
+
+double engine_clock() {
+  if (!g_cpu_clock) return std::chrono::duration<double>(Clock::now().time_since_epoch()).count();
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 namespace {
 
@@ -70,9 +86,9 @@ long long calibrate(const Engine& e, double target) {
   double last = 0.0;
   for (;;) {
     if (e.prepare) e.prepare();
-    const auto t0 = Clock::now();
+    const double t0 = engine_clock();
     e.run(frames);
-    const double t = seconds_since(t0);
+    const double t = engine_clock() - t0;
     if ((t >= target * 0.25 && last_frames > 0) || frames >= (1LL << 40)) {
       const double quotient = t / static_cast<double>(frames);
       double per_frame = quotient;
@@ -154,7 +170,7 @@ std::vector<Engine> make_engines(const soda::Model& model, const EngineChoice& c
     // kBenchBatch creatures on one core (population throughput), as
     // soda::BatchStepper steps them: "fast-batch" 16 different ones (shifted_copy:
     // no sine shared between them), one shape, so in lockstep where the CPU has
-    // AVX-512 (lockstep_batch.hpp); "fast-batch-fused" the same 16 fused
+    // AVX2 or AVX-512 (lockstep_batch.hpp); "fast-batch-fused" the same 16 fused
     // (lockstep off: the path of a population of mixed shapes); "fast-batch-same"
     // 16 identical copies fused, which share every sine (the fused path's best
     // case: a population sharing genes).
@@ -225,7 +241,7 @@ std::vector<Engine> make_ga_engines(std::shared_ptr<const std::vector<soda::Mode
   // batches the GA's evaluation cuts (the fast-batch batches, each creature's
   // replicas one after the other, as evolve/replica_estimator.cpp orders its
   // rollouts): one BatchStepper per batch, told which states carry jitter, as
-  // the walk problem builds it (lockstep lanes where the CPU has AVX-512). Counted
+  // the walk problem builds it (lockstep lanes where the CPU has AVX2 or AVX-512). Counted
   // in replica-frames (issue 26 item 4: against fast-batch's creature-frames).
   constexpr int kReplicas = 8;
   auto replicas = std::make_shared<std::vector<std::unique_ptr<soda::BatchStepper>>>();
@@ -277,9 +293,9 @@ std::vector<SpeedRow> time_engines(const std::string& section, const std::string
   for (int r = 0; r < runs; ++r) {
     for (std::size_t i = 0; i < engines.size(); ++i) {
       if (engines[i].prepare) engines[i].prepare();
-      const auto t0 = Clock::now();
+      const double t0 = engine_clock();
       engines[i].run(frames[i]);
-      times[i].push_back(seconds_since(t0));
+      times[i].push_back(engine_clock() - t0);
     }
   }
   std::vector<SpeedRow> rows;

@@ -20,6 +20,13 @@ using Clock = std::chrono::steady_clock;
 
 inline double seconds_since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
+/// The clock of time_engines's runs: the wall clock (steady_clock), or with `on` the
+/// calling thread's CPU time, which a machine shared with other work does not
+/// inflate by the time slices others take (bench speed --cpu-time).
+void time_engines_by_cpu(bool on);
+/// Seconds on time_engines's clock (a point to subtract from a later one).
+double engine_clock();
+
 /// Copy k of `model` with every muscle phase moved by k * 0.0007 cycles: as costly
 /// to step as the model, but its sine arguments are its own. Fused scenes compute
 /// a sine shared by creatures with the same wave and muscle phase once

@@ -77,14 +77,14 @@ std::string one_creature_bound(const SpeedReport& r) {
 
 /// How the figures were measured and what each engine steps.
 void intro_part(std::ostringstream& o, const SpeedReport& r, const std::string& command) {
-  o << "Measured with `" << command << "` (fast = " << r.simd
-    << "; rates: medians of the runs; ratios: the median over the rounds of runs of the ratio within each "
+  o << "Measured with `" << command << "`" << (r.cpu.empty() ? std::string() : " on " + r.cpu) << " (fast = " << r.simd
+    << ", lockstep lanes = " << r.lockstep << (r.cpu_time ? "; timed by the thread's CPU time" : "") << "; rates: medians of the runs; ratios: the median over the rounds of runs of the ratio within each "
        "round, all within this one invocation).\n\n";
   o << "\"fast\" steps one creature alone. \"fast-batch\" steps " << kBenchBatch
     << " different creatures (copies with their muscle phases shifted, no sine shared) on one core as "
        "soda::BatchStepper does and counts creature-frames: it is the throughput per core of a population "
        "of one shape, not the speed of a single creature. The copies have one shape, so they run in "
-       "lockstep, one creature per AVX-512 lane (soda::LockstepBatch), where the CPU has it; the genetic "
+       "lockstep, one creature per lane (soda::LockstepBatch: 8 lanes, one AVX-512 vector or two AVX2 ones), where the CPU has either; the genetic "
        "algorithm's populations, of mixed shapes, take the fused path. "
        "\"fast-batch-fused\" steps the same "
     << kBenchBatch << " in fused scenes (lockstep off; at most " << soda::kMaxFusedLinks
@@ -154,7 +154,7 @@ void ga_part(std::ostringstream& o, const SpeedReport& r) {
        "the GA's evaluation cuts on one thread (soda::BatchStepper, fused scenes and lockstep as the shapes "
        "allow), fast-replicas each creature as the GA's estimator scores it: 8 replicas of one Model (replica 0 "
        "exact, the others with sine jitter p = 0.002), in the same batches as fast-batch (16 creatures x 8 "
-       "replicas, one BatchStepper each: every creature's replicas in one group of AVX-512 lockstep lanes, the "
+       "replicas, one BatchStepper each: every creature's replicas in one group of 8 lockstep lanes, the "
        "groups stepped frame by frame together). frames/s count creature-frames, replica-frames for "
        "fast-replicas; vs fast-batch is issue 26's target (at least 1.5x), the median over the rounds of the "
        "ratio within each round:\n\n";
@@ -173,7 +173,7 @@ void population_part(std::ostringstream& o, const SpeedReport& r) {
   o << "\nPopulation throughput (every creature stepped from scratch, results by index; fast = a "
        "FastStepper per creature, fast-batch = batches of at most "
     << kBenchBatch << " creatures on one core as soda::BatchStepper steps them, cut where a new fused "
-       "scene starts (here each batch is 16 copies of one creature: lockstep where the CPU has AVX-512); "
+       "scene starts (here each batch is 16 copies of one creature: lockstep where the CPU has AVX2 or AVX-512); "
        "no two creatures share a sine):\n\n";
   o << "| engine | threads | creatures x frames | creature-frames/s | link updates/s |\n|---|---:|---|---:|---:|\n";
   for (const SpeedRow& row : r.rows) {

@@ -73,8 +73,7 @@ void BatchStepper::plan(const std::vector<bool>& jittered) {
   // from the models alone and which states carry jitter.
   std::vector<bool> in_lockstep(static_cast<std::size_t>(count_), false);
   std::vector<std::vector<const Model*>> lockstep_shapes;
-  const bool lockstep = options.lockstep && LockstepBatch::usable() && !options.force_ordered && options.vector_sines &&
-                        (options.simd == SimdLevel::Auto || options.simd == SimdLevel::Avx512);
+  const bool lockstep = options.lockstep && LockstepBatch::usable(options.simd) && !options.force_ordered && options.vector_sines;
   auto take_lockstep = [&](std::vector<int> members, bool any_sines) {
     members.resize(static_cast<std::size_t>(lockstep_share(static_cast<int>(members.size()))));
     if (members.empty() || (!any_sines && shared_sine_fraction(models, members) > kMaxSharedSines)) return;
@@ -120,7 +119,7 @@ void BatchStepper::plan(const std::vector<bool>& jittered) {
       std::sort(others.begin(), others.end());
       take_lockstep(others, false);
     }
-    if (!lockstep_shapes.empty()) lockstep_.emplace(LockstepBatch::of_shapes(lockstep_shapes));
+    if (!lockstep_shapes.empty()) lockstep_.emplace(LockstepBatch::of_shapes(lockstep_shapes, options.simd));
   }
   for (int i = 0; i < count_; ++i) {
     if (in_lockstep[static_cast<std::size_t>(i)]) continue;

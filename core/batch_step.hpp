@@ -27,8 +27,8 @@
 // the same fixed bars if any, any other numbers), kMinLockstep or more of them
 // (lockstep_share), that share few muscle sines (shared_sine_fraction), run
 // instead in a LockstepBatch (lockstep_batch.hpp), one creature per SIMD lane,
-// where the CPU has AVX-512: measured faster than fusing them (bench speed,
-// fast-batch). Exact either way.
+// where the CPU has AVX2 or AVX-512: measured faster than fusing them (bench
+// speed, fast-batch; results/bench/avx2_profile.md for AVX2). Exact either way.
 // All shapes' groups go in one LockstepBatch, which steps them frame by frame
 // together (a group of a small creature alone leaves the core mostly idle).
 //

@@ -74,7 +74,7 @@ struct FastStepOptions {
   /// give the same bits.
   bool register_frames = true;
   /// BatchStepper: models of one shape, enough of them, in a LockstepBatch (one
-  /// creature per AVX-512 lane; lockstep_batch.hpp). Off: fused scenes. Both give
+  /// creature per lane, AVX2 or AVX-512; lockstep_batch.hpp). Off: fused scenes. Both give
   /// the same bits.
   bool lockstep = true;
 };

@@ -58,7 +58,9 @@
 // push-off is not bounded by the speed limit). Bars with a mass at an end
 // (BarKind::MovingEnds) are not taken.
 //
-// AVX-512 only (usable()).
+// Instruction sets: AVX-512 (a group's 8 lanes in one vector) or AVX2 (in two),
+// chosen at run time (usable(), of_shapes' level); the same kernels
+// (detail/lockstep_kernels.hpp) at both, so the same bits.
 // The batch copies what it needs of the Models when it is built (a Model changed
 // afterwards is not seen: build a new batch). One batch is used by one thread at a
 // time, and each state must be a different object.
@@ -69,6 +71,7 @@
 #include <vector>
 
 #include "model.hpp"
+#include "simd_level.hpp"
 
 namespace soda {
 
@@ -79,8 +82,11 @@ class LockstepBatch {
   /// Creatures per vector.
   static constexpr int kLanes = 8;
 
-  /// Whether this machine runs the batch (AVX-512 with the exact vector sine).
-  static bool usable();
+  /// Whether this machine runs the batch at `level` (Auto: at AVX2 or AVX-512,
+  /// the best it has; AVX-512 needs F and DQ). SSE2 has no lockstep kernels.
+  static bool usable(SimdLevel level = SimdLevel::Auto);
+  /// The level a batch made for `level` runs at: Auto's best (AVX-512, else AVX2).
+  static SimdLevel level_for(SimdLevel level);
   /// Whether `model` can be in a batch (no fixed bar with a mass at an end).
   static bool can_take(const Model& model);
   /// Whether two models have one shape: the same masses and fixed nodes (by
@@ -89,13 +95,15 @@ class LockstepBatch {
   static bool same_shape(const Model& a, const Model& b);
 
   /// Throws std::invalid_argument when `models` is empty, a model cannot be taken,
-  /// or two models differ in shape, and std::runtime_error when !usable().
-  explicit LockstepBatch(const std::vector<const Model*>& models);
+  /// or two models differ in shape, and std::runtime_error when !usable(level).
+  explicit LockstepBatch(const std::vector<const Model*>& models, SimdLevel level = SimdLevel::Auto);
   /// Several shapes in one batch: shapes[s] are models of one shape (as for the
   /// constructor), cut into groups of kLanes; run() takes their states in this
   /// order (shapes[0]'s, then shapes[1]'s, ...). Throws as the constructor, also
   /// when `shapes` or one of them is empty.
-  static LockstepBatch of_shapes(const std::vector<std::vector<const Model*>>& shapes);
+  static LockstepBatch of_shapes(const std::vector<std::vector<const Model*>>& shapes, SimdLevel level = SimdLevel::Auto);
+  /// The instruction set the batch's kernels run (Avx512 or Avx2).
+  [[nodiscard]] SimdLevel level() const;
   ~LockstepBatch();
   LockstepBatch(LockstepBatch&&) noexcept;
   LockstepBatch& operator=(LockstepBatch&&) noexcept;

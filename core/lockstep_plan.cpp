@@ -7,6 +7,7 @@
 #include <cassert>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 #include "constants.hpp"
 #include "detail/bits.hpp"
@@ -21,9 +22,22 @@ using lockstep_detail::kSideBySide;
 using lockstep_detail::kW;
 } // namespace
 
-bool LockstepBatch::usable() {
-  // AVX512DQ for the 8-bit mask instructions (every AVX-512 CPU but the Xeon Phi has it).
-  return simd_level_supported(SimdLevel::Avx512) && __builtin_cpu_supports("avx512dq");
+SimdLevel LockstepBatch::level_for(SimdLevel level) {
+  if (level != SimdLevel::Auto) return level;
+  const SimdLevel best = best_simd_level(); // as forced (simd_level.hpp), if it is
+  if (best == SimdLevel::Avx512 && usable(SimdLevel::Avx512)) return SimdLevel::Avx512;
+  return best == SimdLevel::Sse2 ? SimdLevel::Sse2 : SimdLevel::Avx2;
+}
+
+bool LockstepBatch::usable(SimdLevel level) {
+  switch (level) {
+    // AVX512DQ for the 8-bit mask instructions and the 64-bit multiply (every AVX-512 CPU but the Xeon Phi has it).
+    case SimdLevel::Avx512: return simd_level_supported(SimdLevel::Avx512) && __builtin_cpu_supports("avx512dq");
+    case SimdLevel::Avx2: return simd_level_supported(SimdLevel::Avx2);
+    case SimdLevel::Auto: return level_for(level) != SimdLevel::Sse2 && usable(level_for(level));
+    case SimdLevel::Sse2: return false;
+  }
+  return false;
 }
 
 bool LockstepBatch::can_take(const Model& model) {
@@ -59,9 +73,10 @@ bool LockstepBatch::same_shape(const Model& a, const Model& b) {
 
 LockstepBatch::LockstepBatch(std::unique_ptr<Data> d, int) : d_(std::move(d)) {}
 
-LockstepBatch::LockstepBatch(const std::vector<const Model*>& models) : LockstepBatch(of_shapes({models})) {}
+LockstepBatch::LockstepBatch(const std::vector<const Model*>& models, SimdLevel level)
+    : LockstepBatch(of_shapes({models}, level)) {}
 
-LockstepBatch LockstepBatch::of_shapes(const std::vector<std::vector<const Model*>>& shapes) {
+LockstepBatch LockstepBatch::of_shapes(const std::vector<std::vector<const Model*>>& shapes, SimdLevel level) {
   if (shapes.empty()) throw std::invalid_argument("LockstepBatch: no models");
   for (const std::vector<const Model*>& models : shapes) {
     if (models.empty()) throw std::invalid_argument("LockstepBatch: no models");
@@ -70,9 +85,14 @@ LockstepBatch LockstepBatch::of_shapes(const std::vector<std::vector<const Model
       if (!same_shape(*models[0], *m)) throw std::invalid_argument("LockstepBatch: models of different shapes (or bars), or with a fixed bar moved by a mass");
     }
   }
-  if (!usable()) throw std::runtime_error("LockstepBatch: this CPU has no AVX-512 (F and DQ)");
+  if (!usable(level)) {
+    throw std::runtime_error(std::string("LockstepBatch: this CPU does not run lockstep kernels at level ") + simd_level_name(level) +
+                             " (they need AVX2, or AVX-512 F and DQ)");
+  }
   auto data = std::make_unique<Data>();
   Data& d = *data;
+  d.level = level_for(level);
+  d.kernels = d.level == SimdLevel::Avx512 ? lockstep_kernels_avx512() : lockstep_kernels_avx2();
   for (const std::vector<const Model*>& models : shapes) {
     const int n = static_cast<int>(models.size());
     for (int first = 0; first < n; first += kW) {
@@ -163,8 +183,8 @@ void LockstepBatch::Data::lay_out() {
   predicted.assign(static_cast<std::size_t>(group_total) * kW, 0.0);
   packed.assign(static_cast<std::size_t>(group_total), 0);
   walls_far.assign(static_cast<std::size_t>(group_total), 0);
-  sine_fn = exact_sin_fn(SimdLevel::Avx512);
-  inline_sines = vector_sines_usable(SimdLevel::Avx512);
+  sine_fn = exact_sin_fn(level);
+  inline_sines = vector_sines_usable(level);
   autoreverse.assign(static_cast<std::size_t>(group_total) * kW, 0);
   for (int g = 0; g < group_total; ++g) {
     const Group& G = groups[static_cast<std::size_t>(g)];
@@ -224,6 +244,7 @@ int LockstepBatch::group_count() const { return static_cast<int>(d_->groups.size
 int LockstepBatch::sine_columns(int g) const { return d_->groups.at(static_cast<std::size_t>(g)).columns; }
 bool LockstepBatch::shares_sines(int g) const { return d_->groups.at(static_cast<std::size_t>(g)).uniform; }
 long long LockstepBatch::bar_rules_run() const { return d_->bar_rules_run; }
+SimdLevel LockstepBatch::level() const { return d_->level; }
 
 void LockstepBatch::Data::load(State* const* st) {
   for (int g = 0; g < static_cast<int>(groups.size()); ++g) {

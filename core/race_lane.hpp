@@ -89,7 +89,7 @@ RaceOutcome run_race_fast(const RaceLane& lane, const Model& model, int timeout,
 /// run_race_fast for each of `states` (fresh states of `model`: race replicas, each
 /// with its own sine jitter), the same results and final states, bit for bit: the
 /// replicas in lockstep lanes (lockstep_batch.hpp; lockstep_share of them) where
-/// the CPU has AVX-512, the rest one by one.
+/// the CPU has AVX2 or AVX-512, the rest one by one.
 std::vector<RaceOutcome> run_races_fast(const RaceLane& lane, const Model& model, int timeout,
                                         const std::vector<State*>& states);
 
@@ -104,7 +104,7 @@ struct LaneRace {
 
 /// run_race_fast for each race, the same results and final states, bit for bit,
 /// the races run together: replicas (fresh states of one lane model: the same lane,
-/// model and timeout) in lockstep lanes by whole groups where the CPU has AVX-512
+/// model and timeout) in lockstep lanes by whole groups where the CPU has AVX2 or AVX-512
 /// (run_races_fast), the others, different contenders on any terrains, in fused
 /// scenes (fused_scene.hpp), each stopping at its own finish or timeout. When fewer
 /// than three quarters of a scene are still running, the rest go on in a smaller

@@ -28,6 +28,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
+/// The lockstep kernels' levels this CPU runs (AVX2, AVX-512): each is tested.
+std::vector<soda::SimdLevel> lockstep_levels() {
+  std::vector<soda::SimdLevel> levels;
+  for (soda::SimdLevel level : {soda::SimdLevel::Avx2, soda::SimdLevel::Avx512}) {
+    if (soda::LockstepBatch::usable(level)) levels.push_back(level);
+  }
+  return levels;
+}
+
 /// Models of one shape as `base`, each differing from it in what a lane may
 /// hold on its own: muscle phases and amplitudes, which links are muscles, rest
 /// lengths, positions, the wave (speed, start phase, direction, manual), the world
@@ -117,17 +126,22 @@ std::string run_lockstep_and_reference(const std::string& name, const std::vecto
     pointers.push_back(&m);
     lanes.push_back(soda::make_state(m));
   }
-  soda::LockstepBatch batch(pointers);
-  std::vector<soda::State*> states;
-  for (soda::State& s : lanes) states.push_back(&s);
-  const std::string diff =
-      compare_in_pieces(pointers, lanes, frames, [&](long long n) { batch.run(states.data(), n); });
-  return diff.empty() ? diff : name + ", " + diff;
+  const std::vector<soda::State> start = lanes;
+  for (soda::SimdLevel level : lockstep_levels()) {
+    lanes = start;
+    soda::LockstepBatch batch(pointers, level);
+    std::vector<soda::State*> states;
+    for (soda::State& s : lanes) states.push_back(&s);
+    const std::string diff =
+        compare_in_pieces(pointers, lanes, frames, [&](long long n) { batch.run(states.data(), n); });
+    if (!diff.empty()) return name + " (" + soda::simd_level_name(level) + " kernels), " + diff;
+  }
+  return {};
 }
 
-bool skip_without_avx512() {
+bool skip_without_lockstep() {
   if (soda::LockstepBatch::usable()) return false;
-  WARN("this CPU has no AVX-512: the lockstep batch is not used here (BatchStepper fuses instead)");
+  WARN("this CPU has neither AVX2 nor AVX-512: the lockstep batch is not used here (BatchStepper fuses instead)");
   return true;
 }
 
@@ -135,7 +149,7 @@ bool skip_without_avx512() {
 
 TEST_CASE("lockstep batch: every bundled and test model, in variants of one shape, equals the reference",
           "[lockstep]") {
-  if (skip_without_avx512()) return;
+  if (skip_without_lockstep()) return;
   std::vector<fs::path> files = xml_files_under(models_dir());
   for (const fs::path& f : xml_files_under(data_dir() / "soda")) files.push_back(f);
   const fs::path shared = shared_models_dir();
@@ -158,7 +172,7 @@ TEST_CASE("lockstep batch: every bundled and test model, in variants of one shap
 }
 
 TEST_CASE("lockstep batch: mutants of one parent (a GA's children) over a long run, 1 to 17 lanes", "[lockstep]") {
-  if (skip_without_avx512()) return;
+  if (skip_without_lockstep()) return;
   const Scene walker = load_scene(models_dir() / "dainty_walker.xml");
   sodaevo::RunConfig config;
   config.mutation.add_link_rate = config.mutation.remove_link_rate = 0.0; // the shape stays
@@ -181,7 +195,7 @@ TEST_CASE("lockstep batch: mutants of one parent (a GA's children) over a long r
 }
 
 TEST_CASE("lockstep batch: each lane keeps its own parameters (a one-ulp twin differs)", "[lockstep]") {
-  if (skip_without_avx512()) return;
+  if (skip_without_lockstep()) return;
   // The test must be able to fail: a lane that took its neighbour's springyness
   // would match the neighbour's reference, not its own.
   const soda::Model base = load_scene(models_dir() / "dainty_walker.xml").model;
@@ -385,7 +399,7 @@ std::vector<soda::State> states_of(const std::vector<std::vector<LockstepLane>>&
 TEST_CASE("lockstep batch of several shapes: replicas sharing their sines, mixed shapes, partial groups, a batch "
           "reused, every lane equals the reference",
           "[lockstep][sine_jitter]") {
-  if (skip_without_avx512()) return;
+  if (skip_without_lockstep()) return;
   const soda::Model walker = load_scene(models_dir() / "dainty_walker.xml").model;
   const soda::Model slug = load_scene(models_dir() / "carefulslug.xml").model;
   const std::vector<soda::Model> variants = variants_of(walker);
@@ -409,38 +423,41 @@ TEST_CASE("lockstep batch of several shapes: replicas sharing their sines, mixed
       flat.push_back(l.model);
     }
   }
-  soda::LockstepBatch batch = soda::LockstepBatch::of_shapes(models);
-  REQUIRE(batch.size() == 34);
-  REQUIRE(batch.group_count() == 6);
-  CHECK(batch.shares_sines(0));
-  CHECK_FALSE(batch.shares_sines(1));
-  CHECK(batch.shares_sines(3));
-  CHECK(batch.shares_sines(4));
-  CHECK(batch.shares_sines(5));
-  std::vector<soda::State> states = states_of(shapes);
-  std::vector<soda::State*> pointers;
-  for (soda::State& s : states) pointers.push_back(&s);
-  const std::string diff = compare_in_pieces(flat, states, 3000, [&](long long n) { batch.run(pointers.data(), n); });
-  INFO(diff);
-  CHECK(diff.empty());
-  // The test could fail: jittered replicas left their exact replica 0, and the
-  // boxed replicas' waves parted (their sines were no longer shared).
-  CHECK_FALSE(compare_states(walker, states[0], states[1]).empty());
-  bool waves_parted = false;
-  for (int r = 1; r < 8; ++r) waves_parted = waves_parted || states[20].wave_phase != states[20 + static_cast<std::size_t>(r)].wave_phase;
-  CHECK(waves_parted);
-  // The same batch on other states: other seeds, from another start.
-  std::vector<std::vector<LockstepLane>> again = shapes;
-  for (std::vector<LockstepLane>& lanes : again) {
-    for (LockstepLane& l : lanes) l.seed = l.seed == 0 ? 0 : l.seed + 100;
+  for (soda::SimdLevel level : lockstep_levels()) { // each level the CPU runs
+    INFO(soda::simd_level_name(level) << " kernels");
+    soda::LockstepBatch batch = soda::LockstepBatch::of_shapes(models, level);
+    REQUIRE(batch.size() == 34);
+    REQUIRE(batch.group_count() == 6);
+    CHECK(batch.shares_sines(0));
+    CHECK_FALSE(batch.shares_sines(1));
+    CHECK(batch.shares_sines(3));
+    CHECK(batch.shares_sines(4));
+    CHECK(batch.shares_sines(5));
+    std::vector<soda::State> states = states_of(shapes);
+    std::vector<soda::State*> pointers;
+    for (soda::State& s : states) pointers.push_back(&s);
+    const std::string diff = compare_in_pieces(flat, states, 3000, [&](long long n) { batch.run(pointers.data(), n); });
+    INFO(diff);
+    CHECK(diff.empty());
+    // The test could fail: jittered replicas left their exact replica 0, and the
+    // boxed replicas' waves parted (their sines were no longer shared).
+    CHECK_FALSE(compare_states(walker, states[0], states[1]).empty());
+    bool waves_parted = false;
+    for (int r = 1; r < 8; ++r) waves_parted = waves_parted || states[20].wave_phase != states[20 + static_cast<std::size_t>(r)].wave_phase;
+    CHECK(waves_parted);
+    // The same batch on other states: other seeds, from another start.
+    std::vector<std::vector<LockstepLane>> again = shapes;
+    for (std::vector<LockstepLane>& lanes : again) {
+      for (LockstepLane& l : lanes) l.seed = l.seed == 0 ? 0 : l.seed + 100;
+    }
+    std::vector<soda::State> other = states_of(again);
+    for (soda::State& s : other) s.x[0] += 1.5;
+    pointers.clear();
+    for (soda::State& s : other) pointers.push_back(&s);
+    const std::string diff_again = compare_in_pieces(flat, other, 1000, [&](long long n) { batch.run(pointers.data(), n); });
+    INFO(diff_again);
+    CHECK(diff_again.empty());
   }
-  std::vector<soda::State> other = states_of(again);
-  for (soda::State& s : other) s.x[0] += 1.5;
-  pointers.clear();
-  for (soda::State& s : other) pointers.push_back(&s);
-  const std::string diff_again = compare_in_pieces(flat, other, 1000, [&](long long n) { batch.run(pointers.data(), n); });
-  INFO(diff_again);
-  CHECK(diff_again.empty());
   CHECK_THROWS_AS(soda::LockstepBatch::of_shapes({}), std::invalid_argument);
   CHECK_THROWS_AS(soda::LockstepBatch::of_shapes({{&walker}, {}}), std::invalid_argument);
   CHECK_THROWS_AS(soda::LockstepBatch::of_shapes({{&walker, &slug}}), std::invalid_argument);
@@ -499,21 +516,24 @@ soda::Model dainty_in_flat_lane() {
 TEST_CASE("lockstep batch: jittered replicas of a racer in a TerrainFlat lane equal the reference, bar memory "
           "included; BatchStepper puts them in lockstep",
           "[lockstep][race]") {
-  if (skip_without_avx512()) return;
+  if (skip_without_lockstep()) return;
   const soda::Model model = dainty_in_flat_lane();
   REQUIRE(model.bar_count() > 0);
   REQUIRE(soda::LockstepBatch::can_take(model));
   constexpr long long kFrames = 700; // falls onto the platform, walks on it
   constexpr int kReplicas = 11;      // a full group and a partial one (padding lanes)
   bool moved = false;
-  soda::LockstepBatch batch(std::vector<const soda::Model*>(kReplicas, &model));
-  CHECK(replicas_against_reference(
-            model, kReplicas, 0.02, kFrames,
-            [&](const auto&, std::vector<soda::State*>& s, long long n) { batch.run(s.data(), n); }, moved)
-            .empty());
-  CHECK(moved); // the replicas parted: a lane that took another's bar memory would differ
-  // The bars acted: every replica's masses lie on a bar (its memory is compared above).
-  CHECK(batch.bar_rules_run() > kReplicas * kFrames);
+  for (soda::SimdLevel level : lockstep_levels()) {
+    INFO(soda::simd_level_name(level) << " kernels");
+    soda::LockstepBatch batch(std::vector<const soda::Model*>(kReplicas, &model), level);
+    CHECK(replicas_against_reference(
+              model, kReplicas, 0.02, kFrames,
+              [&](const auto&, std::vector<soda::State*>& s, long long n) { batch.run(s.data(), n); }, moved)
+              .empty());
+    CHECK(moved); // the replicas parted: a lane that took another's bar memory would differ
+    // The bars acted: every replica's masses lie on a bar (its memory is compared above).
+    CHECK(batch.bar_rules_run() > kReplicas * kFrames);
+  }
   soda::State landed = soda::make_state(model);
   soda::run(model, landed, kFrames);
   CHECK_FALSE(landed.bar_memory.contacts.empty());
@@ -535,7 +555,7 @@ TEST_CASE("lockstep batch: jittered replicas of a racer in a TerrainFlat lane eq
 // stops it (the same final state, bar memory included, and the same frame count).
 TEST_CASE("lockstep batch run_until: race replicas stop each at its own frame, as FastStepper::run_until",
           "[lockstep][race]") {
-  if (skip_without_avx512()) return;
+  if (skip_without_lockstep()) return;
   const soda::Model model = dainty_in_flat_lane();
   constexpr int kReplicas = 10;
   constexpr long long kFrames = 1500;
@@ -570,4 +590,24 @@ TEST_CASE("lockstep batch run_until: race replicas stop each at its own frame, a
   CHECK(*std::min_element(expected.begin(), expected.end() - 1) < *std::max_element(expected.begin(), expected.end() - 1));
   CHECK(expected.back() == kFrames);
   CHECK(expected.front() < kFrames);
+}
+
+TEST_CASE("SIMD level: forced below the CPU's best, Auto follows it, lockstep included", "[lockstep][simd]") {
+  const soda::SimdLevel best = soda::best_simd_level();
+  soda::SimdLevel parsed = soda::SimdLevel::Auto;
+  CHECK(soda::parse_simd_level("avx2", parsed));
+  CHECK(parsed == soda::SimdLevel::Avx2);
+  CHECK_FALSE(soda::parse_simd_level("avx3", parsed));
+  soda::force_simd_level(soda::SimdLevel::Sse2);
+  CHECK(soda::best_simd_level() == soda::SimdLevel::Sse2);
+  CHECK_FALSE(soda::LockstepBatch::usable()); // no SSE2 lockstep kernels: BatchStepper fuses
+  if (soda::simd_level_supported(soda::SimdLevel::Avx2)) {
+    soda::force_simd_level(soda::SimdLevel::Avx2);
+    CHECK(soda::best_simd_level() == soda::SimdLevel::Avx2);
+    CHECK(soda::LockstepBatch::level_for(soda::SimdLevel::Auto) == soda::SimdLevel::Avx2);
+    const soda::Model walker = load_scene(models_dir() / "dainty_walker.xml").model;
+    CHECK(soda::LockstepBatch(std::vector<const soda::Model*>(8, &walker)).level() == soda::SimdLevel::Avx2);
+  }
+  soda::force_simd_level(soda::SimdLevel::Auto);
+  CHECK(soda::best_simd_level() == best);
 }

@@ -76,7 +76,7 @@ mkdir -p "$out/evolve-include"
 ln -sfn /usr/include/nlohmann "$out/evolve-include/nlohmann"
 evolve_sources=("$root/web/evolve_api.cpp" "$root/web/wasm_lockstep_stub.cpp" "$out/pugixml_oiio.cpp")
 for src in "$root"/core/*.cpp "$root"/core/fused/*.cpp "$root"/formats/*.cpp "$root"/evolve/*.cpp; do
-  case "$(basename "$src")" in lockstep_batch.cpp | lockstep_plan.cpp) continue ;; esac
+  case "$(basename "$src")" in lockstep_*.cpp) continue ;; esac
   evolve_sources+=("$src")
 done
 evolve_flags=("${flags[@]}" -msimd128 -msse2 -DEIGEN_DONT_VECTORIZE -DSODAEVO_HAS_MPI=0 -I"$out/evolve-include"

@@ -1,5 +1,5 @@
-// LockstepBatch in WebAssembly: its kernels are AVX-512 (core/lockstep_batch.cpp),
-// which WebAssembly has not, so usable() is false and BatchStepper and the race
+// LockstepBatch in WebAssembly: its kernels are AVX-512 or AVX2
+// (core/lockstep_kernels_*.cpp), which WebAssembly has not, so usable() is false and BatchStepper and the race
 // lanes never build one (they fuse instead: the same bits). Compiled instead of
 // core/lockstep_batch.cpp and core/lockstep_plan.cpp by web/build_wasm.sh.
 #include <stdexcept>
@@ -11,14 +11,16 @@ namespace soda {
 struct LockstepBatch::Data {};
 
 namespace {
-[[noreturn]] void absent() { throw std::logic_error("LockstepBatch: no AVX-512 in WebAssembly"); }
+[[noreturn]] void absent() { throw std::logic_error("LockstepBatch: no AVX2 or AVX-512 in WebAssembly"); }
 } // namespace
 
-bool LockstepBatch::usable() { return false; }
+bool LockstepBatch::usable(SimdLevel) { return false; }
+SimdLevel LockstepBatch::level_for(SimdLevel level) { return level; }
 bool LockstepBatch::can_take(const Model&) { return false; }
 bool LockstepBatch::same_shape(const Model&, const Model&) { return false; }
-LockstepBatch::LockstepBatch(const std::vector<const Model*>&) { absent(); }
-LockstepBatch LockstepBatch::of_shapes(const std::vector<std::vector<const Model*>>&) { absent(); }
+LockstepBatch::LockstepBatch(const std::vector<const Model*>&, SimdLevel) { absent(); }
+LockstepBatch LockstepBatch::of_shapes(const std::vector<std::vector<const Model*>>&, SimdLevel) { absent(); }
+SimdLevel LockstepBatch::level() const { absent(); }
 LockstepBatch::~LockstepBatch() = default;
 LockstepBatch::LockstepBatch(LockstepBatch&&) noexcept = default;
 LockstepBatch& LockstepBatch::operator=(LockstepBatch&&) noexcept = default;

@@ -1,17 +1,11 @@
 // LockstepBatch::Data: the lanes' rows and the plan of a lockstep batch, shared by
 // its construction (lockstep_plan.cpp: groups, columns, layout, load/store) and its
-// AVX-512 frame kernels (lockstep_batch.cpp).
+// frame kernels (lockstep_kernels.hpp, compiled per instruction set).
 //
 // Why a header of its own: the construction is plain C++ and the kernels are
-// compiled for AVX-512; one file held both past the project's size limit.
-// Private to those two files (core/detail/).
+// compiled for AVX-512 or AVX2; one file held both past the project's size limit.
+// Private to those files (core/detail/).
 #pragma once
-
-// The SIMD templates are instantiated with the default target and always inlined
-// into the AVX-512 kernels: no call ever crosses the vector ABI this warns about.
-#pragma GCC diagnostic ignored "-Wpsabi"
-
-#include <immintrin.h>
 
 #include <cstddef>
 #include <cstdint>
@@ -19,8 +13,6 @@
 #include <vector>
 
 #include "core/detail/aligned_vector.hpp"
-#include "core/detail/java_sine_simd.hpp"
-#include "core/detail/simd_ops.hpp"
 #include "core/exact_sines.hpp"
 #include "core/fixed_bars.hpp"
 #include "core/lockstep_batch.hpp"
@@ -28,20 +20,29 @@
 namespace soda {
 
 namespace lockstep_detail {
-using O = simd::Avx512Ops;
+/// Lanes of a group: one row of 8 doubles (an AVX-512 vector, or two AVX2 ones).
 inline constexpr int kW = LockstepBatch::kLanes;
 /// Groups stepped side by side in one pass over their links and masses (two,
 /// three and four measured alike on the GA's creatures; one alone ~25 % slower).
 inline constexpr int kSideBySide = 2;
-static_assert(O::W == kW);
 } // namespace lockstep_detail
+
+/// A level's frame kernels (lockstep_kernels.hpp): one frame of every group, and
+/// group g's sines for the phase it has now.
+struct LockstepEntry {
+  void (*step_frame)(LockstepBatch::Data&) = nullptr;
+  void (*sines_now)(LockstepBatch::Data&, int g) = nullptr;
+};
+LockstepEntry lockstep_kernels_avx512();
+LockstepEntry lockstep_kernels_avx2();
 
 // Lane l of group g is state groups[g].first + l (padding lanes past a group's
 // own repeat its last state; their results are never read). Every per-lane value
 // is a row of 8 doubles.
 struct LockstepBatch::Data {
-  using O = lockstep_detail::O;
   static constexpr int kW = lockstep_detail::kW;
+  SimdLevel level = SimdLevel::Avx512; ///< the kernels' instruction set (Avx512 or Avx2)
+  LockstepEntry kernels;              ///< that level's
   struct Group {
     int first = 0, lanes = 0;            ///< its states: [first, first + lanes)
     int points = 0, masses = 0, links = 0;
@@ -139,19 +140,7 @@ struct LockstepBatch::Data {
   void lay_out();
   void load(State* const* st);
   void store_lane(int g, int l, State& s); ///< lane l of group g into its state s
-  void arguments_for(int g, O::V phase, bool pool_rows_now);
-  void pool_arguments_rows(std::size_t first_row, std::size_t end_row);
-  void step_frame();
-  void sines_now(int g);
-  void unpack_sines(int g);
-  void targets_from_sines(int g);
-  bool packed_jitter_hits(int g);
-  void targets_from_packed(int g);
-  void jitter_sines(int g);
-  void queue_sines(int g);
   void bar_pass(int g);
-  template <int N, bool Bars>
-  void step_groups(int g0);
 };
 
 } // namespace soda

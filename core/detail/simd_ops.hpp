@@ -287,6 +287,32 @@ struct Avx512Ops {
   static V add_where(M m, V a, V b) { return _mm512_mask_add_pd(a, m, a, b); }
   static V sub_where(M m, V a, V b) { return _mm512_mask_sub_pd(a, m, a, b); }
   static unsigned lanes(M m) { return m; }
+  static constexpr bool kMaskedArithmetic = true; // add_where is one masked instruction
+  static M m_all() { return 0xff; }
+  /// base[idx[l]] in lane l.
+  static V gather64(const double* base, const std::int64_t* idx) {
+    return _mm512_i64gather_pd(_mm512_loadu_si512(idx), base, 8);
+  }
+  /// Lane 0's value.
+  static double first(V a) { return _mm512_cvtsd_f64(a); }
+  /// Whether every lane of a has the bits of lane 0.
+  static bool lanes_alike(V a) {
+    const __m512i b = _mm512_castpd_si512(_mm512_broadcastsd_pd(_mm512_castpd512_pd128(a)));
+    return _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(a), b) == 0;
+  }
+  /// Whether a and b differ in the bits of some lane.
+  static bool bits_differ(V a, V b) { return _mm512_cmpneq_epi64_mask(_mm512_castpd_si512(a), _mm512_castpd_si512(b)) != 0; }
+  // 64-bit integer lanes (the jitter's hash; the multiply is AVX-512DQ's).
+  using I = __m512i;
+  static I iload(const std::uint64_t* p) { return _mm512_loadu_si512(p); }
+  static I ibits(V a) { return _mm512_castpd_si512(a); }
+  static I iset1(std::uint64_t v) { return _mm512_set1_epi64(static_cast<long long>(v)); }
+  static I ixor(I a, I b) { return _mm512_xor_si512(a, b); }
+  template <int S>
+  static I ishr(I a) { return _mm512_srli_epi64(a, S); }
+  [[gnu::target("avx512f,avx512dq")]] static I imul(I a, I b) { return _mm512_mullo_epi64(a, b); }
+  /// Lanes where a < b, both below 2^63.
+  static unsigned ilt_small(I a, I b) { return _mm512_cmplt_epu64_mask(a, b); }
   static V loadu(const double* p) { return _mm512_loadu_pd(p); }
   static void storeu(double* p, V v) { _mm512_storeu_pd(p, v); }
   static void to_i32(V v, std::int32_t* out) {
