@@ -1,6 +1,7 @@
 // LockstepBatch's AVX-512 frame kernels (lockstep_batch.hpp); its construction
 // and the states' load and store are in lockstep_plan.cpp.
 #include "lockstep_batch.hpp"
+#include "core/cancellation.hpp"
 
 // The SIMD templates (simd_rules.hpp) are instantiated with the default target
 // and always inlined into the AVX-512 kernels below: no call ever crosses the
@@ -505,6 +506,7 @@ long long LockstepBatch::step_until(State* const* states, long long frames, cons
   int left = d.count;
   long long ran = 0;
   while (ran < frames && left > 0) {
+    if (ran % kCancellationFrames == kCancellationFrames - 1) check_cancellation();
     d.step_frame();
     ++ran;
     if (stop == nullptr) continue;
