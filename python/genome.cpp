@@ -38,7 +38,10 @@ struct Slot {
 
 std::vector<Slot> slots_of(const soda::ModelDef& def, bool world) {
   std::vector<Slot> slots;
-  const double longest = std::hypot(static_cast<double>(def.width), static_cast<double>(def.height));
+  // Rest lengths: up to the container's diagonal, or twice the model's longest link
+  // if that is longer (some evolved creatures have links longer than the window).
+  double longest = std::hypot(static_cast<double>(def.width), static_cast<double>(def.height));
+  for (const soda::LinkDef& l : def.links) longest = std::max(longest, 2 * l.rest_length);
   for (std::size_t i = 0; i < def.links.size(); ++i) {
     if (def.links[i].kind == soda::LinkKind::FixedBar) continue;
     slots.push_back({"rest_length[" + std::to_string(i) + "]", 0.0, longest, false,

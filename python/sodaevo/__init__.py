@@ -121,10 +121,16 @@ def evaluate(models: Union[Sequence[Model], Request], problem: ConfigLike = None
     limits: a creature outside them is "invalid"), run on its replicas by a
     ReplicaEstimator, in batches of creatures stepped together on `threads`
     threads (0: all cores). Neither `threads` nor `batch` changes a result. The GIL
-    is released throughout, so other Python threads run meanwhile.
+    is released throughout, so other Python threads run meanwhile; Ctrl-C stops
+    it (KeyboardInterrupt). A sodaevo.Config is used as it is, read once.
+
+    `models` may be an Optimiser's Request (``opt.ask()``): it is then evaluated
+    with the problem and estimator its run asks for (give no problem, replicas
+    or seed), and the result is what ``opt.tell`` takes.
     """
-    r = _sodaevo.evaluate(list(models), problem if problem is not None else {}, replicas=replicas, seed=seed,
-                          threads=threads, batch=batch)
+    if not isinstance(models, Request):
+        models = list(models)
+    r = _sodaevo.evaluate(models, problem, replicas=replicas, seed=seed, threads=threads, batch=batch)
     return Evaluations(**r)
 
 
@@ -237,7 +243,8 @@ class Optimiser:
 class Run:
     """A run folder read back (`open_run`).
 
-    config: the resolved config (dict); manifest: manifest.json; generations: the
+    config: the resolved config (dict; seed-model paths made absolute, so that
+    evaluate() and Config take it as it is); manifest: manifest.json; generations: the
     rows of generations.csv as a numpy structured array (generation, evaluations,
     best, mean, median, worst, invalid, diverged, best_id, best_replicas, best_sd,
     best_interval95_lo, best_interval95_hi); champions: champions.json (the best
@@ -296,6 +303,11 @@ def open_run(path: PathLike) -> Run:
         raise InputError(f"{p}: not a run folder (no config.json)")
     with open(p / "config.json", encoding="utf-8") as f:
         config = json.load(f)
+    # A run keeps copies of its seed models, named relative to its folder: made
+    # absolute, so that the dict is a config wherever it is used.
+    seeds = config.get("population", {}).get("seed_models")
+    if isinstance(seeds, list):
+        config["population"]["seed_models"] = [s if os.path.isabs(s) else str((p / s).resolve()) for s in seeds]
     manifest: Dict[str, Any] = {}
     if (p / "manifest.json").is_file():
         with open(p / "manifest.json", encoding="utf-8") as f:

@@ -42,8 +42,8 @@ def test_out_of_range_names_the_argument(m, call, name):
 
 def test_numpy_scalars_are_numbers(m):
     assert sodaevo.mutate(m, np.uint64(5)) == sodaevo.mutate(m, 5)
-    assert sodaevo.mutate(m, np.int32(5), {"mutation": {"rate": np.float64(0.5)}}) == \
-        sodaevo.mutate(m, 5, {"mutation": {"rate": 0.5}})
+    assert sodaevo.mutate(m, np.int32(5), {"mutation": {"rest_length": {"rate": np.float64(0.5), "sigma": np.float32(0.25)}}}) == \
+        sodaevo.mutate(m, 5, {"mutation": {"rest_length": {"rate": 0.5, "sigma": 0.25}}})
     a = sodaevo.simulate(m, np.int64(50), replicas=np.int16(3), jitter=np.float32(0.25))
     b = sodaevo.simulate(m, 50, replicas=3, jitter=float(np.float32(0.25)))
     assert a["mean"] == b["mean"]

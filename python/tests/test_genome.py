@@ -7,7 +7,7 @@ import pytest
 import sodaevo
 from conftest import DAINTY, MODELS
 
-ALL_MODELS = sorted(MODELS.glob("*.xml")) + sorted((MODELS / "terrains").glob("*.xml"))[:3]
+ALL_MODELS = sorted(MODELS.glob("*.xml"))
 
 
 def loaded(path):
@@ -96,7 +96,7 @@ def test_a_plain_table_builds_a_creature_that_runs():
     links = [[0, 0, 1, 50, 0, 0], [1, 1, 2, 47, 0.5, 0.25], [0, 2, 0, 47, 0, 0]]
     m = sodaevo.Model.from_arrays(nodes, links, name="triangle")
     assert (m.mass_count, m.link_count, m.node_ids) == (3, 3, ("m0", "m1", "m2"))
-    assert sodaevo.Model.from_xml(m.to_xml()) == m
+    assert sodaevo.Model.from_xml(m.to_xml()).to_xml() == m.to_xml()  # the file's canonical order
     assert sodaevo.simulate(m, 200)["frames"] == 200
 
 
