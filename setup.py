@@ -2,7 +2,8 @@
 extension and the `sodaevo` command built by the project's CMake, never by
 setuptools' compiler, so a pip install runs the very build `cmake` runs
 (flags, -ffp-contract=off, the same bits). The CMake build folder is
-build/pip-<python>, inside the clone, so that ccache reuses a developer build's
+build-pip-<python ABI>/ in the clone, beside build/ at the same depth, so that
+ccache (base_dir: paths relative to the build folder) reuses a developer build's
 objects."""
 from __future__ import annotations
 
@@ -35,7 +36,7 @@ class CMakeBuild(build_ext):
 
     def build_extension(self, ext: Extension) -> None:
         tag = sysconfig.get_config_var("SOABI") or f"py{sys.version_info[0]}{sys.version_info[1]}"
-        build_dir = ROOT / "build" / f"pip-{tag}"
+        build_dir = ROOT / f"build-pip-{tag}"
         configure = ["cmake", "-S", str(ROOT), "-B", str(build_dir), "-DCMAKE_BUILD_TYPE=Release",
                      f"-DPython_EXECUTABLE={sys.executable}", "-DSODAEVO_BUILD_TESTS=OFF", "-DSODAEVO_PYTHON=ON"]
         if shutil.which("ninja"):
