@@ -53,6 +53,9 @@ struct EvaluationRequest {
   long long id = 0; ///< which request of its optimiser (tell() checks it)
 };
 
+/// `run` with its roles built, read from `source`.
+std::shared_ptr<const ParsedConfig> make_parsed(RunConfig run, std::string source);
+
 /// A config argument as a ParsedConfig: a sodaevo.Config as it is, else parsed
 /// (as run_config_of). `fitness_alone`: a dict without a "fitness" key is the
 /// /fitness object (evaluate's `problem`).

@@ -42,15 +42,6 @@ RunConfig parse_dict(py::dict given, bool whole_run, const std::filesystem::path
   return parse_run_config(json_text_of(given), "<dict>", base);
 }
 
-std::shared_ptr<const ParsedConfig> make_parsed(RunConfig run, std::string source) {
-  auto parsed = std::make_shared<ParsedConfig>();
-  parsed->problem = problem_of(run);
-  parsed->estimator = std::make_shared<const ReplicaEstimator>(replica_plan(run));
-  parsed->run = std::move(run);
-  parsed->source = std::move(source);
-  return parsed;
-}
-
 std::shared_ptr<const ParsedConfig> parse(const py::object& spec, bool whole_run, bool fitness_alone,
                                           const py::object& base) {
   const std::filesystem::path base_dir =
@@ -75,6 +66,15 @@ std::shared_ptr<const ParsedConfig> parse(const py::object& spec, bool whole_run
 }
 
 } // namespace
+
+std::shared_ptr<const ParsedConfig> make_parsed(RunConfig run, std::string source) {
+  auto parsed = std::make_shared<ParsedConfig>();
+  parsed->problem = problem_of(run);
+  parsed->estimator = std::make_shared<const ReplicaEstimator>(replica_plan(run));
+  parsed->run = std::move(run);
+  parsed->source = std::move(source);
+  return parsed;
+}
 
 std::shared_ptr<const ParsedConfig> config_of(const py::object& spec, bool whole_run, bool fitness_alone) {
   if (py::isinstance<ParsedConfig>(spec)) return spec.cast<std::shared_ptr<ParsedConfig>>();

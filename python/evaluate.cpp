@@ -81,11 +81,7 @@ py::dict evaluate(const py::object& models, const py::object& problem_spec, cons
       config.fitness.replicas_max = std::max(config.fitness.replicas_max, k);
     }
     if (!seed.is_none()) config.seed = static_cast<std::uint64_t>(integer_in(seed, "seed", 0, 1LL << 53));
-    auto changed = std::make_shared<ParsedConfig>(*parsed);
-    changed->run = config;
-    changed->problem = problem_of(config);
-    changed->estimator = std::make_shared<const ReplicaEstimator>(replica_plan(config));
-    parsed = changed;
+    parsed = make_parsed(config, parsed->source);
   }
   const std::vector<soda::ModelDef> creatures = creatures_of(models.cast<py::sequence>());
   return evaluations_dict(evaluate_on_threads(creatures, *parsed->problem, *parsed->estimator, threads, batch));

@@ -1,8 +1,9 @@
 // sodaevo.Model: a SodaConstructor model (soda::ModelDef) read from a file or XML
 // text, written back as canonical v1 XML, its nodes and links readable as numpy
-// arrays (read-only copies) and its world as a read-only mapping. Immutable from Python, so a batch may read it
-// on other threads while the GIL is released; new creatures come from the GA's
-// operators (python/evolve.cpp).
+// arrays (read-only copies) and its world as a read-only mapping. Immutable from
+// Python, so a batch may read it on other threads while the GIL is released; new
+// creatures come from the GA's operators (python/evolve.cpp) and from arrays and
+// vectors (python/genome.cpp).
 #include <cstdint>
 #include <filesystem>
 #include <string>

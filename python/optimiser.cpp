@@ -88,6 +88,7 @@ class Optimiser {
         if (config_.algorithm == AlgorithmKind::MapElites) {
           MapElitesOptions options;
           options.stop_requested = &stop;
+          options.stop_is_pause = true;
           options.on_iteration = [&](const MapElitesProgress& p) {
             stop = true;
             progress_.append(iteration_progress(p));
@@ -98,6 +99,7 @@ class Optimiser {
         } else {
           EvolutionOptions options;
           options.stop_requested = &stop;
+          options.stop_is_pause = true;
           options.on_generation = [&](const Progress& p) {
             stop = true;
             progress_.append(generation_progress(p));
