@@ -1,4 +1,5 @@
 #include "continuous_step.hpp"
+#include "core/cancellation.hpp"
 
 #include <cmath>
 #include <limits>
@@ -101,7 +102,10 @@ bool ContinuousStepper::implicit_step(State& s, std::string& why) {
 
 void ContinuousStepper::run(State& s, long long frames) {
   require_state_size(s, model_.point_count, "ContinuousStepper::run");
-  for (long long f = 0; f < frames; ++f) step_unchecked(s);
+  for (long long f = 0; f < frames; ++f) {
+    if (f % kCancellationFrames == kCancellationFrames - 1) check_cancellation();
+    step_unchecked(s);
+  }
 }
 
 void ContinuousStepper::advance_wave(State& s) const {

@@ -3,6 +3,7 @@
 // lockstep_kernels.hpp (one file per instruction set), the construction in
 // lockstep_plan.cpp.
 #include "lockstep_batch.hpp"
+#include "core/cancellation.hpp"
 
 #include <algorithm>
 #include <cstdint>
@@ -110,6 +111,7 @@ long long LockstepBatch::step_until(State* const* states, long long frames, cons
   int left = d.count;
   long long ran = 0;
   while (ran < frames && left > 0) {
+    if (ran % kCancellationFrames == kCancellationFrames - 1) check_cancellation();
     d.kernels.step_frame(d);
     ++ran;
     if (stop == nullptr) continue;

@@ -1,4 +1,5 @@
 #include "core/simulation_run.hpp"
+#include "core/cancellation.hpp"
 
 #include <algorithm>
 
@@ -14,6 +15,7 @@ Divergence run_watched(const Model& model, State& state, long long frames, const
   DivergenceMonitor monitor(model, state, {}, energy);
   State next = state;
   for (long long f = 0; f < frames; ++f) {
+    if (f % kCancellationFrames == kCancellationFrames - 1) check_cancellation();
     try {
       stepper.step(next);
     } catch (const StepFailure& failure) { // an implicit solve failed: diverged there
@@ -36,6 +38,7 @@ Divergence run_simulation(const Model& model, State& state, long long frames, co
   Divergence divergence;
   for (long long done = 0; done < frames && !divergence.diverged;) {
     const long long n = std::min(kBlock, frames - done);
+    check_cancellation();
     State block_start = state;
     bool failed = false;
     try {

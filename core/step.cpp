@@ -1,4 +1,5 @@
 #include "step.hpp"
+#include "core/cancellation.hpp"
 
 #include <cassert>
 #include <cmath>
@@ -87,7 +88,10 @@ void step(const Model& model, State& state) {
 void run(const Model& model, State& state, long long frames) {
   require_state_size(state, model.point_count, "soda::run");
   assert(constants_current(model));
-  for (long long f = 0; f < frames; ++f) step_unchecked(model, state);
+  for (long long f = 0; f < frames; ++f) {
+    if (f % kCancellationFrames == kCancellationFrames - 1) check_cancellation();
+    step_unchecked(model, state);
+  }
 }
 
 } // namespace soda

@@ -118,7 +118,7 @@ void ArchiveStore::truncate_after(int iteration) {
     }
     start = end;
   }
-  soda::write_file_atomically(dir_ / "qd.csv", kept);
+  if (kept != text) soda::write_file_atomically(dir_ / "qd.csv", kept); // a resume after a pause truncates nothing
 }
 
 void ArchiveStore::write_snapshot(const GridArchive& archive, const MapElitesConfig& me, int iteration) const {

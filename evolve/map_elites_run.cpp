@@ -98,10 +98,14 @@ MapElitesOutcome run_map_elites(const std::filesystem::path& dir, const RunConfi
     else if (config.budget.max_wall_seconds > 0 && wall() >= config.budget.max_wall_seconds) stop = "wall-time budget";
     else if (options.stop_requested != nullptr && options.stop_requested->load()) stop = "interrupted";
     if (!stop.empty()) {
+      const bool pause = stop == "interrupted" && options.stop_is_pause;
+      const bool checkpointed = state.iteration % config.save.checkpoint_every == 0; // iteration 0 too
       state.wall_seconds = wall();
-      store.write_checkpoint(archive, state);
-      store.write_snapshot(archive, me, state.iteration);
-      store.write_archive(archive, config, me, state.iteration);
+      if (!pause || !checkpointed) store.write_checkpoint(archive, state);
+      if (!pause) {
+        store.write_snapshot(archive, me, state.iteration);
+        store.write_archive(archive, config, me, state.iteration);
+      }
       outcome.stopped_because = stop;
       outcome.last_iteration = state.iteration;
       outcome.evaluations = state.evaluations;

@@ -7,6 +7,8 @@
 #include <thread>
 #include <vector>
 
+#include "core/cancellation.hpp"
+
 namespace sodaevo {
 
 int resolve_thread_count(int requested) {
@@ -25,7 +27,10 @@ void parallel_for_index(std::size_t count, int threads, const std::function<void
   std::atomic<bool> failed{false};
   std::exception_ptr first_error;
   std::mutex error_mutex;
+  // The caller's cancellation (Ctrl-C from Python) reaches the work on every thread.
+  const soda::Cancellation* cancellation = soda::current_cancellation();
   auto loop = [&] {
+    const soda::CancellationScope scope(cancellation);
     for (;;) {
       if (failed.load(std::memory_order_relaxed)) return;
       const std::size_t i = next.fetch_add(1, std::memory_order_relaxed);

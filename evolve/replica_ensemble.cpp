@@ -1,4 +1,5 @@
 #include "replica_ensemble.hpp"
+#include "core/cancellation.hpp"
 
 #include <cmath>
 #include <limits>
@@ -52,6 +53,7 @@ ReplicaResults run_replicas(const soda::Model& model, const ReplicaSettings& set
       }
     }
     if (frame == total) break;
+    if (frame % soda::kCancellationFrames == soda::kCancellationFrames - 1) soda::check_cancellation();
     for (soda::State& s : states) stepper.step(s);
   }
   for (std::size_t r = 0; r < count; ++r) {

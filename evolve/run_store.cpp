@@ -343,9 +343,9 @@ void RunStore::write_logs() const {
 }
 
 void RunStore::truncate_logs_after(int generation) {
-  std::erase_if(generation_rows_, [&](const auto& r) { return r.first > generation; });
-  std::erase_if(timing_rows_, [&](const auto& r) { return r.first > generation; });
-  write_logs();
+  const auto erased = std::erase_if(generation_rows_, [&](const auto& r) { return r.first > generation; }) +
+                      std::erase_if(timing_rows_, [&](const auto& r) { return r.first > generation; });
+  if (erased > 0) write_logs(); // a resume after a pause (ask/tell) truncates nothing: no rewrite
 }
 
 namespace {

@@ -2,7 +2,9 @@
 // generation: the run config's Problem (walk or race, its /fitness object), a
 // ReplicaEstimator on its replicas, and a ThreadEvaluator that hands batches of
 // creatures to N threads, each batch stepped fused on one core. The GIL is
-// released for the whole batch. Also the config helpers the other pieces share.
+// released for the whole batch, and Ctrl-C stops it (python/interruptible.hpp).
+// An optimiser's request is evaluated with the problem and estimator its run
+// asked for.
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -17,70 +19,75 @@
 #include "evolve/evaluator.hpp"
 #include "evolve/replica_estimator.hpp"
 #include "evolve/run_roles.hpp"
+#include "evolve/input_limits.hpp"
 #include "evolve/sample_summary.hpp"
+#include "evolve/wire_format.hpp"
+#include "python/arguments.hpp"
 #include "python/bindings.hpp"
+#include "python/interruptible.hpp"
 
 namespace sodaevo::python {
 
-RunConfig run_config_of(const py::object& config, bool whole_run) {
-  if (config.is_none()) return RunConfig{};
-  if (py::isinstance<py::dict>(config)) {
-    py::dict given = py::module_::import("copy").attr("deepcopy")(config);
-    if (!whole_run) {
-      // Settings for an operator or a problem, not a run: without seed models
-      // every creature is one's own, so no population's share of random
-      // creatures is asked for (a run's config must give it).
-      py::dict population = given.contains("population") ? py::dict(given["population"]) : py::dict();
-      if (!population.contains("seed_models") && !population.contains("random_fraction")) {
-        population["random_fraction"] = 1;
-        given["population"] = population;
-      }
-    }
-    const std::string text = py::module_::import("json").attr("dumps")(given, py::arg("allow_nan") = false).cast<std::string>();
-    return parse_run_config(text, "<dict>", std::filesystem::current_path());
-  }
-  const py::object path = py::module_::import("os").attr("fspath")(config);
-  return read_run_config(path.cast<std::string>());
-}
-
 namespace {
 
-/// The config of evaluate(): a whole run config (a path, or a dict with a
-/// "fitness" key) or the /fitness object alone.
-RunConfig problem_config(const py::object& problem) {
-  if (py::isinstance<py::dict>(problem) && !problem.cast<py::dict>().contains("fitness")) {
-    py::dict whole;
-    whole["fitness"] = problem;
-    return run_config_of(whole);
-  }
-  return run_config_of(problem);
-}
+/// Evaluations as evaluate() returns them: numpy arrays, and the wire bytes of
+/// every Evaluation (what an optimiser's tell() reads back, exactly).
+py::dict evaluations_dict(const std::vector<Evaluation>& results);
 
-py::dict evaluate(const py::sequence& models, const py::object& problem_spec, const py::object& replicas,
-                  const py::object& seed, int threads, std::size_t batch) {
-  RunConfig config = problem_config(problem_spec);
-  if (!replicas.is_none()) {
-    const int k = replicas.cast<int>();
-    if (k < 1 || k > 256) throw soda::InputError("replicas: expected an integer in [1, 256], got " + std::to_string(k));
-    config.fitness.replicas = k;
-    config.fitness.replicas_max = std::max(config.fitness.replicas_max, k);
-  }
-  if (!seed.is_none()) config.seed = seed.cast<std::uint64_t>();
-  if (threads < 0) throw soda::InputError("threads: expected an integer >= 0 (0: all cores), got " + std::to_string(threads));
-  // Copies: the batch runs without the GIL, so it holds nothing Python owns.
+/// Copies of the models (the work runs without the GIL, so it holds nothing
+/// Python owns).
+std::vector<soda::ModelDef> creatures_of(const py::sequence& models) {
   std::vector<soda::ModelDef> creatures;
   creatures.reserve(models.size());
   for (const py::handle& m : models) creatures.push_back(model_of(m));
+  return creatures;
+}
+
+std::vector<Evaluation> evaluate_on_threads(const std::vector<soda::ModelDef>& creatures, const Problem& problem,
+                                            const Estimator& estimator, int threads, std::size_t batch) {
   std::vector<const soda::ModelDef*> pointers;
   for (const soda::ModelDef& c : creatures) pointers.push_back(&c);
-  const std::unique_ptr<Problem> problem = problem_of(config);
-  const ReplicaEstimator estimator(replica_plan(config));
-  std::vector<Evaluation> results;
-  {
-    py::gil_scoped_release free_python;
+  return run_interruptibly([&] {
     ThreadEvaluator evaluator(threads, batch);
-    results = evaluator.evaluate(pointers, *problem, estimator);
+    return evaluator.evaluate(pointers, problem, estimator);
+  });
+}
+
+py::dict evaluate(const py::object& models, const py::object& problem_spec, const py::object& replicas,
+                  const py::object& seed, const py::object& threads_arg, const py::object& batch_arg) {
+  const int threads = static_cast<int>(integer_in(threads_arg, "threads", 0, kMaxThreads));
+  const auto batch = static_cast<std::size_t>(integer_in(batch_arg, "batch", 0, kMaxPopulation));
+  if (py::isinstance<EvaluationRequest>(models)) {
+    // An optimiser's request: evaluated as its run asks (its problem and estimator).
+    if (!replicas.is_none() || !seed.is_none() || !problem_spec.is_none()) {
+      throw soda::InputError("problem, replicas, seed: an optimiser's request is evaluated as its run asks; "
+                             "give none of them");
+    }
+    const EvaluationRequest& request = models.cast<const EvaluationRequest&>();
+    py::dict out = evaluations_dict(evaluate_on_threads(request.creatures, *request.problem, *request.estimator,
+                                                        threads, batch));
+    out["request"] = request.id;
+    return out;
   }
+  if (!py::isinstance<py::sequence>(models) || py::isinstance<py::str>(models)) {
+    throw py::type_error("models: expected a sequence of sodaevo.Model or an optimiser's request");
+  }
+  std::shared_ptr<const ParsedConfig> parsed = config_of(problem_spec, false, true);
+  if (!replicas.is_none() || !seed.is_none()) {
+    RunConfig config = parsed->run;
+    if (!replicas.is_none()) {
+      const int k = static_cast<int>(integer_in(replicas, "replicas", 1, 256));
+      config.fitness.replicas = k;
+      config.fitness.replicas_max = std::max(config.fitness.replicas_max, k);
+    }
+    if (!seed.is_none()) config.seed = static_cast<std::uint64_t>(integer_in(seed, "seed", 0, 1LL << 53));
+    parsed = make_parsed(config, parsed->source);
+  }
+  const std::vector<soda::ModelDef> creatures = creatures_of(models.cast<py::sequence>());
+  return evaluations_dict(evaluate_on_threads(creatures, *parsed->problem, *parsed->estimator, threads, batch));
+}
+
+py::dict evaluations_dict(const std::vector<Evaluation>& results) {
   const auto n = static_cast<py::ssize_t>(results.size());
   py::array_t<double> fitness(n), distance(n), px_per_frame(n), mean(n), sd(n), median(n);
   py::array_t<int> rollouts(n);
@@ -118,13 +125,17 @@ py::dict evaluate(const py::sequence& models, const py::object& problem_spec, co
   out["interval95"] = interval;
   out["status"] = status;
   out["reason"] = reason;
+  WireWriter wire;
+  wire.u32(static_cast<std::uint32_t>(results.size()));
+  for (const Evaluation& e : results) wire.evaluation(e);
+  out["wire"] = py::bytes(wire.bytes().data(), wire.bytes().size());
   return out;
 }
 
 } // namespace
 
 void bind_evaluate(py::module_& m) {
-  m.def("evaluate", &evaluate, py::arg("models"), py::arg("problem") = py::dict(), py::kw_only(),
+  m.def("evaluate", &evaluate, py::arg("models"), py::arg("problem") = py::none(), py::kw_only(),
         py::arg("replicas") = py::none(), py::arg("seed") = py::none(), py::arg("threads") = 0, py::arg("batch") = 0);
 }
 

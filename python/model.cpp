@@ -1,8 +1,9 @@
 // sodaevo.Model: a SodaConstructor model (soda::ModelDef) read from a file or XML
 // text, written back as canonical v1 XML, its nodes and links readable as numpy
-// arrays and its world as a dict. Immutable from Python, so a batch may read it
-// on other threads while the GIL is released; new creatures come from the GA's
-// operators (python/evolve.cpp).
+// arrays (read-only copies) and its world as a read-only mapping. Immutable from
+// Python, so a batch may read it on other threads while the GIL is released; new
+// creatures come from the GA's operators (python/evolve.cpp) and from arrays and
+// vectors (python/genome.cpp).
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -84,6 +85,14 @@ py::dict world_dict(const soda::ModelDef& def) {
   return w;
 }
 
+/// The model's numbers are its own: an array handed out is a copy marked
+/// read-only, so an edit raises instead of being silently lost.
+template <class T>
+py::array_t<T> read_only(py::array_t<T> a) {
+  a.attr("flags").attr("writeable") = false;
+  return a;
+}
+
 soda::ModelDef loaded(soda::LoadedModel m) {
   warn_all(m.warnings);
   return std::move(m.def);
@@ -121,7 +130,7 @@ void bind_model(py::module_& m) {
            py::arg("path"), "Writes to_xml() to `path` atomically.")
       .def_property_readonly("name", [](const soda::ModelDef& d) { return d.name; })
       .def_property_readonly("comment", [](const soda::ModelDef& d) { return d.comment; })
-      .def_property_readonly("nodes", [](const soda::ModelDef& d) { return node_array(d, false); },
+      .def_property_readonly("nodes", [](const soda::ModelDef& d) { return read_only(node_array(d, false)); },
                              "Every node in file order as an (n, 4) float64 array: x, y, vx, vy (px, px/frame).")
       .def_property_readonly(
           "fixed",
@@ -129,21 +138,23 @@ void bind_model(py::module_& m) {
             py::array_t<bool> out(static_cast<py::ssize_t>(d.nodes.size()));
             auto v = out.mutable_unchecked<1>();
             for (std::size_t i = 0; i < d.nodes.size(); ++i) v(i) = d.nodes[i].fixed;
-            return out;
+            return read_only(out);
           },
           "Whether each node (in `nodes` order) is a fixed node.")
-      .def_property_readonly("masses", [](const soda::ModelDef& d) { return node_array(d, true); },
+      .def_property_readonly("masses", [](const soda::ModelDef& d) { return read_only(node_array(d, true)); },
                              "The free masses in file order (the columns of a trace): (m, 4) x, y, vx, vy.")
       .def_property_readonly("node_ids", [](const soda::ModelDef& d) {
-        std::vector<std::string> ids;
-        for (const soda::NodeDef& n : d.nodes) ids.push_back(n.id);
-        return ids;
+        py::list ids;
+        for (const soda::NodeDef& n : d.nodes) ids.append(n.id);
+        return py::tuple(ids);
       })
-      .def_property_readonly("links", &link_array,
+      .def_property_readonly("links", [](const soda::ModelDef& d) { return read_only(link_array(d)); },
                              "Links in file order, a structured array: kind (0 spring, 1 muscle, 2 fixed bar),\n"
                              "a, b (indices into nodes), rest_length (px), amplitude, phase (cycles).")
-      .def_property_readonly("world", &world_dict,
-                             "Container, environment, collisions, wave and settings as a dict.")
+      .def_property_readonly(
+          "world",
+          [](const soda::ModelDef& d) { return py::module_::import("types").attr("MappingProxyType")(world_dict(d)); },
+          "Container, environment, collisions, wave and settings as a read-only mapping.")
       .def_property_readonly("mass_count", [](const soda::ModelDef& d) {
         int n = 0;
         for (const soda::NodeDef& node : d.nodes) n += node.fixed ? 0 : 1;

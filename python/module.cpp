@@ -6,10 +6,14 @@
 
 PYBIND11_MODULE(_sodaevo, m) {
   m.doc() = "sodaevo's exact SodaConstructor engine, its batches, replicas and run store (use the sodaevo package)";
+  m.attr("__version__") = SODAEVO_VERSION; // CMakeLists.txt's project() version, as pip's metadata
   sodaevo::python::bind_errors(m);
   sodaevo::python::bind_model(m);
+  sodaevo::python::bind_config(m);
+  sodaevo::python::bind_genome(m);
   sodaevo::python::bind_simulate(m);
   sodaevo::python::bind_evaluate(m);
   sodaevo::python::bind_race(m);
   sodaevo::python::bind_evolve(m);
+  sodaevo::python::bind_optimiser(m);
 }

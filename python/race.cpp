@@ -1,6 +1,7 @@
 // sodaevo.race: Sodarace races as `sodaevo race --json` runs them, through the
 // same library calls (evolve/race_entries.hpp); contenders are files (models or
 // race files) or sodaevo.Model objects. Returns the parsed JSON of the command.
+// Ctrl-C stops a race (python/interruptible.hpp).
 #include <string>
 #include <vector>
 
@@ -9,29 +10,25 @@
 #include "core/input_error.hpp"
 #include "evolve/race_entries.hpp"
 #include "formats/race_file.hpp"
+#include "python/arguments.hpp"
 #include "python/bindings.hpp"
+#include "python/interruptible.hpp"
 
 namespace sodaevo::python {
 
 namespace {
 
-py::object race(const py::object& race_file, const py::sequence& contenders, int replicas, double jitter,
-                const py::object& timeout_arg, int threads) {
+py::object race(const py::object& race_file, const py::sequence& contenders, const py::object& replicas_arg,
+                const py::object& jitter_arg, const py::object& timeout_arg, const py::object& threads_arg) {
   const py::object fspath = py::module_::import("os").attr("fspath");
   const std::string race_path = fspath(race_file).cast<std::string>();
-  if (replicas != 0 && (replicas < 2 || replicas > 4096)) {
-    throw soda::InputError("replicas: expected 0 or an integer in [2, 4096], got " + std::to_string(replicas));
-  }
-  if (!(jitter >= 0.0 && jitter <= 1.0)) throw soda::InputError("jitter: expected a number in [0, 1]");
+  const int replicas = static_cast<int>(integer_in(replicas_arg, "replicas", 0, 4096));
+  if (replicas == 1) throw soda::InputError("replicas: expected 0 or an integer in [2, 4096], got 1");
+  const double jitter = number_in(jitter_arg, "jitter", 0.0, 1.0);
+  const int threads = static_cast<int>(integer_in(threads_arg, "threads", 0, kMaxThreads));
   const soda::RaceDef race_def = soda::read_race_file(race_path);
   int timeout = race_def.timeout;
-  if (!timeout_arg.is_none()) {
-    timeout = timeout_arg.cast<int>();
-    if (timeout < 1 || timeout > soda::kMaxRaceTimeout) {
-      throw soda::InputError("timeout: expected an integer in [1, " + std::to_string(soda::kMaxRaceTimeout) +
-                             "], got " + std::to_string(timeout));
-    }
-  }
+  if (!timeout_arg.is_none()) timeout = static_cast<int>(integer_in(timeout_arg, "timeout", 1, soda::kMaxRaceTimeout));
   // Files are read as the command reads them; models are entries as they are,
   // named "<model k>" (or by their name).
   std::vector<std::string> warnings;
@@ -62,14 +59,14 @@ py::object race(const py::object& race_file, const py::sequence& contenders, int
     throw;
   }
   warn_all(warnings);
-  {
-    py::gil_scoped_release free_python;
+  run_interruptibly([&] {
     race_entries_together(lanes, timeout, entries);
     for (std::size_t k = 0; k < entries.size() && replicas > 0; ++k) {
       if (!entries[k].no_result.empty()) continue;
       race_entry_replicas(entries[k], lanes.lanes[k], lanes.models[k], timeout, replicas, jitter, threads);
     }
-  }
+    return true;
+  });
   assign_places(entries);
   const std::string text = race_results_json(race_path, timeout, entries, replicas, jitter).dump();
   return py::module_::import("json").attr("loads")(text);

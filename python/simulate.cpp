@@ -3,6 +3,7 @@
 // with trace=True every frame's free masses as an (frames + 1, masses, 4) array of
 // x, y, vx, vy: the numbers of `simulate --trace`, bit for bit. With replicas=K
 // the distribution over K sine-jitter replicas, as `simulate --replicas K`.
+// Ctrl-C stops a run within a fraction of a second (python/interruptible.hpp).
 #include <chrono>
 #include <cmath>
 #include <string>
@@ -18,11 +19,18 @@
 #include "core/stepping.hpp"
 #include "evolve/replica_ensemble.hpp"
 #include "evolve/sample_summary.hpp"
+#include "python/arguments.hpp"
 #include "python/bindings.hpp"
+#include "python/interruptible.hpp"
 
 namespace sodaevo::python {
 
 namespace {
+
+/// Most frames one simulate call runs (the command line's --frames range).
+constexpr long long kMaxSimulateFrames = 1'000'000'000'000LL;
+/// Largest trace simulate(trace=True) makes: checked before anything is allocated.
+constexpr std::size_t kMaxTraceBytes = std::size_t{4} << 30;
 
 soda::BarEngine bar_engine_named(const std::string& name) {
   soda::BarEngine engine{};
@@ -56,6 +64,13 @@ py::dict simulate_once(const soda::ModelDef& def, long long frames, bool want_tr
   };
   soda::FrameCallback per_frame;
   if (want_trace) {
+    const double bytes = (static_cast<double>(frames) + 1) * static_cast<double>(masses) * 4 * sizeof(double);
+    if (bytes > kMaxTraceBytes) {
+      throw soda::InputError("trace: " + std::to_string(frames + 1) + " frames x " + std::to_string(masses) +
+                             " masses x 4 doubles would take " + std::to_string(bytes / (1 << 20)) +
+                             " MiB, more than the " + std::to_string(kMaxTraceBytes >> 20) +
+                             " MiB a trace may take (ask for fewer frames)");
+    }
     trace.reserve((static_cast<std::size_t>(frames) + 1) * masses * 4);
     record(state);
     per_frame = record;
@@ -64,9 +79,9 @@ py::dict simulate_once(const soda::ModelDef& def, long long frames, bool want_tr
   soda::Divergence divergence;
   double seconds = 0.0;
   {
-    py::gil_scoped_release free_python;
     const auto t0 = std::chrono::steady_clock::now();
-    divergence = soda::run_simulation(model, state, frames, stepping, energy_check, reference, per_frame);
+    divergence = run_interruptibly(
+        [&] { return soda::run_simulation(model, state, frames, stepping, energy_check, reference, per_frame); });
     seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   }
   const soda::Point2 end = soda::mass_centroid(model, state);
@@ -106,11 +121,7 @@ py::dict simulate_replicas(const soda::ModelDef& def, long long frames, int repl
   settings.settle = settle;
   settings.frames = frames;
   settings.stepping = stepping;
-  ReplicaResults r;
-  {
-    py::gil_scoped_release free_python;
-    r = run_replicas(model, settings);
-  }
+  ReplicaResults r = run_interruptibly([&] { return run_replicas(model, settings); });
   std::vector<double> finite;
   for (double d : r.distances) {
     if (std::isfinite(d)) finite.push_back(d);
@@ -142,20 +153,20 @@ py::dict simulate_replicas(const soda::ModelDef& def, long long frames, int repl
 void bind_simulate(py::module_& m) {
   m.def(
       "simulate",
-      [](const py::object& model, long long frames, bool trace, int replicas, const std::string& mode,
-         const std::string& integrator, int substeps, const std::string& bar_engine, bool energy_check,
-         bool reference, double jitter, long long settle) {
-        if (frames < 0) throw soda::InputError("frames: expected an integer >= 0, got " + std::to_string(frames));
+      [](const py::object& model, const py::object& frames_arg, bool trace, const py::object& replicas_arg,
+         const std::string& mode, const std::string& integrator, const py::object& substeps,
+         const std::string& bar_engine, bool energy_check, bool reference, const py::object& jitter_arg,
+         const py::object& settle_arg) {
+        const long long frames = integer_in(frames_arg, "frames", 0, kMaxSimulateFrames);
         const soda::ModelDef def = model_of(model);
-        const soda::Stepping stepping = soda::stepping_of_names(mode, integrator, substeps, "");
+        const soda::Stepping stepping =
+            soda::stepping_of_names(mode, integrator, static_cast<int>(integer_in(substeps, "substeps", 1, 1000000)), "");
         const soda::BarEngine engine = bar_engine_named(bar_engine);
-        if (replicas < 0 || replicas > 10000) {
-          throw soda::InputError("replicas: expected an integer in [0, 10000], got " + std::to_string(replicas));
-        }
+        const int replicas = static_cast<int>(integer_in(replicas_arg, "replicas", 0, 10000));
         if (replicas > 0) {
           if (trace) throw soda::InputError("trace: a trace is of one run, not of replicas (replicas=0)");
-          if (!(jitter >= 0.0 && jitter <= 1.0)) throw soda::InputError("jitter: expected a number in [0, 1]");
-          if (settle < 0) throw soda::InputError("settle: expected an integer >= 0");
+          const double jitter = number_in(jitter_arg, "jitter", 0.0, 1.0);
+          const long long settle = integer_in(settle_arg, "settle", 0, kMaxSimulateFrames);
           return simulate_replicas(def, frames, replicas, jitter, settle, stepping, engine);
         }
         return simulate_once(def, frames, trace, stepping, engine, energy_check, reference);

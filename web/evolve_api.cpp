@@ -6,13 +6,9 @@
 //    run_evolution or run_map_elites, on a run folder in the instance's memory
 //    file system. Its Evaluator cannot wait for the Web Workers (a page has no
 //    blocking wait without SharedArrayBuffer, which a page opened from a file does
-//    not get), so it asks instead: an evaluation it has no answer for is thrown out
-//    of the loop as a request; the workers evaluate it; the loop is run again from
-//    the run folder's checkpoint, and this time the evaluator answers from what it
-//    was told. The loop stops itself after every generation (its polite stop, which
-//    checkpoints), so a run again replays at most the current generation's
-//    variation, never an evaluation. Results are told by index, so the number of
-//    workers never changes a result, as with threads or MPI ranks.
+//    not get), so it asks instead: an AskTellEvaluator
+//    (evolve/ask_tell_evaluator.hpp) throws the request out of the loop, the
+//    workers evaluate it, and the loop is run again from the checkpoint.
 //  - A worker (one instance per Web Worker) evaluates a chunk of a request: the
 //    wire format of evolve/wire_format.hpp, as the MPI workers get theirs.
 #include <atomic>
@@ -21,7 +17,6 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -33,6 +28,7 @@
 #include "app/score_unit.hpp"
 #include "core/input_error.hpp"
 #include "evolve/archive_check.hpp"
+#include "evolve/ask_tell_evaluator.hpp"
 #include "evolve/archive_store.hpp"
 #include "evolve/evaluator.hpp"
 #include "evolve/evolution_run.hpp"
@@ -56,68 +52,6 @@ using namespace sodaevo;
 namespace {
 
 std::string g_out; ///< the last answer's bytes (text or wire), read by JavaScript
-
-/// Thrown out of the run loop when the evaluator has no answer yet.
-struct NeedEvaluation {};
-
-std::string as_key(const std::vector<char>& bytes) { return {bytes.begin(), bytes.end()}; }
-
-/// The Evaluator of the driver: answers from what it was told, else asks.
-class AskTellEvaluator final : public Evaluator {
- public:
-  std::vector<Evaluation> evaluate(const std::vector<const soda::ModelDef*>& creatures, const Problem& problem,
-                                   const Estimator& estimator) override {
-    WireWriter head;
-    problem.write(head);
-    estimator.write(head);
-    WireWriter all = head;
-    for (const soda::ModelDef* c : creatures) all.creature(*c);
-    const std::string key = as_key(all.bytes());
-    if (const auto it = answers_.find(key); it != answers_.end()) return it->second;
-    pending_key_ = key;
-    pending_head_ = head.take();
-    pending_.clear();
-    for (const soda::ModelDef* c : creatures) pending_.push_back(*c);
-    told_.assign(creatures.size(), std::nullopt);
-    throw NeedEvaluation{};
-  }
-
-  /// The request's creatures [first, last) as a worker reads them.
-  [[nodiscard]] std::vector<char> chunk(std::size_t first, std::size_t last) const {
-    WireWriter w;
-    for (char c : pending_head_) w.u8(static_cast<std::uint8_t>(c));
-    w.u32(static_cast<std::uint32_t>(last - first));
-    for (std::size_t k = first; k < last; ++k) w.creature(pending_[k]);
-    return w.take();
-  }
-  [[nodiscard]] std::size_t pending_count() const { return pending_.size(); }
-
-  /// A worker's answer for the creatures from `first` on; true once all are told.
-  bool tell(std::size_t first, const char* bytes, std::size_t size) {
-    WireReader r(bytes, size);
-    const std::uint32_t count = r.u32();
-    if (first + count > told_.size()) throw WireError("results past the request's end");
-    for (std::uint32_t k = 0; k < count; ++k) told_[first + k] = r.evaluation();
-    r.expect_end();
-    for (const auto& e : told_) {
-      if (!e) return false;
-    }
-    std::vector<Evaluation> all;
-    for (auto& e : told_) all.push_back(std::move(*e));
-    answers_[pending_key_] = std::move(all);
-    pending_.clear();
-    told_.clear();
-    return true;
-  }
-  void forget() { answers_.clear(); }
-
- private:
-  std::map<std::string, std::vector<Evaluation>> answers_;
-  std::string pending_key_;
-  std::vector<char> pending_head_;
-  std::vector<soda::ModelDef> pending_;
-  std::vector<std::optional<Evaluation>> told_;
-};
 
 json number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 

@@ -1,4 +1,5 @@
 #include "core/fused/fused_scene.hpp"
+#include "core/cancellation.hpp"
 
 #include <algorithm>
 #include <cassert>
@@ -179,6 +180,7 @@ long long FusedScene::run_until(State* const* states, long long frames, const St
   };
   try {
     while (f < frames && running > 0 && running >= min_running) {
+      if (f % kCancellationFrames == kCancellationFrames - 1) check_cancellation();
       if (k.ordered) {
         s.ordered_frame(*states[0]);
       } else {
@@ -234,7 +236,8 @@ void FusedScene::run(State* const* states, long long frames) {
   const bool adaptive = s.options.adaptive_walls && s.bars == BarKind::None && !k.ordered;
   long long done = 0;
   while (done < frames) {
-    long long chunk = frames - done;
+    if (done > 0) check_cancellation();
+    long long chunk = std::min(frames - done, kCancellationFrames);
     if (adaptive) {
       WallSafeFrames safe{kSafeFramesCap, kSafeFramesCap, kSafeFramesCap};
       for (const SceneData::Creature& cr : s.creatures) {

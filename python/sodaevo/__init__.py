@@ -12,7 +12,13 @@ library code the ``sodaevo`` command calls (see docs/python.md).
 - ``race(race_file, contenders)``: as ``sodaevo race --json``.
 - ``evolve(config, out)``, ``open_run(path)``: a whole run, and reading one back.
 - ``mutate``, ``crossover``, ``random_creature``, ``creature``: the GA's own operators.
+- ``Config(path_or_dict)``: a config parsed once, for evaluate, the operators and Optimiser.
+- ``Optimiser(config, out)``: the GA or MAP-Elites as ask/tell (``ask()``, ``evaluate``, ``tell``).
+- ``Model.from_arrays``, ``to_arrays``; ``to_vector``, ``from_vector``, ``vector_bounds``:
+  creatures as numpy data and one body plan as a vector for CMA-ES and friends.
 - ``InputError``: bad input, with file, line, column or JSON pointer.
+
+Long calls (simulate, evaluate, race, evolve) stop on Ctrl-C with KeyboardInterrupt.
 """
 from __future__ import annotations
 
@@ -22,22 +28,25 @@ import os
 import time
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Dict, List, Mapping, Optional, Sequence, Union
+from typing import Any, Callable, Dict, List, Mapping, Optional, Sequence, Union
 
 import numpy as np
 
 from ._errors import InputError
 from . import _sodaevo
-from ._sodaevo import Model
+from ._sodaevo import Config, Model, Request, from_vector, to_vector, vector_bounds, vector_names
+
+__version__: str = _sodaevo.__version__
 
 __all__ = [
-    "InputError", "Model", "Evaluations", "Run", "simulate", "evaluate", "race", "evolve", "open_run",
-    "mutate", "crossover", "random_creature", "creature",
+    "InputError", "Model", "Config", "Request", "Evaluations", "Run", "Optimiser", "simulate", "evaluate", "race",
+    "evolve", "open_run", "mutate", "crossover", "random_creature", "creature", "to_arrays", "to_vector",
+    "from_vector", "vector_bounds", "vector_names", "__version__",
 ]
 
 PathLike = Union[str, "os.PathLike[str]"]
-#: A run config: a dict (the JSON object), a path to a config file, or None (defaults).
-Config = Union[None, Mapping[str, Any], PathLike]
+#: A run config: a Config, a dict (the JSON object), a path to a config file, or None (defaults).
+ConfigLike = Union[None, Config, Mapping[str, Any], PathLike]
 
 
 def simulate(model: Model, frames: int = 1000, *, trace: bool = False, replicas: int = 0, mode: str = "soda",
@@ -90,12 +99,16 @@ class Evaluations:
     interval95: np.ndarray
     status: List[str]
     reason: List[str]
+    #: Every evaluation in the wire format, exactly (what Optimiser.tell reads).
+    wire: bytes = field(default=b"", repr=False)
+    #: The optimiser's request these answer, or None.
+    request: Optional[int] = field(default=None, repr=False)
 
     def __len__(self) -> int:
         return len(self.fitness)
 
 
-def evaluate(models: Sequence[Model], problem: Config = None, *, replicas: Optional[int] = None,
+def evaluate(models: Union[Sequence[Model], Request], problem: ConfigLike = None, *, replicas: Optional[int] = None,
              seed: Optional[int] = None, threads: int = 0, batch: int = 0) -> Evaluations:
     """Evaluates `models` as ``sodaevo evolve`` evaluates a generation.
 
@@ -108,10 +121,16 @@ def evaluate(models: Sequence[Model], problem: Config = None, *, replicas: Optio
     limits: a creature outside them is "invalid"), run on its replicas by a
     ReplicaEstimator, in batches of creatures stepped together on `threads`
     threads (0: all cores). Neither `threads` nor `batch` changes a result. The GIL
-    is released throughout, so other Python threads run meanwhile.
+    is released throughout, so other Python threads run meanwhile; Ctrl-C stops
+    it (KeyboardInterrupt). A sodaevo.Config is used as it is, read once.
+
+    `models` may be an Optimiser's Request (``opt.ask()``): it is then evaluated
+    with the problem and estimator its run asks for (give no problem, replicas
+    or seed), and the result is what ``opt.tell`` takes.
     """
-    r = _sodaevo.evaluate(list(models), problem if problem is not None else {}, replicas=replicas, seed=seed,
-                          threads=threads, batch=batch)
+    if not isinstance(models, Request):
+        models = list(models)
+    r = _sodaevo.evaluate(models, problem, replicas=replicas, seed=seed, threads=threads, batch=batch)
     return Evaluations(**r)
 
 
@@ -128,8 +147,8 @@ def race(race_file: PathLike, contenders: Sequence[Union[PathLike, Model]] = (),
                          threads=threads)
 
 
-def evolve(config: Union[Mapping[str, Any], PathLike], out: Optional[PathLike] = None, *, threads: int = 0,
-           force: bool = False) -> Path:
+def evolve(config: Union[Config, Mapping[str, Any], PathLike], out: Optional[PathLike] = None, *, threads: int = 0,
+           force: bool = False, callback: Optional[Callable[[Dict[str, Any]], Any]] = None) -> Path:
     """Runs a whole GA run (``sodaevo evolve CONFIG --out OUT``) and returns its folder.
 
     `config` is a config file's path or the config as a dict (seed model paths
@@ -139,24 +158,93 @@ def evolve(config: Union[Mapping[str, Any], PathLike], out: Optional[PathLike] =
     champions.json) without report.html (``sodaevo report RUN`` writes it).
     Ctrl-C finishes the current generation, saves it and raises
     KeyboardInterrupt; ``sodaevo evolve --resume RUN`` continues it.
+    `callback(progress)` is called after every generation with a dict
+    (generation, generations, evaluations, best, mean, median, worst, invalid,
+    diverged); an exception it raises stops the run the same way and is raised.
     """
-    if out is None:
-        if isinstance(config, Mapping):
-            name = config.get("name", "run")
-        else:
-            with open(config, encoding="utf-8") as f:
-                name = json.load(f).get("name", "run")
-        out = os.path.join("results", f"{name}-{time.strftime('%Y%m%d-%H%M%S')}")
-    cfg = dict(config) if isinstance(config, Mapping) else os.fspath(config)
-    line = f"sodaevo.evolve({'<dict>' if isinstance(cfg, dict) else cfg!r}, out={os.fspath(out)!r})"
-    return Path(_sodaevo.evolve(cfg, os.fspath(out), threads=threads, force=force, command_line=line))
+    cfg = _config_arg(config)
+    out = _default_out(cfg) if out is None else out
+    shown = cfg.source if isinstance(cfg, Config) else "<dict>" if isinstance(cfg, dict) else cfg
+    line = f"sodaevo.evolve({shown!r}, out={os.fspath(out)!r})"
+    return Path(_sodaevo.evolve(cfg, os.fspath(out), threads=threads, force=force, command_line=line,
+                                callback=callback))
+
+
+def _default_out(config: Any) -> str:
+    """results/<name>-<timestamp>, as the command's."""
+    if isinstance(config, Config):
+        name = config.name
+    elif isinstance(config, dict):
+        name = config.get("name", "run")
+    else:
+        with open(config, encoding="utf-8") as f:
+            name = json.load(f).get("name", "run")
+    return os.path.join("results", f"{name}-{time.strftime('%Y%m%d-%H%M%S')}")
+
+
+class Optimiser:
+    """The project's GA (or MAP-Elites, by the config's /algorithm) as ask/tell.
+
+    ::
+
+        opt = sodaevo.Optimiser("configs/quick.json", "results/quick-asktell")
+        while (request := opt.ask()) is not None:
+            opt.tell(sodaevo.evaluate(request, threads=2))
+        opt.result        # {"run", "finished", "stopped_because", "best_id", "best_fitness"}
+
+    Driven so, the run folder is ``sodaevo evolve``'s, byte for byte
+    (generations.csv, best/, generations/, champions.json): the run's own loop
+    runs, only its evaluations are handed out. ``ask()`` returns a Request (its
+    ``models``, a list of Models) or None once the run is over; evaluate the
+    Request itself, not its models, so that its run's problem and estimator
+    are used. ``callback(progress)`` is called for each generation finished.
+    ``open_run(opt.dir)`` reads the run back.
+    """
+
+    def __init__(self, config: Union[Config, Mapping[str, Any], PathLike], out: Optional[PathLike] = None, *,
+                 threads: int = 0, force: bool = False,
+                 callback: Optional[Callable[[Dict[str, Any]], Any]] = None) -> None:
+        cfg = _config_arg(config)
+        out = _default_out(cfg) if out is None else out
+        self._callback = callback
+        self._impl = _sodaevo.Optimiser(cfg, os.fspath(out), force=force, threads=threads,
+                                        command_line=f"sodaevo.Optimiser(out={os.fspath(out)!r})")
+
+    def ask(self) -> Optional[Request]:
+        """The next creatures to evaluate, or None when the run is over."""
+        request = self._impl.ask()
+        for progress in self._impl.take_progress():
+            if self._callback is not None:
+                self._callback(progress)
+        return request
+
+    def tell(self, evaluations: "Evaluations") -> None:
+        """Hands back ``evaluate(request)``'s result for the last request."""
+        if not isinstance(evaluations, Evaluations) or evaluations.request is None:
+            raise InputError("tell: expected evaluate(request)'s result for the Request ask() returned")
+        self._impl.tell(evaluations.request, evaluations.wire)
+
+    @property
+    def done(self) -> bool:
+        return self._impl.done
+
+    @property
+    def dir(self) -> Path:
+        """The run folder."""
+        return Path(self._impl.dir)
+
+    @property
+    def result(self) -> Dict[str, Any]:
+        """The run folder, whether it is over and why, and its best (GA) or filled cells (MAP-Elites)."""
+        return self._impl.result
 
 
 @dataclass
 class Run:
     """A run folder read back (`open_run`).
 
-    config: the resolved config (dict); manifest: manifest.json; generations: the
+    config: the resolved config (dict; seed-model paths made absolute, so that
+    evaluate() and Config take it as it is); manifest: manifest.json; generations: the
     rows of generations.csv as a numpy structured array (generation, evaluations,
     best, mean, median, worst, invalid, diverged, best_id, best_replicas, best_sd,
     best_interval95_lo, best_interval95_hi); champions: champions.json (the best
@@ -215,6 +303,11 @@ def open_run(path: PathLike) -> Run:
         raise InputError(f"{p}: not a run folder (no config.json)")
     with open(p / "config.json", encoding="utf-8") as f:
         config = json.load(f)
+    # A run keeps copies of its seed models, named relative to its folder: made
+    # absolute, so that the dict is a config wherever it is used.
+    seeds = config.get("population", {}).get("seed_models")
+    if isinstance(seeds, list):
+        config["population"]["seed_models"] = [s if os.path.isabs(s) else str((p / s).resolve()) for s in seeds]
     manifest: Dict[str, Any] = {}
     if (p / "manifest.json").is_file():
         with open(p / "manifest.json", encoding="utf-8") as f:
@@ -228,32 +321,39 @@ def open_run(path: PathLike) -> Run:
     return Run(p, config, manifest, generations, champions, list(_sodaevo.saved_generations(os.fspath(p))))
 
 
-def mutate(model: Model, rng_seed: int, config: Config = None) -> Model:
+def to_arrays(model: Model) -> Dict[str, Any]:
+    """The model as data: ``Model.from_arrays(**to_arrays(m)) == m``. Keys: nodes,
+    links, world, fixed, node_ids, name, comment (arrays read-only; copy to edit)."""
+    return {"nodes": model.nodes, "links": model.links, "world": dict(model.world), "fixed": model.fixed,
+            "node_ids": list(model.node_ids), "name": model.name, "comment": model.comment}
+
+
+def mutate(model: Model, rng_seed: int, config: ConfigLike = None) -> Model:
     """A mutated copy of `model` made by the GA's mutation (each operator at its
     /mutation rate, at least one change, limits kept), drawn from `rng_seed`."""
     return _sodaevo.mutate(model, rng_seed, _config_arg(config))
 
 
-def crossover(a: Model, b: Model, rng_seed: int, config: Config = None) -> Model:
+def crossover(a: Model, b: Model, rng_seed: int, config: ConfigLike = None) -> Model:
     """The GA's one-point crossover on mass order of `a` and `b` (a copy of `a`
     when the child breaks the limits), drawn from `rng_seed`."""
     return _sodaevo.crossover(a, b, rng_seed, _config_arg(config))
 
 
-def random_creature(rng_seed: int, config: Config = None) -> Model:
+def random_creature(rng_seed: int, config: ConfigLike = None) -> Model:
     """A random connected creature as the GA's first generation makes them
     (/population/random), drawn from `rng_seed`."""
     return _sodaevo.random_creature(rng_seed, _config_arg(config))
 
 
-def creature(model: Model, config: Config = None) -> Model:
+def creature(model: Model, config: ConfigLike = None) -> Model:
     """A seed model made fit for evolution, as ``evolve`` takes its seed models:
     fixed nodes and bars removed, the largest connected piece, canonical form."""
     return _sodaevo.creature(model, _config_arg(config))
 
 
-def _config_arg(config: Config) -> Any:
-    if config is None or isinstance(config, dict):
+def _config_arg(config: ConfigLike) -> Any:
+    if config is None or isinstance(config, (dict, Config)):
         return config
     if isinstance(config, Mapping):
         return dict(config)

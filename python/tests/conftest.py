@@ -11,13 +11,22 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(os.environ.get("SODAEVO_ROOT", Path(__file__).resolve().parents[2]))
-BINARY = Path(os.environ.get("SODAEVO_BINARY", ROOT / "build" / "sodaevo"))
 MODELS = ROOT / "models"
 DAINTY = MODELS / "dainty_walker.xml"
 
-# Importable from the build tree when run by hand: PYTHONPATH=build/python.
-if "PYTHONPATH" not in os.environ:
+# Importable from the build tree when run by hand (PYTHONPATH=build/python), unless
+# the suite is to test an installed package (SODAEVO_TEST_INSTALLED=1: a pip install).
+INSTALLED = os.environ.get("SODAEVO_TEST_INSTALLED") == "1"
+if "PYTHONPATH" not in os.environ and not INSTALLED:
     sys.path.insert(0, str(ROOT / "build" / "python"))
+
+if "SODAEVO_BINARY" in os.environ:
+    BINARY = Path(os.environ["SODAEVO_BINARY"])
+elif INSTALLED:
+    from sodaevo._command import program
+    BINARY = program()  # the command pip installed with the package
+else:
+    BINARY = ROOT / "build" / "sodaevo"
 
 
 def run_cli(*args: str, check: bool = True) -> subprocess.CompletedProcess:

@@ -1,0 +1,236 @@
+// sodaevo.Optimiser: the project's own GA and MAP-Elites as ask/tell. The run's
+// loop (run_evolution, run_map_elites) drives a run folder exactly as `sodaevo
+// evolve` does, with an AskTellEvaluator (evolve/ask_tell_evaluator.hpp) as its
+// evaluator, the mechanism the browser's page uses: ask() runs the loop until it
+// needs an evaluation and returns it as an EvaluationRequest (creatures, problem,
+// estimator); evaluate(request) scores it on this process's threads; tell(results)
+// hands the evaluations back, bit for bit (the wire format), and the next ask()
+// runs the loop again from the checkpoint, now answered. So the folder is the
+// command's, byte for byte, whoever evaluates. At the end the champions are
+// checked on fresh replicas as the command checks them.
+#include <atomic>
+#include <cmath>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "core/input_error.hpp"
+#include "evolve/archive_check.hpp"
+#include "evolve/ask_tell_evaluator.hpp"
+#include "evolve/evolution_run.hpp"
+#include "evolve/map_elites_run.hpp"
+#include "evolve/replica_check.hpp"
+#include "evolve/wire_format.hpp"
+#include "python/arguments.hpp"
+#include "python/bindings.hpp"
+#include "python/interruptible.hpp"
+
+namespace sodaevo::python {
+
+namespace {
+
+py::object finite_or_none(double v) { return std::isfinite(v) ? py::object(py::float_(v)) : py::object(py::none()); }
+
+} // namespace
+
+py::dict generation_progress(const Progress& p) {
+  py::dict d;
+  d["algorithm"] = "ga";
+  d["generation"] = p.generation;
+  d["generations"] = p.generations;
+  d["evaluations"] = p.stats.evaluations;
+  d["best"] = finite_or_none(p.stats.best);
+  d["mean"] = finite_or_none(p.stats.mean);
+  d["median"] = finite_or_none(p.stats.median);
+  d["worst"] = finite_or_none(p.stats.worst);
+  d["invalid"] = p.stats.invalid;
+  d["diverged"] = p.stats.diverged;
+  return d;
+}
+
+namespace {
+
+py::dict iteration_progress(const MapElitesProgress& p) {
+  py::dict d;
+  d["algorithm"] = "map-elites";
+  d["iteration"] = p.iteration;
+  d["iterations"] = p.iterations;
+  d["evaluations"] = p.evaluations;
+  d["rollouts"] = p.rollouts;
+  d["filled"] = p.metrics.filled;
+  d["cells"] = p.metrics.cells;
+  d["qd_score"] = p.metrics.qd_score;
+  d["best"] = finite_or_none(p.metrics.best);
+  return d;
+}
+
+class Optimiser {
+ public:
+  Optimiser(const py::object& config_spec, const std::string& out, bool force, const py::object& threads,
+            const std::string& command_line)
+      : threads_(static_cast<int>(integer_in(threads, "threads", 0, kMaxThreads))) {
+    const std::shared_ptr<const ParsedConfig> parsed = config_of(config_spec, true);
+    config_ = parsed->run;
+    store_.emplace(start_run(config_, parsed->source, out, force, command_line));
+  }
+
+  /// The next request, or None once the run is over (its champions checked).
+  py::object ask() {
+    if (finished_) return py::none();
+    if (request_) return py::cast(*request_); // asked again before being told: the same request
+    for (;;) {
+      std::atomic<bool> stop{false};
+      std::string stopped;
+      try {
+        if (config_.algorithm == AlgorithmKind::MapElites) {
+          MapElitesOptions options;
+          options.stop_requested = &stop;
+          options.stop_is_pause = true;
+          options.on_iteration = [&](const MapElitesProgress& p) {
+            stop = true;
+            progress_.append(iteration_progress(p));
+          };
+          const MapElitesOutcome o = run_map_elites(store_->dir(), config_, config_.map_elites, evaluator_, options);
+          stopped = o.stopped_because;
+          filled_ = o.metrics.filled;
+        } else {
+          EvolutionOptions options;
+          options.stop_requested = &stop;
+          options.stop_is_pause = true;
+          options.on_generation = [&](const Progress& p) {
+            stop = true;
+            progress_.append(generation_progress(p));
+          };
+          const EvolutionOutcome o = run_evolution(*store_, evaluator_, options);
+          stopped = o.stopped_because;
+          best_fitness_ = o.best_fitness;
+          best_id_ = o.best_id;
+        }
+      } catch (const NeedEvaluation&) {
+        request_ = make_request();
+        return py::cast(*request_);
+      }
+      evaluator_.forget(); // a generation is done: its answers are in the run folder
+      if (stopped != "interrupted") {
+        finish(stopped);
+        return py::none();
+      }
+    }
+  }
+
+  void tell(long long request, const py::bytes& wire) {
+    if (!request_) throw soda::InputError("tell: nothing was asked (call ask() first)");
+    if (request != request_->id) {
+      throw soda::InputError("tell: these evaluations answer request " + std::to_string(request) +
+                             ", the pending request is " + std::to_string(request_->id) +
+                             " (evaluate the request ask() returned)");
+    }
+    const std::string bytes = wire;
+    if (!evaluator_.tell(0, bytes.data(), bytes.size())) {
+      throw soda::InputError("tell: fewer evaluations than the request's creatures");
+    }
+    request_.reset();
+  }
+
+  /// Progress dicts of the generations (iterations) finished since the last call.
+  py::list take_progress() {
+    py::list out = progress_;
+    progress_ = py::list();
+    return out;
+  }
+
+  [[nodiscard]] bool done() const { return finished_; }
+  [[nodiscard]] std::string dir() const { return store_->dir().string(); }
+
+  [[nodiscard]] py::dict result() const {
+    py::dict r;
+    r["run"] = dir();
+    r["finished"] = finished_;
+    r["stopped_because"] = stopped_because_;
+    if (config_.algorithm == AlgorithmKind::MapElites) {
+      r["filled"] = filled_;
+    } else {
+      r["best_id"] = best_id_;
+      r["best_fitness"] = finite_or_none(best_fitness_);
+    }
+    return r;
+  }
+
+ private:
+  EvaluationRequest make_request() {
+    const std::vector<char> head = evaluator_.chunk(0, 0); // problem, estimator, count 0
+    WireReader reader(head.data(), head.size());
+    EvaluationRequest r;
+    r.problem = read_problem(reader);
+    r.estimator = read_estimator(reader);
+    r.creatures = evaluator_.pending();
+    r.id = ++requests_;
+    return r;
+  }
+
+  /// As `sodaevo evolve` ends a run: the champions (the archive) checked again
+  /// on fresh replicas, on this process's threads (Ctrl-C stops it).
+  void finish(const std::string& stopped) {
+    finished_ = true;
+    stopped_because_ = stopped;
+    const std::filesystem::path run = store_->dir();
+    const int threads = threads_;
+    if (config_.algorithm == AlgorithmKind::MapElites) {
+      if (config_.map_elites.check_replicas > 0 && filled_ > 0) {
+        run_interruptibly([&] { return write_checked_archive(run, threads); });
+      }
+    } else if (std::isfinite(best_fitness_)) {
+      run_interruptibly([&] {
+        return write_run_champions(run, kRunChampionsChecked, kRunChampionReplicas, threads);
+      });
+    }
+  }
+
+  int threads_;
+  RunConfig config_;
+  std::optional<RunStore> store_;
+  AskTellEvaluator evaluator_;
+  std::optional<EvaluationRequest> request_;
+  long long requests_ = 0;
+  py::list progress_;
+  bool finished_ = false;
+  std::string stopped_because_;
+  std::string best_id_;
+  double best_fitness_ = kWorstFitness;
+  std::size_t filled_ = 0;
+};
+
+} // namespace
+
+void bind_optimiser(py::module_& m) {
+  py::class_<EvaluationRequest>(m, "Request",
+                                "Creatures an optimiser asks to have evaluated, with the problem and estimator\n"
+                                "its run evaluates them with: hand it to sodaevo.evaluate.")
+      .def_property_readonly("models", [](const EvaluationRequest& r) { return r.creatures; })
+      .def_property_readonly("id", [](const EvaluationRequest& r) { return r.id; })
+      .def("__len__", [](const EvaluationRequest& r) { return r.creatures.size(); })
+      .def("__getitem__",
+           [](const EvaluationRequest& r, std::size_t i) {
+             if (i >= r.creatures.size()) throw py::index_error("request index out of range");
+             return r.creatures[i];
+           })
+      .def("__repr__", [](const EvaluationRequest& r) {
+        return "<sodaevo.Request " + std::to_string(r.id) + ": " + std::to_string(r.creatures.size()) +
+               " creatures, " + r.problem->kind() + ">";
+      });
+  py::class_<Optimiser>(m, "Optimiser")
+      .def(py::init<const py::object&, const std::string&, bool, const py::object&, const std::string&>(),
+           py::arg("config"), py::arg("out"), py::kw_only(), py::arg("force") = false, py::arg("threads") = 0,
+           py::arg("command_line") = "sodaevo.Optimiser()")
+      .def("ask", &Optimiser::ask)
+      .def("tell", &Optimiser::tell, py::arg("request"), py::arg("wire"))
+      .def("take_progress", &Optimiser::take_progress)
+      .def_property_readonly("done", &Optimiser::done)
+      .def_property_readonly("dir", &Optimiser::dir)
+      .def_property_readonly("result", &Optimiser::result);
+}
+
+} // namespace sodaevo::python
