@@ -86,7 +86,18 @@ def main():
                 reps = entry["replicas"]
                 medians.append(reps["median"])
                 shares.append(reps["finished"])
-            rows.append({"variant": name, "seed": seed, "files": len(terrains), "finished": finished,
+            # One file: the first generation whose best finished. The racer's result and the
+            # progress score's cost are at most the timeout exactly when the racer finishes
+            # (before the first finish the adaptive timeout stays the file's own).
+            with open(os.path.join(run, "config.json")) as f:
+                limit = json.load(f)["fitness"]["race"]["timeout"] or 10000
+            first = None
+            with open(os.path.join(run, "generations.csv")) as f:
+                for row in csv.DictReader(f):
+                    if len(terrains) == 1 and -float(row["best"]) <= limit:
+                        first = int(row["generation"])
+                        break
+            rows.append({"variant": name, "seed": seed, "files": len(terrains), "finished": finished, "first": first,
                          "frames": frames, "replica_median": medians, "replica_share": shares,
                          "seconds": round(seconds, 1),
                          "champion": champion})
@@ -106,8 +117,8 @@ def main():
         f.write(f"Base config `{a.config}`; every variant at the same budget, seeds 1 to {a.seeds}; each champion "
                 "(`export --best 1`) raced exactly and on 16 jittered replicas on the config's race files.\n\n")
         f.write("| variant | seeds finishing every file | median frames (exact) | replicas finishing (mean) | "
-                "per seed: frames (replica median, share finishing) |\n")
-        f.write("|---|---:|---:|---:|---|\n")
+                "first generation whose best finishes, per seed | per seed: frames (replica median, share finishing) |\n")
+        f.write("|---|---:|---:|---:|---|---|\n")
         for spec in a.variant:
             name = spec.partition("=")[0]
             mine = [r for r in rows if r["variant"] == name]
@@ -117,7 +128,8 @@ def main():
             per = "; ".join(" ".join(f"{x:.0f} ({m:.0f}, {100 * s:.0f} %)"
                                      for x, m, s in zip(r["frames"], r["replica_median"], r["replica_share"]))
                             for r in mine)
-            f.write(f"| {name} | {done} of {len(mine)} | {med:.1f} | {100 * share:.0f} % | {per} |\n")
+            firsts = ", ".join("-" if r["first"] is None else str(r["first"]) for r in mine)
+            f.write(f"| {name} | {done} of {len(mine)} | {med:.1f} | {100 * share:.0f} % | {firsts} | {per} |\n")
     print(f"wrote {a.out}.md", file=sys.stderr)
 
 
