@@ -16,13 +16,25 @@ namespace {
 
 long long tenths(double v) { return std::llround(v * 10.0); }
 
-/// JSON text that cannot end the <script> element it sits in.
-std::string script_safe(std::string text) {
-  for (std::size_t p = 0; (p = text.find("</", p)) != std::string::npos; p += 3) text.replace(p, 2, "<\\/");
-  return text;
-}
-
 } // namespace
+
+std::string script_safe(const std::string& json) {
+  std::string out;
+  out.reserve(json.size());
+  for (std::size_t i = 0; i < json.size(); ++i) {
+    const char c = json[i];
+    if (c == '<') out += "\\u003c";
+    else if (c == '>') out += "\\u003e";
+    else if (c == '&') out += "\\u0026";
+    else if (c == '\xE2' && i + 2 < json.size() && json[i + 1] == '\x80' && (json[i + 2] == '\xA8' || json[i + 2] == '\xA9')) {
+      out += json[i + 2] == '\xA8' ? "\\u2028" : "\\u2029"; // UTF-8 of U+2028 and U+2029
+      i += 2;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
 
 std::string creature_style_json() {
   using namespace style;

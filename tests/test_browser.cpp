@@ -169,6 +169,49 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
     screenshot(chromium, url + "#frame=700", shots / "render_frame700.png", "800,520", work);
     CHECK(soda::read_whole_file(shots / "render_frame100.png") != soda::read_whole_file(shots / "render_frame700.png"));
   }
+  SECTION("render and race: a creature's name cannot open or close an element; the player plays, nothing runs") {
+    // Names that ended the player's <script type="application/json"> early (a
+    // "</script>") or kept it open past its end tag ("<!--<script>": the HTML
+    // parser's escaped script state), swallowing the player's own script.
+    const std::string dainty_xml = soda::read_whole_file(dainty);
+    const std::string payload = "document.documentElement.setAttribute('data-injected','1')";
+    // As written in the XML (&lt; is <; &#x2028; is U+2028, which ends a line in old JavaScript).
+    const std::vector<std::string> names = {"&lt;!--&lt;script>", "&lt;/script>&lt;script>" + payload + "&lt;/script>",
+                                            "&lt;!--&lt;script>&#x2028;&lt;/script>&lt;script>" + payload + "//&amp;"};
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      INFO("name " << names[k]);
+      const std::string escaped = names[k];
+      std::string xml = dainty_xml;
+      const std::string old_name = "<name>Dainty Walker - Ed Burton</name>";
+      REQUIRE(xml.find(old_name) != std::string::npos);
+      xml.replace(xml.find(old_name), old_name.size(), "<name>" + escaped + "</name>");
+      const fs::path model = work / ("named" + std::to_string(k) + ".xml");
+      const fs::path page = work / ("named" + std::to_string(k) + ".html");
+      soda::write_file_atomically(model, xml);
+      const auto r = run_sodaevo("render " + model.string() + " --frames 800 -o " + page.string());
+      INFO(r.output);
+      REQUIRE(r.exit_code == 0);
+      const LoadedPage a = load(chromium, page, 100, work);
+      const LoadedPage b = load(chromium, page, 700, work);
+      require_clean(a);
+      require_clean(b);
+      REQUIRE(a.players.size() == 1);
+      require_drawn_and_moving(a, b, 100, 700);
+      CHECK(a.dom.find("data-injected") == std::string::npos);
+      CHECK(b.dom.find("data-injected") == std::string::npos);
+    }
+    const fs::path flat = fs::absolute(sodaevo::test::models_dir() / "terrains" / "TerrainFlat.xml");
+    const auto r = run_sodaevo("race " + flat.string() + " " + (work / "named1.xml").string() + " --render " +
+                               (work / "named_race.html").string());
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    const LoadedPage race = load(chromium, work / "named_race.html", 20, work);
+    require_clean(race);
+    REQUIRE(race.players.size() == 1);
+    CHECK(race.players[0].ready);
+    CHECK(race.players[0].ink > 50);
+    CHECK(race.dom.find("data-injected") == std::string::npos);
+  }
   SECTION("race render: the info line counts down to the finish, then says it is past") {
     const fs::path flat = fs::absolute(sodaevo::test::models_dir() / "terrains" / "TerrainFlat.xml");
     const fs::path racer = fs::absolute(sodaevo::test::models_dir() / "wodka_ga109.xml"); // 118 frames
