@@ -53,11 +53,11 @@ namespace {
 
 constexpr const char* kCss = R"css(
 .soda-player { display: inline-block; margin: 8px 12px 16px 0; vertical-align: top; }
-.soda-player .caption { font-weight: bold; margin: 0 0 4px 0; }
+.soda-player .caption { font-weight: bold; margin: 0 0 4px 0; overflow-wrap: anywhere; }
 .soda-player canvas { display: block; border: 1px solid #cfc8bb; border-radius: 6px; max-width: 100%; }
 .soda-player .controls { display: flex; align-items: center; gap: 8px; margin-top: 4px; font-size: 13px; }
 .soda-player .controls input[type=range] { flex: 1; }
-.soda-player .info { font-variant-numeric: tabular-nums; font-size: 13px; color: #333; margin-top: 2px; }
+.soda-player .info { font-variant-numeric: tabular-nums; font-size: 13px; color: #333; margin-top: 2px; overflow-wrap: anywhere; }
 #page-errors { color: #b00; background: #fee; padding: 8px; }
 )css";
 
@@ -141,6 +141,17 @@ constexpr const char* kPlayerScript = R"js(
         top = Math.max(top, data.fixed[q + 1] / 10);
       }
     }
+    // The ruler's floor: where the creature stands. In a race that is the terrain's
+    // fixed bars (TerrainFlat's lie at y = 10), not the container's floor below them:
+    // the floor goes at the bars' lowest end, so a flat terrain lies on the ruler.
+    var groundY = Infinity;
+    for (var bar = 0; bar + 3 < data.links.length; bar += 4) {
+      if (data.links[bar + 2] !== 2) continue;
+      [data.links[bar], data.links[bar + 1]].forEach(function (p) {
+        if (p >= data.masses) groundY = Math.min(groundY, data.fixed[2 * (p - data.masses) + 1] / 10);
+      });
+    }
+    if (!isFinite(groundY)) groundY = 0;
     var baseFloorY = H - 42;
     var scale = Math.min(W * 0.3 / halfWidth, (baseFloorY - 30) / top);
     var scoredIndex = 0;
@@ -163,7 +174,7 @@ constexpr const char* kPlayerScript = R"js(
       var xy = data.xy[index], cx = data.cx[index] / 10;
       var floorY = baseFloorY + Math.max(0, tops[index] - top) * scale; // below the canvas while it jumps high
       var sx = function (x) { return W / 2 + (x - cx) * scale; };
-      var sy = function (y) { return floorY - y * scale; };
+      var sy = function (y) { return floorY - (y - groundY) * scale; };
       ctx.fillStyle = S.background; ctx.fillRect(0, 0, W, H);
       ctx.fillStyle = S.ground; ctx.fillRect(0, floorY, W, H - floorY);
       ctx.strokeStyle = S.floor; ctx.lineWidth = 2;
@@ -347,8 +358,10 @@ std::string player_head() {
 std::string player_element(const Motion& motion, const PlayerView& view) {
   const std::string json = motion_json(motion, view.scored_from);
   std::ostringstream o;
+  // As wide as the canvas (and its border) at most: a long name wraps instead of
+  // stretching the controls.
   o << "<div class=\"soda-player\" id=\"" << html_escape(view.id) << "\" data-motion=\"" << html_escape(view.id)
-    << "-motion\">\n"
+    << "-motion\" style=\"max-width: " << view.width + 2 << "px\">\n"
     << "<div class=\"caption\">" << html_escape(view.caption) << "</div>\n"
     << "<canvas width=\"" << view.width << "\" height=\"" << view.height << "\"></canvas>\n"
     << "<div class=\"controls\"><button class=\"play\" type=\"button\">Pause</button>"

@@ -231,6 +231,60 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
     CHECK(info_line(early.dom).find("px/frame") == std::string::npos); // a race counts frames
     CHECK(info_line(done.dom).find("past the finish") != std::string::npos);
   }
+  SECTION("race render: the terrain lies on the ruler's floor; a long name wraps instead of stretching the controls") {
+    const fs::path flat = fs::absolute(sodaevo::test::models_dir() / "terrains" / "TerrainFlat.xml");
+    std::string xml = soda::read_whole_file(dainty);
+    const std::string old_name = "<name>Dainty Walker - Ed Burton</name>";
+    REQUIRE(xml.find(old_name) != std::string::npos);
+    xml.replace(xml.find(old_name), old_name.size(), "<name>" + std::string(150, 'W') + "</name>");
+    soda::write_file_atomically(work / "long.xml", xml);
+    const auto r = run_sodaevo("race " + flat.string() + " " + (work / "long.xml").string() + " --render " + (work / "long.html").string());
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    // Measured in the page once the player drew: in two columns clear of the
+    // creature, the rows where the bar colour and the floor (its line or the ground
+    // under it) begin; and how much wider than the canvas the controls are.
+    const std::string measure = R"js(<script>
+(function () {
+  var S = JSON.parse(document.getElementById('soda-style').textContent);
+  var root = document.querySelector('.soda-player'), canvas = root.querySelector('canvas');
+  var W = canvas.width, H = canvas.height, px = canvas.getContext('2d').getImageData(0, 0, W, H).data;
+  function rgb(hex) { return [1, 3, 5].map(function (i) { return parseInt(hex.substr(i, 2), 16); }); }
+  function near(k, c) { return Math.abs(px[k] - c[0]) + Math.abs(px[k + 1] - c[1]) + Math.abs(px[k + 2] - c[2]) < 40; }
+  var gaps = [];
+  [12, W - 12].forEach(function (x) {
+    var bar = -1, floor = -1;
+    for (var y = 0; y < H; ++y) {
+      var k = 4 * (y * W + x);
+      if (bar < 0 && near(k, rgb(S.bar))) bar = y;
+      if (floor < 0 && (near(k, rgb(S.floor)) || near(k, rgb(S.ground)))) floor = y;
+    }
+    gaps.push(bar >= 0 && floor >= 0 ? Math.abs(bar - floor) : 999);
+  });
+  var controls = root.querySelector('.controls').getBoundingClientRect().width;
+  document.documentElement.setAttribute('data-test-bar-gap', String(Math.min.apply(null, gaps)));
+  document.documentElement.setAttribute('data-test-controls-excess', String(Math.round(controls - canvas.getBoundingClientRect().width)));
+})();
+</script>
+)js";
+    std::string page = soda::read_whole_file(work / "long.html");
+    REQUIRE(page.rfind("</body>") != std::string::npos);
+    page.insert(page.rfind("</body>"), measure);
+    soda::write_file_atomically(work / "long_measured.html", page);
+    const LoadedPage p = load(chromium, work / "long_measured.html", 20, work);
+    require_clean(p);
+    const std::size_t html_at = p.dom.find("<html");
+    REQUIRE(html_at != std::string::npos);
+    const std::string html_tag = p.dom.substr(html_at, p.dom.find('>', html_at) - html_at);
+    const std::string gap = attribute(html_tag, "data-test-bar-gap");
+    const std::string excess = attribute(html_tag, "data-test-controls-excess");
+    INFO("bar gap " << gap << " px, controls wider than the canvas by " << excess << " px");
+    REQUIRE(!gap.empty());
+    REQUIRE(!excess.empty());
+    CHECK(std::stoi(gap) <= 3);
+    CHECK(std::stoi(excess) <= 2);
+    screenshot(chromium, "file://" + (work / "long.html").string() + "#frame=60", shots / "race_long_name.png", "800,560", work);
+  }
   SECTION("filmstrip: opens without console messages") {
     const auto r = run_sodaevo("render " + dainty.string() + " --frames 800 -o " + (work / "dainty.svg").string());
     INFO(r.output);
