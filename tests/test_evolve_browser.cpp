@@ -226,9 +226,10 @@ TEST_CASE("Evolve mode's fitness chart: round ticks on both axes, the legend out
   }
   CHECK(x_title);
   CHECK(y_title);
-  // Generations counted from 1, round ticks: 1 and 10 among them.
+  // Generations counted from 1 (the tenth is 10), at round ticks (2, 4, ... 10).
   INFO("below the data: " << nlohmann::json(below).dump() << "; left of it: " << nlohmann::json(left).dump());
-  CHECK(std::find(below.begin(), below.end(), "1") != below.end());
   CHECK(std::find(below.begin(), below.end(), "10") != below.end());
+  CHECK(std::find(below.begin(), below.end(), "2") != below.end());
+  CHECK(std::find(below.begin(), below.end(), "0") == below.end());
   CHECK(left.size() >= 3);
 }
