@@ -405,7 +405,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     << "<p class=\"note\">Each generation's best, ranked by the fitness it scored in its own generation. The champion "
        "(what <code>sodaevo evolve</code> prints and the designer's Evolve mode exports) is the best of the last "
        "generation: an earlier creature can rank above it on a luckier score. Generations are counted from 1 here; "
-       "ids (g9-1) and file names (gen_0009.xml) count from 0.</p>\n";
+       "ids (g9-1) and file names (gen_00009.xml) count from 0.</p>\n";
   if (ranked.empty()) {
     o << "<p class=\"note\">No creature has been scored yet.</p>\n";
   } else {
