@@ -46,6 +46,12 @@ struct LoadedPage {
   std::vector<Player> players;
 };
 
+/// The page's <html ...> start tag (where pages and tests leave data-* attributes).
+std::string html_tag(const std::string& dom) {
+  const std::size_t at = dom.find("<html");
+  return at == std::string::npos ? std::string() : dom.substr(at, dom.find('>', at) - at);
+}
+
 std::string attribute(const std::string& tag, const std::string& name) {
   const std::regex re(" " + name + "=\"([^\"]*)\"");
   std::smatch m;
@@ -197,8 +203,9 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
       require_clean(b);
       REQUIRE(a.players.size() == 1);
       require_drawn_and_moving(a, b, 100, 700);
-      CHECK(a.dom.find("data-injected") == std::string::npos);
-      CHECK(b.dom.find("data-injected") == std::string::npos);
+      // The payload's text is in the page (the title shows the name); its effect is not.
+      CHECK(html_tag(a.dom).find("data-injected") == std::string::npos);
+      CHECK(html_tag(b.dom).find("data-injected") == std::string::npos);
     }
     const fs::path flat = fs::absolute(sodaevo::test::models_dir() / "terrains" / "TerrainFlat.xml");
     const auto r = run_sodaevo("race " + flat.string() + " " + (work / "named1.xml").string() + " --render " +
@@ -210,7 +217,7 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
     REQUIRE(race.players.size() == 1);
     CHECK(race.players[0].ready);
     CHECK(race.players[0].ink > 50);
-    CHECK(race.dom.find("data-injected") == std::string::npos);
+    CHECK(html_tag(race.dom).find("data-injected") == std::string::npos);
   }
   SECTION("race render: the info line counts down to the finish, then says it is past") {
     const fs::path flat = fs::absolute(sodaevo::test::models_dir() / "terrains" / "TerrainFlat.xml");
@@ -248,7 +255,11 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
 (function () {
   var S = JSON.parse(document.getElementById('soda-style').textContent);
   var root = document.querySelector('.soda-player'), canvas = root.querySelector('canvas');
-  var W = canvas.width, H = canvas.height, px = canvas.getContext('2d').getImageData(0, 0, W, H).data;
+  var W = canvas.width, H = canvas.height, copy = document.createElement('canvas');
+  copy.width = W; copy.height = H;
+  var g = copy.getContext('2d', { willReadFrequently: true }); // read back twice: no console note
+  g.drawImage(canvas, 0, 0);
+  var px = g.getImageData(0, 0, W, H).data;
   function rgb(hex) { return [1, 3, 5].map(function (i) { return parseInt(hex.substr(i, 2), 16); }); }
   function near(k, c) { return Math.abs(px[k] - c[0]) + Math.abs(px[k + 1] - c[1]) + Math.abs(px[k + 2] - c[2]) < 40; }
   var gaps = [];
@@ -273,15 +284,12 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
     soda::write_file_atomically(work / "long_measured.html", page);
     const LoadedPage p = load(chromium, work / "long_measured.html", 20, work);
     require_clean(p);
-    const std::size_t html_at = p.dom.find("<html");
-    REQUIRE(html_at != std::string::npos);
-    const std::string html_tag = p.dom.substr(html_at, p.dom.find('>', html_at) - html_at);
-    const std::string gap = attribute(html_tag, "data-test-bar-gap");
-    const std::string excess = attribute(html_tag, "data-test-controls-excess");
+    const std::string gap = attribute(html_tag(p.dom), "data-test-bar-gap");
+    const std::string excess = attribute(html_tag(p.dom), "data-test-controls-excess");
     INFO("bar gap " << gap << " px, controls wider than the canvas by " << excess << " px");
     REQUIRE(!gap.empty());
     REQUIRE(!excess.empty());
-    CHECK(std::stoi(gap) <= 3);
+    CHECK(std::stoi(gap) <= 5); // the bar's upper edge, half its 4 px above the floor line (37 px before)
     CHECK(std::stoi(excess) <= 2);
     screenshot(chromium, "file://" + (work / "long.html").string() + "#frame=60", shots / "race_long_name.png", "800,560", work);
   }
