@@ -290,9 +290,7 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
     motions[c.at("id").get<std::string>()] = json::parse(motion_json(m, race ? -1 : config.fitness.settle_frames));
     if (example.samples() == 0) example = m;
   }
-  std::string elites = motions.dump();
-  for (std::size_t at = 0; (at = elites.find("</", at)) != std::string::npos;) elites.replace(at, 2, "<\\/");
-  o << "<script type=\"application/json\" id=\"elite-motions\">" << elites << "</script>\n"
+  o << "<script type=\"application/json\" id=\"elite-motions\">" << script_safe(motions.dump()) << "</script>\n"
     << "<template id=\"player-template\">" << player_element(example, {"elite", "", race ? -1 : config.fitness.settle_frames, 720, 300})
     << "</template>\n"
     << player_script() << R"js(<script>

@@ -11,9 +11,10 @@ namespace {
 
 /// The page's scripts in the order they need each other: the engine factory, its
 /// API, then the designer's parts (web/README.md).
-constexpr const char* kScripts[] = {"soda_engine.js",      "designer_share.js",  "designer_view.js",
-                                    "designer_wave_bar.js", "designer.js",        "evolve_driver.js",
-                                    "evolve_workers.js",    "evolve_chart.js",    "designer_evolve.js"};
+constexpr const char* kScripts[] = {"soda_engine.js",    "designer_share.js",    "designer_view.js",
+                                    "designer_wave_bar.js", "designer_replicas.js", "designer.js",
+                                    "evolve_driver.js",  "evolve_workers.js",    "evolve_chart.js",
+                                    "designer_evolve.js"};
 
 void replace_marker(std::string& text, const std::string& marker, const std::string& with) {
   const std::size_t at = text.find(marker);
@@ -66,7 +67,7 @@ std::string designer_page(std::string_view initial_xml, std::string_view initial
   // The initial model as base64url text: any bytes (latin-1 files too) fit in a script element.
   scripts += "<script type=\"text/plain\" id=\"initial-model\" data-name=\"" + html_escape(std::string(initial_name)) +
              "\">" + base64url(initial_xml) + "</script>\n";
-  scripts += "<script>\n" + std::string(designer_engine_js()) + "\n</script>\n";
+  scripts += "<script id=\"soda-engine\">\n" + std::string(designer_engine_js()) + "\n</script>\n";
   // Evolve mode: the evolution's engine (its text is also each Web Worker's, from a
   // Blob URL) and the files runs are seeded with, as base64url by path.
   if (!designer_evolve_js().empty()) {
@@ -77,7 +78,8 @@ std::string designer_page(std::string_view initial_xml, std::string_view initial
     bundled += std::string(bundled.size() > 1 ? ",\n" : "") + "\"" + std::string(path) + "\":\"" + base64url(bytes) + "\"";
   }
   scripts += "<script type=\"application/json\" id=\"soda-bundled\">" + bundled + "}</script>\n";
-  for (const char* name : kScripts) scripts += "<script>\n" + asset(name) + "\n</script>\n";
+  // data-src: a worker takes a script's text (designer_replicas.js).
+  for (const char* name : kScripts) scripts += "<script data-src=\"" + std::string(name) + "\">\n" + asset(name) + "\n</script>\n";
   replace_marker(page, "<!--soda:scripts-->", scripts);
   return page;
 }

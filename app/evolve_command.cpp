@@ -227,8 +227,10 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     char line[256];
     // No creature scored in this generation: no best or mean (the log holds no infinity).
     auto stat = [](double v) { return std::isfinite(v) ? fixed(v, 2) : std::string("-"); };
+    // Counted from 1 as the page and the report count ("gen 10/10" is the last); the
+    // ids (g9-1) and files (gen_0009.xml) number generations from 0.
     std::snprintf(line, sizeof line, "gen %d/%d  best %s  mean %s  invalid %d  %.0f evals/s  elapsed %s  left ~%s",
-                  p.generation, p.generations - 1, stat(p.stats.best).c_str(), stat(p.stats.mean).c_str(),
+                  p.generation + 1, p.generations, stat(p.stats.best).c_str(), stat(p.stats.mean).c_str(),
                   p.stats.invalid + p.stats.diverged,
                   p.evaluations_per_second, format_duration(p.wall_seconds).c_str(), format_duration(left).c_str());
     if (tty) std::cerr << "\r\033[K" << line << std::flush;
@@ -264,7 +266,7 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
   refresh_report();
   if (!opt.quiet) {
     if (tty) std::cerr << '\n';
-    std::cerr << "stopped: " << outcome.stopped_because << " after generation " << outcome.last_generation << " ("
+    std::cerr << "stopped: " << outcome.stopped_because << " after generation " << outcome.last_generation + 1 << " ("
               << outcome.evaluations << " evaluations)\n";
 #if SODAEVO_HAS_MPI
     if (mpi_evaluator) {
@@ -292,15 +294,15 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
             " replicas, sd " + fixed(it->selection.sd, 2) + ")";
   }
   if (std::isfinite(outcome.best_fitness) && score.race) {
-    std::cout << "best         " << outcome.best_id << "  fitness " << soda::format_double_plain(outcome.best_fitness)
-              << basis << " (races in " << soda::format_double_plain(-outcome.best_fitness) << " frames)\n";
+    std::cout << "champion     " << outcome.best_id << " (best of the last generation)  fitness "
+              << soda::format_double_plain(outcome.best_fitness) << basis << " (races in " << soda::format_double_plain(-outcome.best_fitness) << " frames)\n";
   } else if (std::isfinite(outcome.best_fitness)) {
-    std::cout << "best         " << outcome.best_id << "  fitness " << soda::format_double_plain(outcome.best_fitness)
-              << basis << " px in " << config.fitness.frames << " frames ("
+    std::cout << "champion     " << outcome.best_id << " (best of the last generation)  fitness "
+              << soda::format_double_plain(outcome.best_fitness) << basis << " px in " << config.fitness.frames << " frames ("
               << soda::format_double_plain(outcome.best_fitness / static_cast<double>(config.fitness.frames))
               << " px/frame)\n";
   } else {
-    std::cout << "best         none: no creature could be scored (the reasons are in the saved generations)\n";
+    std::cout << "champion     none: no creature could be scored (the reasons are in the saved generations)\n";
   }
   if (it != checks.end()) { // rounded for reading; champions.json keeps every digit
     std::cout << "             " << check_comment(*it, score.unit(), score.race ? 1 : 2) << "\n";

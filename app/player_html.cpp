@@ -16,13 +16,25 @@ namespace {
 
 long long tenths(double v) { return std::llround(v * 10.0); }
 
-/// JSON text that cannot end the <script> element it sits in.
-std::string script_safe(std::string text) {
-  for (std::size_t p = 0; (p = text.find("</", p)) != std::string::npos; p += 3) text.replace(p, 2, "<\\/");
-  return text;
-}
-
 } // namespace
+
+std::string script_safe(const std::string& json) {
+  std::string out;
+  out.reserve(json.size());
+  for (std::size_t i = 0; i < json.size(); ++i) {
+    const char c = json[i];
+    if (c == '<') out += "\\u003c";
+    else if (c == '>') out += "\\u003e";
+    else if (c == '&') out += "\\u0026";
+    else if (c == '\xE2' && i + 2 < json.size() && json[i + 1] == '\x80' && (json[i + 2] == '\xA8' || json[i + 2] == '\xA9')) {
+      out += json[i + 2] == '\xA8' ? "\\u2028" : "\\u2029"; // UTF-8 of U+2028 and U+2029
+      i += 2;
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
 
 std::string creature_style_json() {
   using namespace style;
@@ -41,11 +53,11 @@ namespace {
 
 constexpr const char* kCss = R"css(
 .soda-player { display: inline-block; margin: 8px 12px 16px 0; vertical-align: top; }
-.soda-player .caption { font-weight: bold; margin: 0 0 4px 0; }
+.soda-player .caption { font-weight: bold; margin: 0 0 4px 0; overflow-wrap: anywhere; }
 .soda-player canvas { display: block; border: 1px solid #cfc8bb; border-radius: 6px; max-width: 100%; }
 .soda-player .controls { display: flex; align-items: center; gap: 8px; margin-top: 4px; font-size: 13px; }
 .soda-player .controls input[type=range] { flex: 1; }
-.soda-player .info { font-variant-numeric: tabular-nums; font-size: 13px; color: #333; margin-top: 2px; }
+.soda-player .info { font-variant-numeric: tabular-nums; font-size: 13px; color: #333; margin-top: 2px; overflow-wrap: anywhere; }
 #page-errors { color: #b00; background: #fee; padding: 8px; }
 )css";
 
@@ -129,6 +141,17 @@ constexpr const char* kPlayerScript = R"js(
         top = Math.max(top, data.fixed[q + 1] / 10);
       }
     }
+    // The ruler's floor: where the creature stands. In a race that is the terrain's
+    // fixed bars (TerrainFlat's lie at y = 10), not the container's floor below them:
+    // the floor goes at the bars' lowest end, so a flat terrain lies on the ruler.
+    var groundY = Infinity;
+    for (var bar = 0; bar + 3 < data.links.length; bar += 4) {
+      if (data.links[bar + 2] !== 2) continue;
+      [data.links[bar], data.links[bar + 1]].forEach(function (p) {
+        if (p >= data.masses) groundY = Math.min(groundY, data.fixed[2 * (p - data.masses) + 1] / 10);
+      });
+    }
+    if (!isFinite(groundY)) groundY = 0;
     var baseFloorY = H - 42;
     var scale = Math.min(W * 0.3 / halfWidth, (baseFloorY - 30) / top);
     var scoredIndex = 0;
@@ -151,7 +174,7 @@ constexpr const char* kPlayerScript = R"js(
       var xy = data.xy[index], cx = data.cx[index] / 10;
       var floorY = baseFloorY + Math.max(0, tops[index] - top) * scale; // below the canvas while it jumps high
       var sx = function (x) { return W / 2 + (x - cx) * scale; };
-      var sy = function (y) { return floorY - y * scale; };
+      var sy = function (y) { return floorY - (y - groundY) * scale; };
       ctx.fillStyle = S.background; ctx.fillRect(0, 0, W, H);
       ctx.fillStyle = S.ground; ctx.fillRect(0, floorY, W, H - floorY);
       ctx.strokeStyle = S.floor; ctx.lineWidth = 2;
@@ -335,8 +358,10 @@ std::string player_head() {
 std::string player_element(const Motion& motion, const PlayerView& view) {
   const std::string json = motion_json(motion, view.scored_from);
   std::ostringstream o;
+  // As wide as the canvas (and its border) at most: a long name wraps instead of
+  // stretching the controls.
   o << "<div class=\"soda-player\" id=\"" << html_escape(view.id) << "\" data-motion=\"" << html_escape(view.id)
-    << "-motion\">\n"
+    << "-motion\" style=\"max-width: " << view.width + 2 << "px\">\n"
     << "<div class=\"caption\">" << html_escape(view.caption) << "</div>\n"
     << "<canvas width=\"" << view.width << "\" height=\"" << view.height << "\"></canvas>\n"
     << "<div class=\"controls\"><button class=\"play\" type=\"button\">Pause</button>"

@@ -48,6 +48,11 @@ std::string render_player_page(const Motion& motion, const std::string& title, c
 /// scripts (safe inside a <script> element).
 std::string creature_style_json();
 
+/// JSON text made safe inside a <script> element: < > & and the line separators
+/// U+2028/9 as \\u escapes (JSON reads them back as the same characters), so no
+/// string in it can close the element or open a comment or another script.
+std::string script_safe(const std::string& json);
+
 /// Text for HTML content or attributes: & < > " ' escaped.
 std::string html_escape(const std::string& text);
 

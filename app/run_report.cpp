@@ -178,7 +178,8 @@ std::string generation_ranges(std::vector<int> g) {
   for (std::size_t i = 0; i < g.size();) {
     std::size_t j = i;
     while (j + 1 < g.size() && g[j + 1] == g[j] + 1) ++j;
-    out += (out.empty() ? "" : ", ") + std::to_string(g[i]) + (j > i ? "&#8211;" + std::to_string(g[j]) : "");
+    // Counted from 1, as the CLI and the page count (the ids and files from 0).
+    out += (out.empty() ? "" : ", ") + std::to_string(g[i] + 1) + (j > i ? "&#8211;" + std::to_string(g[j] + 1) : "");
     i = j + 1;
   }
   return out;
@@ -317,7 +318,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     best.markers = mean.markers = median.markers = invalid.markers = diverged.markers = markers;
     median.dashed = true;
     for (const GenerationRow& r : rows) {
-      const double g = r.generation;
+      const double g = r.generation + 1; // counted from 1, as the CLI and the page count
       best.x.push_back(g), best.y.push_back(score.shown(r.best));
       mean.x.push_back(g), mean.y.push_back(score.shown(r.mean));
       median.x.push_back(g), median.y.push_back(score.shown(r.median));
@@ -400,7 +401,11 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     classic_problem = e.what();
   }
 
-  o << "<h2>Best creatures</h2>\n";
+  o << "<h2>Best creatures</h2>\n"
+    << "<p class=\"note\">Each generation's best, ranked by the fitness it scored in its own generation. The champion "
+       "(what <code>sodaevo evolve</code> prints and the designer's Evolve mode exports) is the best of the last "
+       "generation: an earlier creature can rank above it on a luckier score. Generations are counted from 1 here; "
+       "ids (g9-1) and file names (gen_00009.xml) count from 0.</p>\n";
   if (ranked.empty()) {
     o << "<p class=\"note\">No creature has been scored yet.</p>\n";
   } else {
@@ -448,13 +453,31 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   o << claims_section_html(run_dir);
 
   // Animations: the champion, the best of a few generations along the run (each
-  // creature once), the classic.
+  // creature once), the classic. The champion is the best of the last generation, as `sodaevo evolve` prints it
+  // and Evolve mode exports it; the table's first row, the highest fitness any
+  // generation scored, is shown as the top score when it is another creature.
+  const auto fitness_text = [&](double v) {
+    return (score.race ? std::string() : std::string("fitness ")) + table_number(score.shown(v), 1) + " " + score.unit();
+  };
+  const std::string of_planned = " of " + std::to_string(config.budget.generations);
+  if (!ranked.empty() && !rows.back().best_id.empty()) {
+    const GenerationRow& last_row = rows.back();
+    try {
+      shown.push_back({"Champion " + last_row.best_id + " (best of the last generation, " + std::to_string(last_row.generation + 1) +
+                           of_planned + ": " + fitness_text(last_row.best) + ")",
+                       soda::read_model_file(best_file(last_row.generation)).def});
+    } catch (const soda::InputError& e) {
+      o << "<p class=\"note\">" << html_escape(e.what()) << "</p>\n";
+    }
+  }
   if (!ranked.empty() && ranked.front().problem.empty()) {
-    const GenerationRow& champion = ranked.front().row;
-    shown.push_back({"Champion " + champion.best_id + " (best of generation " + std::to_string(champion.generation) +
-                         ", " + (score.race ? "" : "fitness ") + table_number(score.shown(champion.best), 1) + " " +
-                         score.unit() + ")",
-                     ranked.front().prepared});
+    const GenerationRow& top = ranked.front().row;
+    const bool seen = std::any_of(shown.begin(), shown.end(), [&](const Shown& s) { return body(s.prepared) == body(ranked.front().prepared); });
+    if (!seen) {
+      shown.push_back({"Top score " + top.best_id + " (best of generation " + std::to_string(top.generation + 1) + of_planned + ": " +
+                           fitness_text(top.best) + ", the highest any generation scored)",
+                       ranked.front().prepared});
+    }
     const int last = rows.back().generation, first = rows.front().generation;
     const int k = std::max(1, options.chosen_generations);
     for (int i = 0; i < k; ++i) {
@@ -465,8 +488,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
         const soda::ModelDef def = soda::read_model_file(best_file(g)).def;
         const bool seen = std::any_of(shown.begin(), shown.end(), [&](const Shown& s) { return body(s.prepared) == body(def); });
         if (seen) continue;
-        shown.push_back({"Generation " + std::to_string(g) + ": " + row->best_id + " (its best, " + (score.race ? "" : "fitness ") +
-                              table_number(score.shown(row->best), 1) + " " + score.unit() + ")",
+        shown.push_back({"Generation " + std::to_string(g + 1) + of_planned + ": " + row->best_id + " (its best, " + fitness_text(row->best) + ")",
                           def});
       } catch (const soda::InputError& e) {
         o << "<p class=\"note\">" << html_escape(e.what()) << "</p>\n";

@@ -64,4 +64,23 @@ DumpedPage dump_dom_until(const std::string& chromium, const std::string& url, c
   return page;
 }
 
+std::string shell_quoted(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+std::string wait_in_page(const std::string& chromium, const std::string& url, const std::string& condition,
+                         const std::string& expression, const fs::path& work, int timeout_s, bool run_links) {
+  static int runs = 0;
+  const fs::path out = work / ("wait" + std::to_string(++runs) + ".json");
+  const fs::path script = fs::path(SODAEVO_MODELS_DIR).parent_path() / "web" / "chromium_wait.js";
+  const auto r = run_shell("node " + shell_quoted(script.string()) + (run_links ? " --run-links " : " ") +
+                           shell_quoted(chromium) + " " + shell_quoted(url) + " " + shell_quoted(condition) + " " +
+                           shell_quoted(expression) + " " + std::to_string(timeout_s) + " > " + shell_quoted(out.string()));
+  INFO("chromium_wait.js on " << url.substr(0, 300) << ": " << r.output);
+  REQUIRE(r.exit_code == 0);
+  return soda::read_whole_file(out);
+}
+
 } // namespace sodaevo::test

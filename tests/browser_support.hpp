@@ -40,4 +40,15 @@ DumpedPage dump_dom_until(const std::string& chromium, const std::string& url, c
                           const std::string& extra_flags, const std::function<bool(const std::string&)>& done,
                           int attempts = 3);
 
+/// `text` quoted for the shell ('...').
+std::string shell_quoted(const std::string& text);
+
+/// web/chromium_wait.js: opens `url` in headless Chromium in real time (no virtual
+/// time: Web Workers and the page's clock run as a user's), waits up to `timeout_s`
+/// for the JavaScript `condition`, and returns `expression`'s JSON text; fails the
+/// test on a timeout. `run_links`: an "#evolve=...&run" link runs at once.
+std::string wait_in_page(const std::string& chromium, const std::string& url, const std::string& condition,
+                         const std::string& expression, const std::filesystem::path& work, int timeout_s = 240,
+                         bool run_links = false);
+
 } // namespace sodaevo::test

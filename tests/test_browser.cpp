@@ -46,6 +46,12 @@ struct LoadedPage {
   std::vector<Player> players;
 };
 
+/// The page's <html ...> start tag (where pages and tests leave data-* attributes).
+std::string html_tag(const std::string& dom) {
+  const std::size_t at = dom.find("<html");
+  return at == std::string::npos ? std::string() : dom.substr(at, dom.find('>', at) - at);
+}
+
 std::string attribute(const std::string& tag, const std::string& name) {
   const std::regex re(" " + name + "=\"([^\"]*)\"");
   std::smatch m;
@@ -169,6 +175,50 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
     screenshot(chromium, url + "#frame=700", shots / "render_frame700.png", "800,520", work);
     CHECK(soda::read_whole_file(shots / "render_frame100.png") != soda::read_whole_file(shots / "render_frame700.png"));
   }
+  SECTION("render and race: a creature's name cannot open or close an element; the player plays, nothing runs") {
+    // Names that ended the player's <script type="application/json"> early (a
+    // "</script>") or kept it open past its end tag ("<!--<script>": the HTML
+    // parser's escaped script state), swallowing the player's own script.
+    const std::string dainty_xml = soda::read_whole_file(dainty);
+    const std::string payload = "document.documentElement.setAttribute('data-injected','1')";
+    // As written in the XML (&lt; is <; &#x2028; is U+2028, which ends a line in old JavaScript).
+    const std::vector<std::string> names = {"&lt;!--&lt;script>", "&lt;/script>&lt;script>" + payload + "&lt;/script>",
+                                            "&lt;!--&lt;script>&#x2028;&lt;/script>&lt;script>" + payload + "//&amp;"};
+    for (std::size_t k = 0; k < names.size(); ++k) {
+      INFO("name " << names[k]);
+      const std::string escaped = names[k];
+      std::string xml = dainty_xml;
+      const std::string old_name = "<name>Dainty Walker - Ed Burton</name>";
+      REQUIRE(xml.find(old_name) != std::string::npos);
+      xml.replace(xml.find(old_name), old_name.size(), "<name>" + escaped + "</name>");
+      const fs::path model = work / ("named" + std::to_string(k) + ".xml");
+      const fs::path page = work / ("named" + std::to_string(k) + ".html");
+      soda::write_file_atomically(model, xml);
+      const auto r = run_sodaevo("render " + model.string() + " --frames 800 -o " + page.string());
+      INFO(r.output);
+      REQUIRE(r.exit_code == 0);
+      const LoadedPage a = load(chromium, page, 100, work);
+      const LoadedPage b = load(chromium, page, 700, work);
+      require_clean(a);
+      require_clean(b);
+      REQUIRE(a.players.size() == 1);
+      require_drawn_and_moving(a, b, 100, 700);
+      // The payload's text is in the page (the title shows the name); its effect is not.
+      CHECK(html_tag(a.dom).find("data-injected") == std::string::npos);
+      CHECK(html_tag(b.dom).find("data-injected") == std::string::npos);
+    }
+    const fs::path flat = fs::absolute(sodaevo::test::models_dir() / "terrains" / "TerrainFlat.xml");
+    const auto r = run_sodaevo("race " + flat.string() + " " + (work / "named1.xml").string() + " --render " +
+                               (work / "named_race.html").string());
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    const LoadedPage race = load(chromium, work / "named_race.html", 20, work);
+    require_clean(race);
+    REQUIRE(race.players.size() == 1);
+    CHECK(race.players[0].ready);
+    CHECK(race.players[0].ink > 50);
+    CHECK(html_tag(race.dom).find("data-injected") == std::string::npos);
+  }
   SECTION("race render: the info line counts down to the finish, then says it is past") {
     const fs::path flat = fs::absolute(sodaevo::test::models_dir() / "terrains" / "TerrainFlat.xml");
     const fs::path racer = fs::absolute(sodaevo::test::models_dir() / "wodka_ga109.xml"); // 118 frames
@@ -187,6 +237,61 @@ TEST_CASE("browser: the player, the filmstrip and the run report work in headles
     CHECK(info_line(early.dom).find(" px to the finish") != std::string::npos);
     CHECK(info_line(early.dom).find("px/frame") == std::string::npos); // a race counts frames
     CHECK(info_line(done.dom).find("past the finish") != std::string::npos);
+  }
+  SECTION("race render: the terrain lies on the ruler's floor; a long name wraps instead of stretching the controls") {
+    const fs::path flat = fs::absolute(sodaevo::test::models_dir() / "terrains" / "TerrainFlat.xml");
+    std::string xml = soda::read_whole_file(dainty);
+    const std::string old_name = "<name>Dainty Walker - Ed Burton</name>";
+    REQUIRE(xml.find(old_name) != std::string::npos);
+    xml.replace(xml.find(old_name), old_name.size(), "<name>" + std::string(150, 'W') + "</name>");
+    soda::write_file_atomically(work / "long.xml", xml);
+    const auto r = run_sodaevo("race " + flat.string() + " " + (work / "long.xml").string() + " --render " + (work / "long.html").string());
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    // Measured in the page once the player drew: in two columns clear of the
+    // creature, the rows where the bar colour and the floor (its line or the ground
+    // under it) begin; and how much wider than the canvas the controls are.
+    const std::string measure = R"js(<script>
+(function () {
+  var S = JSON.parse(document.getElementById('soda-style').textContent);
+  var root = document.querySelector('.soda-player'), canvas = root.querySelector('canvas');
+  var W = canvas.width, H = canvas.height, copy = document.createElement('canvas');
+  copy.width = W; copy.height = H;
+  var g = copy.getContext('2d', { willReadFrequently: true }); // read back twice: no console note
+  g.drawImage(canvas, 0, 0);
+  var px = g.getImageData(0, 0, W, H).data;
+  function rgb(hex) { return [1, 3, 5].map(function (i) { return parseInt(hex.substr(i, 2), 16); }); }
+  function near(k, c) { return Math.abs(px[k] - c[0]) + Math.abs(px[k + 1] - c[1]) + Math.abs(px[k + 2] - c[2]) < 40; }
+  var gaps = [];
+  [12, W - 12].forEach(function (x) {
+    var bar = -1, floor = -1;
+    for (var y = 0; y < H; ++y) {
+      var k = 4 * (y * W + x);
+      if (bar < 0 && near(k, rgb(S.bar))) bar = y;
+      if (floor < 0 && (near(k, rgb(S.floor)) || near(k, rgb(S.ground)))) floor = y;
+    }
+    gaps.push(bar >= 0 && floor >= 0 ? Math.abs(bar - floor) : 999);
+  });
+  var controls = root.querySelector('.controls').getBoundingClientRect().width;
+  document.documentElement.setAttribute('data-test-bar-gap', String(Math.min.apply(null, gaps)));
+  document.documentElement.setAttribute('data-test-controls-excess', String(Math.round(controls - canvas.getBoundingClientRect().width)));
+})();
+</script>
+)js";
+    std::string page = soda::read_whole_file(work / "long.html");
+    REQUIRE(page.rfind("</body>") != std::string::npos);
+    page.insert(page.rfind("</body>"), measure);
+    soda::write_file_atomically(work / "long_measured.html", page);
+    const LoadedPage p = load(chromium, work / "long_measured.html", 20, work);
+    require_clean(p);
+    const std::string gap = attribute(html_tag(p.dom), "data-test-bar-gap");
+    const std::string excess = attribute(html_tag(p.dom), "data-test-controls-excess");
+    INFO("bar gap " << gap << " px, controls wider than the canvas by " << excess << " px");
+    REQUIRE(!gap.empty());
+    REQUIRE(!excess.empty());
+    CHECK(std::stoi(gap) <= 5); // the bar's upper edge, half its 4 px above the floor line (37 px before)
+    CHECK(std::stoi(excess) <= 2);
+    screenshot(chromium, "file://" + (work / "long.html").string() + "#frame=60", shots / "race_long_name.png", "800,560", work);
   }
   SECTION("filmstrip: opens without console messages") {
     const auto r = run_sodaevo("render " + dainty.string() + " --frames 800 -o " + (work / "dainty.svg").string());

@@ -241,11 +241,23 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
     const nlohmann::json& best = champions[0];
     char median[64];
     std::snprintf(median, sizeof median, "%.2f", best["check"]["median"].get<double>());
-    CHECK(evolved.output.find("best         " + best["id"].get<std::string>() + "  fitness ") != std::string::npos);
+    CHECK(evolved.output.find("champion     " + best["id"].get<std::string>() + " (best of the last generation)  fitness ") !=
+          std::string::npos);
     CHECK(evolved.output.find(" of " + std::to_string(best["selection"]["n"].get<int>()) + " replicas, sd ") !=
           std::string::npos);
     CHECK(evolved.output.find("checked on " + std::to_string(best["check"]["n"].get<int>()) +
                               " fresh replicas: median " + median + " px") != std::string::npos);
+  }
+  {
+    // The progress lines count generations from 1, as the page and the report do
+    // (the ids and files keep counting from 0).
+    const ShellResult loud = run_sodaevo("evolve " + (out / "ga.json").string() + " --out " + (out / "ga-loud").string());
+    INFO(loud.output);
+    REQUIRE(loud.exit_code == 0);
+    CHECK(loud.output.find("gen 1/3 ") != std::string::npos);
+    CHECK(loud.output.find("gen 3/3 ") != std::string::npos);
+    CHECK(loud.output.find("gen 0/") == std::string::npos);
+    CHECK(loud.output.find("after generation 3 (") != std::string::npos);
   }
   const ShellResult r = run_sodaevo("bench speed --quick --threads 2 --models " + (root / "models").string() +
                                     " --ga-run " + ga_run.string() + " --out " + out.string());

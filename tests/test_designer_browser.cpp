@@ -16,6 +16,8 @@
 #include <regex>
 #include <sstream>
 
+#include <nlohmann/json.hpp>
+
 #include "app/designer_assets.hpp"
 #include "app/designer_page.hpp"
 #include "browser_support.hpp"
@@ -337,4 +339,138 @@ TEST_CASE("designer: a creature built with the mouse saves, reads back natively,
     INFO(r.output);
     CHECK(fs::exists(png));
   }
+}
+
+namespace {
+
+/// A creature of `columns` x `rows` masses 6 px apart, springs to the right and
+/// down, a muscle along the bottom row: big enough that its replica figure (9,000
+/// frames) takes seconds.
+std::string grid_creature(int columns, int rows, const std::string& name) {
+  std::ostringstream x;
+  x << "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<model>\n<name>" << name << "</name>\n"
+    << "<container width=\"651\" height=\"422\"/>\n<nodes>\n";
+  const auto id = [&](int c, int r) { return "m" + std::to_string(r * columns + c); };
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < columns; ++c) x << "<mass id=\"" << id(c, r) << "\" x=\"" << 20 + 6 * c << ".0\" y=\"" << 2 + 6 * r << ".0\" vx=\"0.0\" vy=\"0.0\"/>\n";
+  }
+  x << "</nodes>\n<links>\n";
+  for (int r = 0; r < rows; ++r) {
+    for (int c = 0; c < columns; ++c) {
+      if (c + 1 < columns) x << "<spring a=\"" << id(c, r) << "\" b=\"" << id(c + 1, r) << "\" restlength=\"6.0\"/>\n";
+      if (r + 1 < rows) x << "<spring a=\"" << id(c, r) << "\" b=\"" << id(c, r + 1) << "\" restlength=\"6.0\"/>\n";
+    }
+  }
+  x << "<muscle a=\"" << id(0, 0) << "\" b=\"" << id(columns - 1, 0) << "\" restlength=\"" << 6 * (columns - 1)
+    << ".0\" amplitude=\"0.1\" phase=\"0.5\"/>\n</links>\n</model>\n";
+  return x.str();
+}
+
+// The longest gap between animation frames (the page's main thread blocked) from
+// before the big creature opens until its replica figure would be in, the name
+// field through Open and New, and the replica figure (from the worker) against the
+// page's own engine for the Dainty Walker.
+const char* kResponsiveScript = R"js(
+var gap = { max: 0, last: null, frames: 0 };
+function frame() {
+  var now = performance.now();
+  if (gap.last !== null) gap.max = Math.max(gap.max, now - gap.last);
+  gap.last = now;
+  ++gap.frames;
+  if (!window.testResult) requestAnimationFrame(frame);
+}
+requestAnimationFrame(frame);
+function waitFor(test, then) { if (test()) then(); else setTimeout(function () { waitFor(test, then); }, 50); }
+var $ = function (id) { return document.getElementById(id); };
+waitFor(function () { return document.documentElement.getAttribute('data-ready') === '1'; }, function () {
+  var result = { bigName: $('design-name').value, bigFigure: $('fig-design').textContent };
+  setTimeout(function () { // 3 s with the big creature open (its figure is being worked on)
+    result.maxGap = gap.max;
+    result.frames = gap.frames;
+    result.bigReplicas = $('fig-replicas').textContent;
+    var app = window.sodaDesigner;
+    app.loadBytes(SodaShare.fromBase64url($('dainty').textContent), 'dainty_walker.xml');
+    result.openedName = $('design-name').value;
+    waitFor(function () { return /px\/frame/.test($('fig-replicas').textContent); }, function () {
+      result.workerReplicas = $('fig-replicas').textContent;
+      var r = app.engine.replicas(8, 1000, 0.002);
+      result.pageReplicas = r.mean.toFixed(2) + ' \u00b1 ' + r.sd.toFixed(2) + ' px/frame';
+      $('new-design').click();
+      result.newName = $('design-name').value;
+      window.testResult = result;
+    });
+  }, 3000);
+});
+)js";
+
+} // namespace
+
+namespace {
+
+/// The designer opened with a 5,000-mass creature (kResponsiveScript's result).
+nlohmann::json open_big_creature(const std::string& chromium, const fs::path& work) {
+  const std::string big = grid_creature(100, 50, "Big Grid");
+  std::string page = designer_with(kResponsiveScript, big);
+  page.insert(page.rfind("<pre id=\"test-result\">"),
+              "<script type=\"text/plain\" id=\"dainty\">" +
+                  sodaevo::app::base64url(soda::read_whole_file(models_dir() / "dainty_walker.xml")) + "</script>\n");
+  soda::write_file_atomically(work / "big.html", page);
+  return nlohmann::json::parse(wait_in_page(
+      chromium, "file://" + (work / "big.html").string(), "window.testResult !== undefined",
+      "(function () { var r = window.testResult; r.errors = window.sodaErrors || []; return r; })()", work, 120));
+}
+
+} // namespace
+
+TEST_CASE("designer: a 5,000-mass creature's replica figure comes from a worker; the name field follows the design",
+          "[browser][designer]") {
+  const std::string chromium = require_chromium();
+  const nlohmann::json got = open_big_creature(chromium, fresh_temp_dir("designer-big"));
+  INFO("page: " << got.dump());
+  CHECK(got["errors"].empty());
+  CHECK(got["bigFigure"] == "5000 masses, 0 fixed, 9850 springs, 1 muscles, 0 bars");
+  CHECK(got["bigName"] == "Big Grid");
+  // Frames kept coming while the figure was worked on (13 s on the page's thread before).
+  CHECK(got["frames"].get<int>() >= 30);
+  CHECK(got["bigReplicas"] == "working\u2026");
+  // The name field follows what is opened, and New.
+  CHECK(got["openedName"] == "Dainty Walker - Ed Burton");
+  CHECK(got["newName"] == "");
+  // The worker's figure is the page engine's.
+  CHECK(got["workerReplicas"] == got["pageReplicas"]);
+}
+
+// Known to fail (issue 47, open): opening the creature still blocks the page for
+// seconds in the engine's loadXml, design() and saveXmlBytes (each about 1 s for
+// 5,000 masses under load: web/engine_api.cpp). When they are fast, this test
+// passes, Catch reports the [!shouldfail] test as failing, and the tag goes.
+TEST_CASE("designer: opening a 5,000-mass creature blocks no animation frame for 200 ms", "[browser][designer][!shouldfail]") {
+  const std::string chromium = require_chromium();
+  const nlohmann::json got = open_big_creature(chromium, fresh_temp_dir("designer-big-gap"));
+  INFO("page: " << got.dump());
+  CHECK(got["maxGap"].get<double>() < 200.0);
+}
+
+TEST_CASE("designer: an #evolve=...&run link asks before running, with its config as the start", "[browser][designer][evolve]") {
+  const std::string chromium = require_chromium();
+  const fs::path work = fresh_temp_dir("designer-evolve-link");
+  soda::write_file_atomically(work / "designer.html", sodaevo::app::designer_page());
+  const std::string config = soda::read_whole_file(fs::path(SODAEVO_MODELS_DIR).parent_path() / "configs" / "quick.json");
+  const nlohmann::json given = nlohmann::json::parse(config);
+  const std::string url = "file://" + (work / "designer.html").string() + "#evolve=" + sodaevo::app::base64url(config) + "&run";
+  // The panel is built and the link read in one task: once #ev-progress exists.
+  const nlohmann::json got = nlohmann::json::parse(wait_in_page(
+      chromium, url, "document.getElementById('ev-progress') !== null",
+      "(function () { var $ = function (id) { return document.getElementById(id); }; return {state: window.sodaEvolve.state, "
+      "source: $('ev-source').value, sourceText: $('ev-source').selectedOptions[0].textContent, generations: $('ev-generations').value, "
+      "population: $('ev-population').value, progress: $('ev-progress').textContent, errors: window.sodaErrors || []}; })()",
+      work, 120));
+  INFO("page: " << got.dump());
+  CHECK(got["errors"].empty());
+  CHECK(got["state"] == "idle"); // not running: it asks
+  CHECK_THAT(got["progress"].get<std::string>(), Catch::StartsWith("This link asks to run the link's config (quick)"));
+  CHECK(got["source"] == "link");
+  CHECK(got["sourceText"] == "the link's config (quick)");
+  CHECK(got["generations"] == std::to_string(given["generations"].get<int>()));
+  CHECK(got["population"] == std::to_string(given["population"]["size"].get<int>()));
 }

@@ -319,6 +319,16 @@ TEST_CASE("run report: config, charts, table and players for a finished run", "[
     CHECK(j["scored_from"] == c.fitness.settle_frames);
   }
   CHECK(html.find("Champion") < html.find("Dainty Walker (classic, same fitness settings)"));
+  // The champion as the CLI and the page name it, the best of the last generation,
+  // with generations counted from 1.
+  const std::string csv = soda::read_whole_file(dir / "generations.csv");
+  const std::string last_line = csv.substr(csv.rfind('\n', csv.size() - 2) + 1);
+  std::vector<std::string> cells;
+  std::stringstream cell_stream(last_line);
+  for (std::string cell; std::getline(cell_stream, cell, ',');) cells.push_back(cell);
+  REQUIRE(cells.size() > 8);
+  REQUIRE(cells[0] == "3");
+  CHECK_THAT(html, Catch::Contains("Champion " + cells[8] + " (best of the last generation, 4 of 4: fitness "));
   CHECK(html.find("src=") == std::string::npos);
   CHECK(html.find("https://") == std::string::npos);
 }

@@ -5,7 +5,7 @@
 #
 # writes OUT_DIR/soda_engine_wasm.js, one file with the wasm inside (a page opened
 # from a file cannot fetch a separate .wasm), a factory `createSodaEngine()` for
-# pages and Node. web/soda_engine.js is the API over it.
+# pages, Web Workers (the designer's replica figure) and Node. web/soda_engine.js is the API over it.
 #
 # Compiled: web/engine_api.cpp, the engine's portable parts (model, reference step,
 # the engine's own sine) and the XML reader and writer; not the SIMD steppers.
@@ -60,7 +60,7 @@ done
 for pid in "${pids[@]}"; do wait "$pid"; done
 em++ "${flags[@]}" "${objects[@]}" -o "$out/soda_engine_wasm.js" \
   -sSINGLE_FILE=1 -sMINIFY_HTML=0 -sMODULARIZE=1 -sEXPORT_NAME=createSodaEngine \
-  -sALLOW_MEMORY_GROWTH=1 -sENVIRONMENT=web,node -sFILESYSTEM=0 \
+  -sALLOW_MEMORY_GROWTH=1 -sENVIRONMENT=web,worker,node -sFILESYSTEM=0 \
   -sEXPORTED_FUNCTIONS=_malloc,_free \
   -sEXPORTED_RUNTIME_METHODS=UTF8ToString,stringToUTF8,lengthBytesUTF8
 echo "build_wasm.sh: wrote $out/soda_engine_wasm.js ($(wc -c < "$out/soda_engine_wasm.js") bytes)"

@@ -5,7 +5,10 @@
 // over the DevTools protocol on a pipe (--remote-debugging-pipe: file descriptors
 // 3 and 4, messages ended by a NUL byte), so it needs no network port.
 //
-//   node web/chromium_wait.js CHROMIUM URL CONDITION EXPRESSION [TIMEOUT_S] [SCREENSHOT.png] [WIDTHxHEIGHT]
+//   node web/chromium_wait.js [--run-links] CHROMIUM URL CONDITION EXPRESSION [TIMEOUT_S] [SCREENSHOT.png] [WIDTHxHEIGHT]
+//
+// --run-links: the page starts with window.sodaDesignerHooks.runEvolveLink set, so
+// an "#evolve=...&run" link runs at once instead of asking (designer_evolve.js).
 //
 // Exit status 0 with the expression's JSON on stdout; 1 on a timeout (the
 // expression is still printed) or an error; the page's console goes to stderr.
@@ -15,9 +18,12 @@ const fs = require('fs');
 const os = require('os');
 const path = require('path');
 
-const [chromium, url, condition, expression, timeoutArg, screenshot, sizeArg] = process.argv.slice(2);
+const args = process.argv.slice(2);
+const runLinks = args[0] === '--run-links';
+if (runLinks) args.shift();
+const [chromium, url, condition, expression, timeoutArg, screenshot, sizeArg] = args;
 if (!chromium || !url || !condition || !expression) {
-  console.error('usage: node web/chromium_wait.js CHROMIUM URL CONDITION EXPRESSION [TIMEOUT_S] [SCREENSHOT.png] [WxH]');
+  console.error('usage: node web/chromium_wait.js [--run-links] CHROMIUM URL CONDITION EXPRESSION [TIMEOUT_S] [SCREENSHOT.png] [WxH]');
   process.exit(2);
 }
 const timeout = 1000 * Number(timeoutArg || 120);
@@ -61,6 +67,11 @@ const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
   await send('Runtime.enable', {}, sessionId);
   await send('Page.enable', {}, sessionId);
   await send('Emulation.setDeviceMetricsOverride', { width, height, deviceScaleFactor: 1, mobile: false }, sessionId);
+  if (runLinks) {
+    await send('Page.addScriptToEvaluateOnNewDocument', {
+      source: 'window.sodaDesignerHooks = Object.assign(window.sodaDesignerHooks || {}, { runEvolveLink: true });'
+    }, sessionId);
+  }
   await send('Page.navigate', { url }, sessionId);
   const evaluate = async (expr) => {
     const r = await send('Runtime.evaluate', { expression: expr, returnByValue: true, awaitPromise: true }, sessionId);

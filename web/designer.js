@@ -31,7 +31,7 @@
 
   var app = {
     engine: null, design: null, name: 'creature', mode: 'construct', tool: 'mass', selectedLink: -1,
-    playing: true, speed: 1, gesture: null, replicaTimer: 0
+    playing: true, speed: 1, gesture: null, replicaTimer: 0, replicaWorker: null
   };
   window.sodaDesigner = app;
 
@@ -57,6 +57,9 @@
       s.output.textContent = v.toFixed(s.digits);
     });
     $('autoreverse').checked = app.design.autoreverse;
+    // The name follows the design (Open, New, a shared link, Construct from Evolve
+    // mode), except while being typed in.
+    if (document.activeElement !== $('design-name')) $('design-name').value = app.design.name;
     var masses = app.design.nodes.filter(function (n) { return !n.fixed; }).length;
     var count = function (kind) { return app.design.links.filter(function (l) { return l.kind === kind; }).length; };
     $('fig-design').textContent = masses + ' masses, ' + (app.design.nodes.length - masses) + ' fixed, ' +
@@ -119,21 +122,30 @@
     $('fig-speed').textContent = decimals(frame > 0 ? d / frame : 0, 2) + ' px/frame';
   }
 
+  /// The replica figure, in a worker (designer_replicas.js) so that a big creature
+  /// does not block the page; "working…" until it is in.
   function scheduleReplicas() {
     clearTimeout(app.replicaTimer);
-    $('fig-replicas').textContent = '\u2026';
+    $('fig-replicas').textContent = 'working\u2026';
+    $('fig-replicas').title = '';
     app.replicaTimer = setTimeout(function () {
       var masses = app.design.nodes.some(function (n) { return !n.fixed; });
       if (!masses) { $('fig-replicas').textContent = '\u2013'; return; }
-      try {
-        var r = app.engine.replicas(REPLICAS, REPLICA_FRAMES, JITTER);
+      var shown = function (r) {
         $('fig-replicas').textContent = decimals(r.mean, 2) + ' \u00b1 ' + decimals(r.sd, 2) + ' px/frame';
         $('fig-replicas').title = REPLICAS + ' replicas of ' + REPLICA_FRAMES + ' frames, each with ' + (r.jitter ?
           'its sines moved by 1 ulp for ' + JITTER * 100 + ' % of arguments (another libm)' : 'the exact sine (no jitter in this engine)') +
           '; exact engine: ' + r.exact.toFixed(3) + ' px/frame';
-      } catch (e) {
+      };
+      var failed = function (e) {
         $('fig-replicas').textContent = '\u2013';
         $('fig-replicas').title = e.message;
+      };
+      try {
+        app.replicaWorker = app.replicaWorker || SodaReplicaWorker.fromPage(document);
+        app.replicaWorker.run(app.engine.saveXmlBytes(), REPLICAS, REPLICA_FRAMES, JITTER).then(shown, failed);
+      } catch (e) {
+        failed(e);
       }
     }, 300);
   }
@@ -473,7 +485,6 @@
     wire();
     setHint();
     return firstDesign().then(function () {
-      $('design-name').value = app.engine.design().name;
       // "#mode=simulate&frame=N" (with or without a model): simulate, paused at frame N.
       var params = new URLSearchParams(location.hash.slice(1));
       if (params.get('mode') === 'simulate') {

@@ -7,9 +7,11 @@
 // champion, the config, champions.json and the run folder (a zip that `sodaevo
 // report`, `replay` and `evolve --resume` take once unpacked).
 //
-// Hook for tests: "designer.html#evolve=<base64url of a config JSON>&run" runs that
-// config; at the end #evolve-result has data-id, data-fitness-bits and
-// data-xml-sha256 of the champion (as `sodaevo export` writes it; MAP-Elites:
+// A link "designer.html#evolve=<base64url of a config JSON>&run" opens Evolve mode
+// with that config ("start from: the link's config") and asks before running it.
+// Hook for tests and automation: with window.sodaDesignerHooks.runEvolveLink set
+// (web/chromium_wait.js --run-links) it runs at once; at the end #evolve-result
+// has data-id, data-fitness-bits and data-xml-sha256 of the champion (as `sodaevo export` writes it; MAP-Elites:
 // data-archive-sha256 of archive.json), or data-error with the reader's message,
 // and <html data-evolve-done="1">.
 (function () {
@@ -88,6 +90,7 @@
   /// The config the source names (a bundled one, or one seeded with the design).
   function sourceConfig() {
     var source = $('ev-source').value;
+    if (source === 'link') return JSON.parse(ev.linkConfig);
     if (source !== 'design') {
       return JSON.parse(new TextDecoder('utf-8').decode(ev.files['configs/' + source + '.json']));
     }
@@ -216,7 +219,7 @@
       return;
     }
     ev.rows.push({ generation: p.generation, best: p.best, mean: p.mean, median: p.median, best_sd: p.best_sd });
-    var text = 'generation ' + p.generation + ' of ' + (p.generations - 1) + ': best ' +
+    var text = 'generation ' + (p.generation + 1) + ' of ' + p.generations + ': best ' + // counted from 1, as the CLI
                (p.best === null ? '-' : shownFitness(p.best).toFixed(2)) + ' ' + unit + ', mean ' +
                (p.mean === null ? '-' : shownFitness(p.mean).toFixed(2)) + '; ' + p.evaluations + ' evaluations, ' +
                rate.toFixed(0) + ' evaluations/s, ' + seconds.toFixed(1) + ' s';
@@ -333,8 +336,9 @@
     var bytes = ev.run.readFile(file);
     ev.champion = { name: file.split('/').pop(), bytes: bytes };
     ['ev-dl-champion', 'ev-dl-champions', 'ev-dl-run'].forEach(function (id) { $(id).disabled = false; });
+    // "champion": the best of the last generation, in the CLI's and the report's words.
     setProgress($('ev-progress').textContent + '\nfinished (' + p.stopped_because + '): champion ' + exported.champion.id +
-                ' (' + ev.champion.name + ')');
+                ' (best of the last generation), ' + ev.champion.name);
     return sha256Hex(bytes).then(function (hex) {
       result.setAttribute('data-id', exported.champion.id);
       result.setAttribute('data-fitness-bits', exported.champion.fitness_bits);
@@ -357,14 +361,36 @@
     download((ev.info.name || 'run') + '-run.zip', SodaEvolveView.zipStored(files), 'application/zip');
   }
 
-  /// "#evolve=<base64url config>&run": runs it and reports (tests, automation).
+  /// "#evolve=<base64url config>[&run]": its config in the fields, to run on Start
+  /// (a link is not trusted to start a heavy run); the test hook runs it and reports.
   function hook() {
     var params = new URLSearchParams(location.hash.slice(1));
     if (!params.has('evolve')) return;
     var text = new TextDecoder('utf-8').decode(SodaShare.fromBase64url(params.get('evolve')));
     window.sodaDesigner.setMode('evolve');
-    try { fillFields(JSON.parse(text)); } catch (e) { /* the reader says what is wrong with it */ }
+    var name = 'the link\'s config', unread = '';
+    ev.linkConfig = null;
+    try {
+      var given = JSON.parse(text);
+      ev.linkConfig = text;
+      if (typeof given.name === 'string') name += ' (' + given.name + ')';
+    } catch (e) { unread = e.message; /* the hook's run gets the reader's message */ }
+    if (ev.linkConfig !== null) {
+      var option = document.createElement('option');
+      option.value = 'link';
+      option.textContent = name;
+      $('ev-source').insertBefore(option, $('ev-source').firstChild);
+      $('ev-source').value = 'link';
+      fillFields();
+    }
     if (!params.has('run')) return;
+    var hooks = window.sodaDesignerHooks || {};
+    if (!hooks.runEvolveLink) {
+      if (unread) setProgress('The link\'s config cannot be read: ' + unread, true);
+      else setProgress('This link asks to run ' + name + ': check the fields and press Start to run it.');
+      $('ev-start').focus();
+      return;
+    }
     var done = function () { document.documentElement.setAttribute('data-evolve-done', '1'); };
     // "&crash=N": the worker given the N-th chunk crashes; "&resume": a paused run is
     // resumed (once per pause), as a user would press Resume.

@@ -76,7 +76,8 @@ var SodaView = (function () {
     for (var x = Math.ceil(left / 100) * 100; x <= right; x += 100) {
       var sx = this.toScreen(x, 0)[0];
       ctx.fillRect(sx, floorY, 1, 5);
-      ctx.fillText(String(x), sx + 2, floorY + 15);
+      // Only whole labels: one cut at the canvas's edge ("2230" as "223") misleads.
+      if (sx + 2 + ctx.measureText(String(x)).width <= W) ctx.fillText(String(x), sx + 2, floorY + 15);
     }
     // The container's side walls (the engine bounces masses off them).
     ctx.strokeStyle = S.tick;

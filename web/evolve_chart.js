@@ -7,26 +7,29 @@
   var COLORS = { best: '#1f4e8c', mean: '#c0762b', median: '#3d8b4f', band: 'rgba(31,78,140,0.15)', axis: '#6b5a45' };
 
   /// Ticks at round values (1, 2 or 5 times a power of ten apart, about five of
-  /// them, at most seven) inside [lo, hi], as the run report's charts have (charts::round_ticks).
-  function roundTicks(lo, hi) {
-    var raw = (hi - lo) / 6, mag = Math.pow(10, Math.floor(Math.log10(raw)));
-    var step = [1, 2, 5, 10].map(function (m) { return m * mag; }).find(function (s) { return s >= raw; });
+  /// them, at most seven, never closer than `minStep`) from lo to hi, as the run
+  /// report's charts have (charts::round_ticks).
+  function roundTicks(lo, hi, minStep) {
+    var raw = Math.max((hi - lo) / 6, minStep || 0), mag = Math.pow(10, Math.floor(Math.log10(raw)));
+    var step = [1, 2, 5, 10].map(function (m) { return m * mag; }).find(function (s) { return s >= raw * (1 - 1e-9); });
     var digits = Math.max(0, -Math.floor(Math.log10(step) + 1e-9));
     var ticks = [];
-    for (var v = Math.ceil(lo / step) * step; v <= hi + step * 1e-9; v += step) {
+    for (var v = Math.ceil(lo / step - 1e-9) * step; v <= hi + step * 1e-9; v += step) {
       var value = Math.abs(v) < step * 1e-9 ? 0 : v;
       ticks.push({ value: value, label: value.toFixed(digits) });
     }
-    return ticks;
+    return { step: step, ticks: ticks };
   }
 
-  /// rows: [{generation, best, mean, median, best_sd}]; `shown(v)` turns a fitness
-  /// into what is plotted (px, or frames for races). Draws best, mean, median and
-  /// the best's interval (best +- 1.96 sd of its replicas).
+  /// rows: [{generation, best, mean, median, best_sd}] (generation from 0, shown from
+  /// 1 as the page and the CLI count); `shown(v)` turns a fitness into what is plotted
+  /// (px, or frames for races). Draws best, mean, median and the best's interval (best
+  /// +- 1.96 sd of its replicas) inside the axes, which end on round ticks, so nothing
+  /// is clipped; the legend and the axis titles sit outside the data.
   function drawFitnessChart(canvas, rows, unit, shown) {
     var g = canvas.getContext('2d'), w = canvas.width, h = canvas.height;
     g.clearRect(0, 0, w, h);
-    var pad = { l: 56, r: 12, t: 12, b: 28 };
+    var pad = { l: 64, r: 18, t: 26, b: 40 };
     var finite = function (v) { return typeof v === 'number' && isFinite(v); };
     var values = [];
     rows.forEach(function (r) {
@@ -35,19 +38,36 @@
     });
     g.fillStyle = COLORS.axis;
     g.font = '12px system-ui, sans-serif';
-    if (values.length === 0) { g.fillText('the chart fills in as generations finish', pad.l, h / 2); return; }
+    g.textBaseline = 'alphabetic';
+    if (values.length === 0) { g.textAlign = 'left'; g.fillText('the chart fills in as generations finish', pad.l, h / 2); return; }
     var lo = Math.min.apply(null, values), hi = Math.max.apply(null, values);
     if (hi - lo < 1e-9) { hi += 1; lo -= 1; }
-    var n = Math.max(1, rows[rows.length - 1].generation);
-    var X = function (gen) { return pad.l + (w - pad.l - pad.r) * gen / n; };
+    var yTicks = roundTicks(lo, hi);
+    lo = Math.floor(lo / yTicks.step + 1e-9) * yTicks.step; // the axis ends on round ticks
+    hi = Math.ceil(hi / yTicks.step - 1e-9) * yTicks.step;
+    yTicks = roundTicks(lo, hi);
+    var first = 1, last = Math.max(2, rows[rows.length - 1].generation + 1);
+    var X = function (gen) { return pad.l + (w - pad.l - pad.r) * (gen + 1 - first) / (last - first); };
     var Y = function (v) { return h - pad.b - (h - pad.t - pad.b) * (v - lo) / (hi - lo); };
     g.strokeStyle = '#d8d0c2';
     g.lineWidth = 1;
-    roundTicks(lo, hi).forEach(function (t) {
+    g.textAlign = 'right';
+    yTicks.ticks.forEach(function (t) {
       g.beginPath(); g.moveTo(pad.l, Y(t.value)); g.lineTo(w - pad.r, Y(t.value)); g.stroke();
-      g.fillText(t.label, 4, Y(t.value) + 4);
+      g.fillText(t.label, pad.l - 6, Y(t.value) + 4);
     });
-    g.fillText('generation ' + rows[rows.length - 1].generation + ' (' + unit + ')', w - pad.r - 140, h - 8);
+    g.textAlign = 'center';
+    roundTicks(first, last, 1).ticks.forEach(function (t) {
+      var x = X(t.value - 1);
+      g.beginPath(); g.moveTo(x, h - pad.b); g.lineTo(x, h - pad.b + 5); g.stroke();
+      g.fillText(t.label, x, h - pad.b + 17);
+    });
+    g.fillText('generation', pad.l + (w - pad.l - pad.r) / 2, h - 6);
+    g.save();
+    g.translate(13, pad.t + (h - pad.t - pad.b) / 2);
+    g.rotate(-Math.PI / 2);
+    g.fillText(unit === 'px' ? 'fitness (px)' : 'race result (' + unit + ')', 0, 0);
+    g.restore();
     // The best's interval, a band.
     var band = rows.filter(function (r) { return finite(r.best) && finite(r.best_sd); });
     if (band.length > 0) {
@@ -70,17 +90,19 @@
       });
       g.stroke();
     });
-    var x = pad.l + 8;
+    // The legend above the plot.
+    var x = pad.l, y = pad.t - 10;
+    g.textAlign = 'left';
     ['best', 'mean', 'median'].forEach(function (key) {
       g.fillStyle = COLORS[key];
-      g.fillRect(x, pad.t + 2, 14, 4);
-      g.fillText(key, x + 18, pad.t + 8);
+      g.fillRect(x, y - 4, 14, 4);
+      g.fillText(key, x + 18, y);
       x += 70;
     });
     g.fillStyle = COLORS.band;
-    g.fillRect(x, pad.t, 14, 8);
+    g.fillRect(x, y - 8, 14, 8);
     g.fillStyle = COLORS.axis;
-    g.fillText("best's 95 % interval", x + 18, pad.t + 8);
+    g.fillText("best's 95 % interval", x + 18, y);
   }
 
   /// The archive (archive.json of a MAP-Elites run): its first two axes as a grid,

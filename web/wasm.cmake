@@ -21,19 +21,10 @@ if(NOT _soda_pugixml_dir)
   endforeach()
 endif()
 
-# A second build of the same tree (./build.sh's sanitizer build) takes the engine the
-# first one built instead of building it again.
-set(SODAEVO_WASM_PREBUILT "" CACHE FILEPATH "A soda_engine_wasm.js built before, used instead of building one")
-
 set(SODAEVO_WASM_ENGINE "")
 set(SODAEVO_WASM_EVOLVE "")
 set(SODAEVO_WASM_MISSING "")
-if(SODAEVO_WASM_PREBUILT AND EXISTS ${SODAEVO_WASM_PREBUILT})
-  message(STATUS "sodaevo: WebAssembly engine ${SODAEVO_WASM_PREBUILT} (built before)")
-  set(SODAEVO_WASM_ENGINE ${SODAEVO_WASM_PREBUILT})
-  get_filename_component(_soda_prebuilt_dir ${SODAEVO_WASM_PREBUILT} DIRECTORY)
-  set(SODAEVO_WASM_EVOLVE ${_soda_prebuilt_dir}/soda_evolve_wasm.js)
-elseif(NOT SODAEVO_WASM)
+if(NOT SODAEVO_WASM)
   set(SODAEVO_WASM_MISSING "it was configured with -DSODAEVO_WASM=OFF")
 elseif(NOT SODAEVO_EMXX)
   set(SODAEVO_WASM_MISSING "em++ was not found when it was configured (install Debian's emscripten: ./build.sh build does)")
@@ -43,7 +34,7 @@ endif()
 
 if(SODAEVO_WASM_MISSING)
   message(STATUS "sodaevo: WebAssembly engine not built: ${SODAEVO_WASM_MISSING}")
-elseif(NOT SODAEVO_WASM_ENGINE)
+else()
   message(STATUS "sodaevo: WebAssembly engine with ${SODAEVO_EMXX}, pugixml from ${_soda_pugixml_dir}")
   set(SODAEVO_WASM_ENGINE ${CMAKE_BINARY_DIR}/web/soda_engine_wasm.js)
   # The evolution (web/evolve_api.cpp): evolve/ and the engine's fast stepper.

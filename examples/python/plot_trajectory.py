@@ -3,7 +3,7 @@
 trace=True gives every frame's masses as a numpy array, (frames + 1, masses, 4)
 of x, y, vx, vy, the numbers `sodaevo simulate --trace` writes.
 
-  PYTHONPATH=build/python /usr/bin/python3 examples/python/plot_trajectory.py [--out trajectory.png]
+  PYTHONPATH=build/python /usr/bin/python3 examples/python/plot_trajectory.py [--out results/trajectory.png]
 """
 import argparse
 from pathlib import Path
@@ -18,7 +18,7 @@ ROOT = Path(__file__).resolve().parents[2]
 ap = argparse.ArgumentParser()
 ap.add_argument("--model", default=str(ROOT / "models" / "dainty_walker.xml"))
 ap.add_argument("--frames", type=int, default=2000)
-ap.add_argument("--out", default="trajectory.png")
+ap.add_argument("--out", default="results/trajectory.png")
 args = ap.parse_args()
 
 model = sodaevo.Model.load(args.model)
@@ -33,5 +33,6 @@ top.legend()
 bottom.plot(x.mean(axis=1) - x[0].mean())
 bottom.set(xlabel="frame", ylabel="centroid dx (px)")
 fig.tight_layout()
+Path(args.out).parent.mkdir(parents=True, exist_ok=True)
 fig.savefig(args.out, dpi=100)
 print(f"{args.out}: centroid moved {run['centroid_dx']:+.2f} px in {run['frames']} frames")

@@ -2,9 +2,13 @@
 """Random search with numpy: draw random creatures in batches, score each batch
 with sodaevo.evaluate, keep the best. The baseline any algorithm should beat.
 
-  PYTHONPATH=build/python /usr/bin/python3 examples/python/random_search.py [--batches 10]
+  PYTHONPATH=build/python /usr/bin/python3 examples/python/random_search.py [--batches 10] [--out FILE]
+
+The best creature goes to results/random_search_best.xml (--out), not the working
+folder.
 """
 import argparse
+from pathlib import Path
 
 import numpy as np
 
@@ -13,6 +17,7 @@ import sodaevo
 ap = argparse.ArgumentParser()
 ap.add_argument("--batches", type=int, default=10)
 ap.add_argument("--batch", type=int, default=200)
+ap.add_argument("--out", default="results/random_search_best.xml")
 args = ap.parse_args()
 
 rng = np.random.default_rng(1)
@@ -28,4 +33,6 @@ for b in range(args.batches):
     ok = np.isfinite(result.fitness)
     print(f"batch {b}: {ok.sum()} scored, median {np.median(result.fitness[ok]):.1f} px, "
           f"best so far {best_fitness:.1f} px ({best.mass_count} masses)")
-best.save("random_search_best.xml")
+Path(args.out).parent.mkdir(parents=True, exist_ok=True)
+best.save(args.out)
+print(f"{args.out}: the best creature")

@@ -28,7 +28,7 @@ def test_deap_loop(tmp_path):
 
 def test_random_search(tmp_path):
     out = run_example("random_search.py", "--batches", "2", "--batch", "40", cwd=tmp_path)
-    assert "best so far" in out and (tmp_path / "random_search_best.xml").is_file()
+    assert "best so far" in out and (tmp_path / "results" / "random_search_best.xml").is_file()
 
 
 def test_trajectory_plot(tmp_path):
