@@ -203,7 +203,13 @@ namespace {
 
 constexpr long long kRacerUpdateLimit = 50000; // the racer throws after this many updates
 
-/// Whether the race ends after update `u` of `state`.
+/// Keeps the most of a least x (NaN never counts: a diverged racer held no ground).
+void hold_furthest(double& furthest, double min_x) {
+  if (min_x > furthest) furthest = min_x;
+}
+
+/// Whether the race ends after update `u` of `state`; out.furthest_min_x also holds
+/// this state's least x.
 bool ends_after(const RaceLane& lane, const Model& model, int timeout, long long u, const State& state,
                 RaceOutcome& out) {
   double min_x = state.x[0], max_x = state.x[0];
@@ -211,12 +217,8 @@ bool ends_after(const RaceLane& lane, const Model& model, int timeout, long long
     min_x = std::min(min_x, state.x[static_cast<std::size_t>(i)]);
     max_x = std::max(max_x, state.x[static_cast<std::size_t>(i)]);
   }
+  hold_furthest(out.furthest_min_x, min_x);
   return race_ends(lane, timeout, u, min_x, max_x, out);
-}
-
-/// Keeps the most of a least x (NaN never counts: a diverged racer held no ground).
-void hold_furthest(double& furthest, double min_x) {
-  if (min_x > furthest) furthest = min_x;
 }
 
 /// The update that ends a race of `timeout` at the latest (the timeout's, or the racer's limit).
@@ -241,15 +243,11 @@ RaceOutcome run_race(const RaceLane& lane, const Model& model, int timeout,
                      const std::function<void(const State&)>& on_frame) {
   State state = make_state(model);
   RaceOutcome out;
-  double furthest = least_x(model, state);
+  out.furthest_min_x = least_x(model, state);
   for (long long u = 1; u <= kRacerUpdateLimit; ++u) {
     step(model, state);
     if (on_frame) on_frame(state);
-    hold_furthest(furthest, least_x(model, state));
-    if (ends_after(lane, model, timeout, u, state, out)) {
-      out.furthest_min_x = furthest;
-      return out;
-    }
+    if (ends_after(lane, model, timeout, u, state, out)) return out;
   }
   racer_limit();
 }
@@ -361,11 +359,9 @@ void race_group_fused(const std::vector<LaneRace>& races, const std::vector<std:
         still.push_back(active[k]);
         continue;
       }
-      const double furthest = out[active[k]].furthest_min_x;
       if (!ends_after(*race.lane, *race.model, race.timeout, race.state->frame, *race.state, out[active[k]])) {
         racer_limit();
       }
-      out[active[k]].furthest_min_x = furthest;
       decided[active[k]] = true;
     }
     active = std::move(still);
