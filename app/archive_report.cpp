@@ -21,9 +21,9 @@
 #include "core/input_error.hpp"
 #include "formats/model_file.hpp"
 #include "core/number_text.hpp"
-#include "evolve/race_problem.hpp"
-#include "evolve/run_config.hpp"
-#include "evolve/run_roles.hpp"
+#include "evolve/problems/race_problem.hpp"
+#include "evolve/config/run_config.hpp"
+#include "evolve/runs/run_roles.hpp"
 
 namespace sodaevo::app {
 
@@ -158,7 +158,7 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   } catch (const std::exception& e) {
     throw soda::InputError(archive_path.string() + ": not a readable archive: " + e.what());
   }
-  // The corrected archive, when the run wrote it (evolve/archive_check.hpp).
+  // The corrected archive, when the run wrote it (evolve/runs/archive_check.hpp).
   json checked;
   std::map<long long, double> checked_fitness; // by cell
   const fs::path checked_path = run_dir / "archive_checked.json";

@@ -17,7 +17,7 @@
 #include "bench/extreme_creatures.hpp"
 #include "bench/stress_report.hpp"
 #include "core/input_error.hpp"
-#include "evolve/parallel_for.hpp"
+#include "evolve/evaluators/parallel_for.hpp"
 
 namespace sodaevo::app {
 

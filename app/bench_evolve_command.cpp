@@ -12,7 +12,7 @@
 #include "app/commands.hpp"
 #include "bench/evolve_bench.hpp"
 #include "bench/evolve_report.hpp"
-#include "evolve/evolution_run.hpp"
+#include "evolve/runs/evolution_run.hpp"
 #include "formats/model_file.hpp"
 
 namespace sodaevo::app {

@@ -14,7 +14,7 @@
 #include "bench/stability_bench.hpp"
 #include "formats/atomic_file.hpp"
 #include "core/number_text.hpp"
-#include "evolve/parallel_for.hpp"
+#include "evolve/evaluators/parallel_for.hpp"
 
 namespace sodaevo::app {
 

@@ -10,8 +10,8 @@
 #include "app/archive_report.hpp"
 #include "app/score_unit.hpp"
 #include "charts/fixed_text.hpp"
-#include "evolve/archive_check.hpp"
-#include "evolve/map_elites_run.hpp"
+#include "evolve/runs/archive_check.hpp"
+#include "evolve/runs/map_elites_run.hpp"
 
 namespace sodaevo::app {
 

@@ -4,8 +4,8 @@
 
 #include <atomic>
 
-#include "evolve/evaluator.hpp"
-#include "evolve/run_store.hpp"
+#include "evolve/evaluators/evaluator.hpp"
+#include "evolve/store/run_store.hpp"
 
 namespace sodaevo::app {
 

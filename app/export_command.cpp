@@ -11,15 +11,15 @@
 #include "core/contender_filter.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
-#include "evolve/archive_check.hpp"
-#include "evolve/archive_store.hpp"
-#include "evolve/race_schedule.hpp"
-#include "evolve/replica_check.hpp"
-#include "evolve/run_config.hpp"
-#include "evolve/run_reader.hpp"
+#include "evolve/runs/archive_check.hpp"
+#include "evolve/store/archive_store.hpp"
+#include "evolve/runs/race_schedule.hpp"
+#include "evolve/runs/replica_check.hpp"
+#include "evolve/config/run_config.hpp"
+#include "evolve/store/run_reader.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/model_file.hpp"
-#include "evolve/run_roles.hpp"
+#include "evolve/runs/run_roles.hpp"
 
 namespace sodaevo::app {
 
@@ -99,7 +99,7 @@ void run_export(const ExportOptions& opt) {
   if (opt.archive) return export_archive(run, opt);
   const std::vector<Individual> best = best_individuals(run, opt.best);
   // Each creature again on fresh replicas that selection never saw: what it
-  // claims against what it walks (evolve/replica_check.hpp).
+  // claims against what it walks (evolve/runs/replica_check.hpp).
   const std::vector<ReplicaCheck> checks =
       check_all_on_fresh_replicas(*problem, best, replica_plan(config), opt.check_replicas, opt.threads);
   const ScoreUnit score = ScoreUnit::of(config);

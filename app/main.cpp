@@ -8,7 +8,7 @@
 
 #include "app/commands.hpp"
 #include "core/input_error.hpp"
-#include "evolve/mpi_launch.hpp"
+#include "evolve/evaluators/mpi_launch.hpp"
 #include "app/mpi_context.hpp"
 #include "app/start_here.hpp"
 #if SODAEVO_HAS_MPI

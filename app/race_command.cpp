@@ -26,8 +26,8 @@
 #include "formats/race_file.hpp"
 #include "core/race_lane.hpp"
 #include "formats/trace_csv.hpp"
-#include "evolve/race_entries.hpp"
-#include "evolve/sample_summary.hpp"
+#include "evolve/runs/race_entries.hpp"
+#include "evolve/estimators/sample_summary.hpp"
 
 namespace sodaevo::app {
 

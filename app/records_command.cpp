@@ -2,7 +2,7 @@
 // "The record book"). Every race file of the book is raced by each of our racers
 // (results/records/candidates/*.xml) and by every public contender
 // (results/records/public_contenders.txt), as the original racer races them; each
-// file's record is chosen by evolve/record_book.hpp. Writes:
+// file's record is chosen by evolve/runs/record_book.hpp. Writes:
 //   README.md      the table: record, its replicas, the best public contender, the
 //                  ratio, and how each record was found
 //   records.json   the same, machine-readable
@@ -27,7 +27,7 @@
 #include "app/records_page.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
-#include "evolve/record_book.hpp"
+#include "evolve/runs/record_book.hpp"
 #include "formats/atomic_file.hpp"
 
 namespace sodaevo::app {

@@ -5,7 +5,7 @@
 
 #include <string>
 
-#include "evolve/record_book.hpp"
+#include "evolve/runs/record_book.hpp"
 
 namespace sodaevo::app {
 

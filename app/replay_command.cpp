@@ -11,12 +11,12 @@
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "core/sine_identity.hpp"
-#include "evolve/evaluator.hpp"
-#include "evolve/race_schedule.hpp"
-#include "evolve/run_config.hpp"
-#include "evolve/run_reader.hpp"
-#include "evolve/run_roles.hpp"
-#include "evolve/run_sine.hpp"
+#include "evolve/evaluators/evaluator.hpp"
+#include "evolve/runs/race_schedule.hpp"
+#include "evolve/config/run_config.hpp"
+#include "evolve/store/run_reader.hpp"
+#include "evolve/runs/run_roles.hpp"
+#include "evolve/store/run_sine.hpp"
 
 namespace sodaevo::app {
 
@@ -39,11 +39,11 @@ int run_replay(const ReplayOptions& opt) {
   }
   const Generation g = read_saved_generation(run, generation);
   const RunRoles roles = roles_of(config);
-  // With the race timeout the generation was scored with (evolve/race_schedule.hpp).
+  // With the race timeout the generation was scored with (evolve/runs/race_schedule.hpp).
   const std::unique_ptr<Problem> scheduled = scheduled_problem(*roles.problem, g);
   const Problem& problem = scheduled ? *scheduled : *roles.problem;
   // Each creature on as many replicas as it was logged with (survivors gather
-  // more, evolve/replica_estimator.hpp): one evaluation per replica count.
+  // more, evolve/estimators/replica_estimator.hpp): one evaluation per replica count.
   std::map<int, std::vector<std::size_t>> by_rollouts;
   for (std::size_t i = 0; i < g.individuals.size(); ++i) {
     by_rollouts[g.individuals[i].evaluation.estimate.rollouts].push_back(i);

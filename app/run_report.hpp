@@ -31,7 +31,7 @@ void write_run_report(const std::filesystem::path& run_dir, const std::filesyste
                       const ReportOptions& options = {});
 
 /// What the report says when (part of) the run was made with another muscle sine
-/// than this engine's (evolve/run_sine.hpp); empty if none was. For the terminal.
+/// than this engine's (evolve/store/run_sine.hpp); empty if none was. For the terminal.
 std::string report_sine_note(const std::filesystem::path& run_dir);
 
 /// The report's place in a run folder: RUN/report.html.

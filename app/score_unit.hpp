@@ -3,7 +3,7 @@
 // shown as frames to the finish (fewer is better).
 #pragma once
 
-#include "evolve/run_config.hpp"
+#include "evolve/config/run_config.hpp"
 
 namespace sodaevo::app {
 

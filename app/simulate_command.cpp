@@ -21,9 +21,9 @@
 #include "core/step.hpp"
 #include "core/simulation_run.hpp"
 #include "core/stepping.hpp"
-#include "evolve/honesty.hpp"
-#include "evolve/replica_ensemble.hpp"
-#include "evolve/sample_summary.hpp"
+#include "evolve/problems/honesty.hpp"
+#include "evolve/estimators/replica_ensemble.hpp"
+#include "evolve/estimators/sample_summary.hpp"
 #include "formats/model_file.hpp"
 #include "formats/trace_csv.hpp"
 
@@ -244,7 +244,7 @@ void run_simulate(const SimulateOptions& opt) {
 }
 
 // --- simulate --replicas: the distribution of the distance over sine-jitter
-// replicas (evolve/replica_ensemble.hpp) ---------------------------------------
+// replicas (evolve/estimators/replica_ensemble.hpp) ---------------------------------------
 
 void print_replica_summary(const SimulateOptions& opt, const std::string& stepping, const sodaevo::ReplicaResults& r) {
   std::vector<double> finite;

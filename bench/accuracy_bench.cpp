@@ -9,10 +9,10 @@
 #include "bench/median.hpp"
 #include "bench/replica_runs.hpp"
 #include "core/model.hpp"
-#include "evolve/rng.hpp"
-#include "evolve/run_config.hpp"
-#include "evolve/variation.hpp"
-#include "evolve/walk_problem.hpp"
+#include "evolve/algorithms/rng.hpp"
+#include "evolve/config/run_config.hpp"
+#include "evolve/algorithms/variation.hpp"
+#include "evolve/problems/walk_problem.hpp"
 #include "formats/model_file.hpp"
 
 namespace sodaevo::bench {

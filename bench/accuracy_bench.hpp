@@ -16,7 +16,7 @@
 //   sub-steps against itself is its own uncertainty. The single exact rollout's
 //   error (replica 0 against the reference's replica 0) is kept for comparison, and
 //   the position error at frame 100 (replica 0, before chaos sets in);
-// - random walkers (evolve/variation.hpp random_creature in the default world,
+// - random walkers (evolve/algorithms/variation.hpp random_creature in the default world,
 //   prepared with Sodarace scaling as the GA does): how well each setting keeps the
 //   ranking by expected distance, Kendall's tau-b against the reference, among the
 //   walkers that move and over all. The reference at half its sub-steps ranks them

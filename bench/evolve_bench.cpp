@@ -4,12 +4,12 @@
 #include <cmath>
 #include <mutex>
 
-#include "evolve/evaluator.hpp"
-#include "evolve/genetic_algorithm.hpp"
-#include "evolve/parallel_for.hpp"
-#include "evolve/rng.hpp"
-#include "evolve/run_roles.hpp"
-#include "evolve/variation.hpp"
+#include "evolve/evaluators/evaluator.hpp"
+#include "evolve/algorithms/genetic_algorithm.hpp"
+#include "evolve/evaluators/parallel_for.hpp"
+#include "evolve/algorithms/rng.hpp"
+#include "evolve/runs/run_roles.hpp"
+#include "evolve/algorithms/variation.hpp"
 
 namespace sodaevo::bench {
 

@@ -23,7 +23,7 @@
 #include <vector>
 
 #include "core/model_def.hpp"
-#include "evolve/run_config.hpp"
+#include "evolve/config/run_config.hpp"
 
 namespace sodaevo::bench {
 

@@ -7,11 +7,11 @@
 
 #include "charts/fixed_text.hpp"
 #include "charts/svg_chart.hpp"
-#include "evolve/evaluator.hpp"
-#include "evolve/evolution_run.hpp"
-#include "evolve/run_reader.hpp"
-#include "evolve/run_roles.hpp"
-#include "evolve/run_store.hpp"
+#include "evolve/evaluators/evaluator.hpp"
+#include "evolve/runs/evolution_run.hpp"
+#include "evolve/store/run_reader.hpp"
+#include "evolve/runs/run_roles.hpp"
+#include "evolve/store/run_store.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/model_file.hpp"
 

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "bench/evolve_bench.hpp"
-#include "evolve/run_config.hpp"
+#include "evolve/config/run_config.hpp"
 
 namespace sodaevo::bench {
 

@@ -5,8 +5,8 @@
 
 #include "core/model.hpp"
 #include "core/step_failure.hpp"
-#include "evolve/walk_problem.hpp"
-#include "evolve/parallel_for.hpp"
+#include "evolve/problems/walk_problem.hpp"
+#include "evolve/evaluators/parallel_for.hpp"
 
 namespace sodaevo::bench {
 

@@ -18,7 +18,7 @@
 #include "core/divergence.hpp"
 #include "core/model_def.hpp"
 #include "core/stepping.hpp"
-#include "evolve/rng.hpp"
+#include "evolve/algorithms/rng.hpp"
 
 namespace sodaevo::bench {
 

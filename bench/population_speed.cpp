@@ -19,7 +19,7 @@
 #include "core/fast_step.hpp"
 #include "core/number_text.hpp"
 #include "core/simd_level.hpp"
-#include "evolve/parallel_for.hpp"
+#include "evolve/evaluators/parallel_for.hpp"
 
 namespace sodaevo::bench {
 
@@ -76,7 +76,7 @@ void time_population_section(const SpeedSectionInput& in, SpeedReport& report) {
     });
     return seconds_since(t0);
   };
-  // The batch path (the GA's, ThreadEvaluator in evolve/evaluator.cpp): each work item is a
+  // The batch path (the GA's, ThreadEvaluator in evolve/evaluators/evaluator.cpp): each work item is a
   // batch of at most kBenchBatch consecutive creatures fused on one core, cut
   // where a new fused scene starts (soda::fused_batch_ends), results by index.
   const std::vector<std::size_t> batch_ends = soda::fused_batch_ends(population_links, kBenchBatch);

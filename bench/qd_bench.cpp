@@ -8,12 +8,12 @@
 #include "charts/fixed_text.hpp"
 #include "charts/svg_chart.hpp"
 #include "core/input_error.hpp"
-#include "evolve/archive_check.hpp"
-#include "evolve/evaluator.hpp"
-#include "evolve/evolution_run.hpp"
-#include "evolve/map_elites_run.hpp"
-#include "evolve/run_reader.hpp"
-#include "evolve/run_store.hpp"
+#include "evolve/runs/archive_check.hpp"
+#include "evolve/evaluators/evaluator.hpp"
+#include "evolve/runs/evolution_run.hpp"
+#include "evolve/runs/map_elites_run.hpp"
+#include "evolve/store/run_reader.hpp"
+#include "evolve/store/run_store.hpp"
 
 namespace sodaevo::bench {
 

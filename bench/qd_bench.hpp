@@ -7,8 +7,8 @@
 // last population is put into an archive of the same grid (its creatures
 // estimated with their descriptors, inserted by the same rule), so both get a
 // QD-score, a coverage and a best fitness from the same definitions
-// (evolve/grid_archive.hpp). MAP-Elites' archive is also checked on fresh
-// replicas (evolve/archive_check.hpp), and so is the GA's best creature: the
+// (evolve/algorithms/grid_archive.hpp). MAP-Elites' archive is also checked on fresh
+// replicas (evolve/runs/archive_check.hpp), and so is the GA's best creature: the
 // best elite against the GA's best as each would walk on replicas that selection
 // never saw.
 #pragma once
@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "evolve/grid_archive.hpp"
-#include "evolve/run_config.hpp"
+#include "evolve/algorithms/grid_archive.hpp"
+#include "evolve/config/run_config.hpp"
 
 namespace sodaevo::bench {
 

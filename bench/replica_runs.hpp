@@ -15,7 +15,7 @@
 #include "core/model.hpp"
 #include "core/sine_jitter.hpp"
 #include "core/stepping.hpp"
-#include "evolve/sample_summary.hpp"
+#include "evolve/estimators/sample_summary.hpp"
 
 namespace sodaevo::bench {
 

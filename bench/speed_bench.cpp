@@ -11,9 +11,9 @@
 #include "core/lockstep_batch.hpp"
 #include "core/model.hpp"
 #include "core/simd_level.hpp"
-#include "evolve/run_config.hpp"
-#include "evolve/run_reader.hpp"
-#include "evolve/walk_problem.hpp"
+#include "evolve/config/run_config.hpp"
+#include "evolve/store/run_reader.hpp"
+#include "evolve/problems/walk_problem.hpp"
 #include "formats/model_file.hpp"
 
 namespace sodaevo::bench {

@@ -12,7 +12,7 @@
 #include "core/fast_step.hpp"
 #include "core/scene_analysis.hpp"
 #include "core/step.hpp"
-#include "evolve/evaluator.hpp"
+#include "evolve/evaluators/evaluator.hpp"
 
 namespace sodaevo::bench {
 
@@ -239,7 +239,7 @@ std::vector<Engine> make_ga_engines(std::shared_ptr<const std::vector<soda::Mode
   // "fast-replicas": each creature as the GA's estimator sees it, kReplicas
   // states of its one Model (replica 0 exact, r jittered with seed r), in the
   // batches the GA's evaluation cuts (the fast-batch batches, each creature's
-  // replicas one after the other, as evolve/replica_estimator.cpp orders its
+  // replicas one after the other, as evolve/estimators/replica_estimator.cpp orders its
   // rollouts): one BatchStepper per batch, told which states carry jitter, as
   // the walk problem builds it (lockstep lanes where the CPU has AVX2 or AVX-512). Counted
   // in replica-frames (issue 26 item 4: against fast-batch's creature-frames).

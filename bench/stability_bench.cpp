@@ -10,8 +10,8 @@
 #include "core/model.hpp"
 #include "core/stability.hpp"
 #include "core/step_failure.hpp"
-#include "evolve/parallel_for.hpp"
-#include "evolve/rng.hpp"
+#include "evolve/evaluators/parallel_for.hpp"
+#include "evolve/algorithms/rng.hpp"
 
 namespace sodaevo::bench {
 

@@ -6,14 +6,14 @@
 
 #include "charts/fixed_text.hpp"
 #include "charts/svg_chart.hpp"
-#include "evolve/evaluator.hpp"
-#include "evolve/evolution_run.hpp"
-#include "evolve/parallel_for.hpp"
-#include "evolve/replica_check.hpp"
-#include "evolve/run_reader.hpp"
-#include "evolve/run_roles.hpp"
-#include "evolve/run_store.hpp"
-#include "evolve/sample_summary.hpp"
+#include "evolve/evaluators/evaluator.hpp"
+#include "evolve/runs/evolution_run.hpp"
+#include "evolve/evaluators/parallel_for.hpp"
+#include "evolve/runs/replica_check.hpp"
+#include "evolve/store/run_reader.hpp"
+#include "evolve/runs/run_roles.hpp"
+#include "evolve/store/run_store.hpp"
+#include "evolve/estimators/sample_summary.hpp"
 
 namespace sodaevo::bench {
 

@@ -4,7 +4,7 @@
 // For each config and seed, a run with one rollout per creature (K = 1, today's
 // GA before replicas) and a run with K replicas at an equal budget of simulated
 // frames (the K = 1 run gets K times the generations). Each run's top creatures
-// are checked on fresh replicas (evolve/replica_check.hpp): the claim against
+// are checked on fresh replicas (evolve/runs/replica_check.hpp): the claim against
 // the check is the winner's curse, the checked mean the creature's real
 // ability. A separate, larger held-out ensemble then tells how often one more run
 // (what the original program does) falls inside the check's 95 % prediction
@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "evolve/run_config.hpp"
+#include "evolve/config/run_config.hpp"
 
 namespace sodaevo::bench {
 

@@ -5,7 +5,7 @@
 // model, for walkers bred in it, but it is also a coarse integration of a
 // mass-spring system, and evolution exploits integration error. Stepping the same
 // forces with smaller dt and better integrators tells how much of a creature's walk
-// is physics and how much is the step (bench/accuracy_bench.hpp, evolve/honesty.hpp).
+// is physics and how much is the step (bench/accuracy_bench.hpp, evolve/problems/honesty.hpp).
 //
 // The model as an ODE (per free mass, mass 1, time in frames, velocity in px/frame):
 //   x' = v,   v' = sum over links of k*(L - D(t))*u  +  gravity  -  lambda*v,

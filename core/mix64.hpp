@@ -1,7 +1,7 @@
 // SplitMix64's output function, the one 64-bit mixer of the project: every input
 // bit moves every output bit. The sine jitter's hash (sine_jitter.hpp), the
 // stability analysis's start vector, the GA's random numbers and the replica seeds
-// (evolve/rng.hpp, evolve/replica_estimator.cpp) all use it, so each is the same
+// (evolve/algorithms/rng.hpp, evolve/estimators/replica_estimator.cpp) all use it, so each is the same
 // function of its inputs on every machine.
 #pragma once
 

@@ -52,7 +52,7 @@ struct RaceOutcome {
   /// The furthest the contender's least x came in the race: the most of its free
   /// masses' least x over the frames raced, the state it started from included. Not
   /// part of the racer's result (which takes the last frame only); a search credits
-  /// the ground a racer held before it slid back (evolve/race_progress.hpp).
+  /// the ground a racer held before it slid back (evolve/problems/race_progress.hpp).
   double furthest_min_x = -std::numeric_limits<double>::infinity();
 };
 

@@ -4,7 +4,7 @@
 // trajectories within a few hundred frames, so the same config and seed evolve
 // differently on engines with different sines. A run folder therefore records the
 // sine that made it (manifest.json "sine", checkpoints), and replay, report and
-// --resume compare it with kEngineSine (evolve/run_sine.hpp).
+// --resume compare it with kEngineSine (evolve/store/run_sine.hpp).
 #pragma once
 
 #include <string_view>

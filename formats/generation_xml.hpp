@@ -2,7 +2,7 @@
 // checkpoint's population): a <generation index="..."> root holding one <model>
 // element per creature, a v1 model with the GA's attributes (id, parents, status,
 // fitness, ...). This layer knows the XML but not the GA: it hands each <model>
-// element over with its attributes, position and text, and evolve/run_store.cpp
+// element over with its attributes, position and text, and evolve/store/run_store.cpp
 // checks the values. Writing is plain text (run_store.cpp's generation_to_xml).
 #pragma once
 

@@ -2,8 +2,8 @@
 
 #include "core/input_error.hpp"
 #include "core/model.hpp"
-#include "evolve/run_config.hpp"
-#include "evolve/run_store.hpp"
+#include "evolve/config/run_config.hpp"
+#include "evolve/store/run_store.hpp"
 #include "formats/model_file.hpp"
 
 namespace sodaevo::fuzz {

@@ -10,9 +10,9 @@
 #include <pybind11/pybind11.h>
 
 #include "core/model_def.hpp"
-#include "evolve/problem.hpp"
-#include "evolve/replica_estimator.hpp"
-#include "evolve/run_config.hpp"
+#include "evolve/problems/problem.hpp"
+#include "evolve/estimators/replica_estimator.hpp"
+#include "evolve/config/run_config.hpp"
 
 namespace sodaevo {
 struct Progress;

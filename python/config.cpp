@@ -13,7 +13,7 @@
 #include <pybind11/stl/filesystem.h>
 
 #include "core/input_error.hpp"
-#include "evolve/run_roles.hpp"
+#include "evolve/runs/run_roles.hpp"
 #include "python/bindings.hpp"
 
 namespace sodaevo::python {

@@ -5,7 +5,7 @@
 #include <exception>
 
 #include "core/input_error.hpp"
-#include "evolve/wire_format.hpp"
+#include "evolve/problems/wire_format.hpp"
 #include "python/bindings.hpp"
 
 namespace sodaevo::python {

@@ -16,12 +16,12 @@
 #include <pybind11/stl.h>
 
 #include "core/input_error.hpp"
-#include "evolve/evaluator.hpp"
-#include "evolve/replica_estimator.hpp"
-#include "evolve/run_roles.hpp"
-#include "evolve/input_limits.hpp"
-#include "evolve/sample_summary.hpp"
-#include "evolve/wire_format.hpp"
+#include "evolve/evaluators/evaluator.hpp"
+#include "evolve/estimators/replica_estimator.hpp"
+#include "evolve/runs/run_roles.hpp"
+#include "evolve/config/input_limits.hpp"
+#include "evolve/estimators/sample_summary.hpp"
+#include "evolve/problems/wire_format.hpp"
 #include "python/arguments.hpp"
 #include "python/bindings.hpp"
 #include "python/interruptible.hpp"

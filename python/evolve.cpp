@@ -1,7 +1,7 @@
 // sodaevo.evolve and the run store from Python: a whole GA run into a run folder
 // as `sodaevo evolve` makes it (start_run, run_evolution, the champions' check:
-// evolve/evolution_run.hpp), saved generations read back as Models, and the GA's
-// own variation operators (evolve/variation.hpp) for outside algorithms.
+// evolve/runs/evolution_run.hpp), saved generations read back as Models, and the GA's
+// own variation operators (evolve/algorithms/variation.hpp) for outside algorithms.
 #include <atomic>
 #include <memory>
 #include <optional>
@@ -12,12 +12,12 @@
 #include <pybind11/stl.h>
 
 #include "core/input_error.hpp"
-#include "evolve/evaluator.hpp"
-#include "evolve/evolution_run.hpp"
-#include "evolve/replica_check.hpp"
-#include "evolve/rng.hpp"
-#include "evolve/run_reader.hpp"
-#include "evolve/variation.hpp"
+#include "evolve/evaluators/evaluator.hpp"
+#include "evolve/runs/evolution_run.hpp"
+#include "evolve/runs/replica_check.hpp"
+#include "evolve/algorithms/rng.hpp"
+#include "evolve/store/run_reader.hpp"
+#include "evolve/algorithms/variation.hpp"
 #include "python/arguments.hpp"
 #include "python/bindings.hpp"
 

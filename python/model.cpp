@@ -12,7 +12,7 @@
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
 
-#include "evolve/wire_format.hpp"
+#include "evolve/problems/wire_format.hpp"
 #include "formats/model_file.hpp"
 #include "python/bindings.hpp"
 

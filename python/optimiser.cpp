@@ -1,6 +1,6 @@
 // sodaevo.Optimiser: the project's own GA and MAP-Elites as ask/tell. The run's
 // loop (run_evolution, run_map_elites) drives a run folder exactly as `sodaevo
-// evolve` does, with an AskTellEvaluator (evolve/ask_tell_evaluator.hpp) as its
+// evolve` does, with an AskTellEvaluator (evolve/evaluators/ask_tell_evaluator.hpp) as its
 // evaluator, the mechanism the browser's page uses: ask() runs the loop until it
 // needs an evaluation and returns it as an EvaluationRequest (creatures, problem,
 // estimator); evaluate(request) scores it on this process's threads; tell(results)
@@ -18,12 +18,12 @@
 #include <pybind11/stl.h>
 
 #include "core/input_error.hpp"
-#include "evolve/archive_check.hpp"
-#include "evolve/ask_tell_evaluator.hpp"
-#include "evolve/evolution_run.hpp"
-#include "evolve/map_elites_run.hpp"
-#include "evolve/replica_check.hpp"
-#include "evolve/wire_format.hpp"
+#include "evolve/runs/archive_check.hpp"
+#include "evolve/evaluators/ask_tell_evaluator.hpp"
+#include "evolve/runs/evolution_run.hpp"
+#include "evolve/runs/map_elites_run.hpp"
+#include "evolve/runs/replica_check.hpp"
+#include "evolve/problems/wire_format.hpp"
 #include "python/arguments.hpp"
 #include "python/bindings.hpp"
 #include "python/interruptible.hpp"

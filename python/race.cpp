@@ -1,5 +1,5 @@
 // sodaevo.race: Sodarace races as `sodaevo race --json` runs them, through the
-// same library calls (evolve/race_entries.hpp); contenders are files (models or
+// same library calls (evolve/runs/race_entries.hpp); contenders are files (models or
 // race files) or sodaevo.Model objects. Returns the parsed JSON of the command.
 // Ctrl-C stops a race (python/interruptible.hpp).
 #include <string>
@@ -8,7 +8,7 @@
 #include <pybind11/stl.h>
 
 #include "core/input_error.hpp"
-#include "evolve/race_entries.hpp"
+#include "evolve/runs/race_entries.hpp"
 #include "formats/race_file.hpp"
 #include "python/arguments.hpp"
 #include "python/bindings.hpp"

@@ -24,8 +24,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "evolve/run_config.hpp"
-#include "evolve/run_store.hpp"
+#include "evolve/config/run_config.hpp"
+#include "evolve/store/run_store.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/model_file.hpp"
 #include "test_support.hpp"

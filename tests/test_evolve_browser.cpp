@@ -21,7 +21,7 @@
 #include "app/designer_assets.hpp"
 #include "app/designer_page.hpp"
 #include "browser_support.hpp"
-#include "evolve/run_reader.hpp"
+#include "evolve/store/run_reader.hpp"
 #include "formats/atomic_file.hpp"
 #include "test_support.hpp"
 

@@ -16,8 +16,8 @@
 #include "core/fused/fused_scene.hpp"
 #include "core/scene_analysis.hpp"
 #include "core/step.hpp"
-#include "evolve/parallel_for.hpp"
-#include "evolve/rng.hpp"
+#include "evolve/evaluators/parallel_for.hpp"
+#include "evolve/algorithms/rng.hpp"
 #include "formats/model_file.hpp"
 #include "test_support.hpp"
 

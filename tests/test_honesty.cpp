@@ -13,10 +13,10 @@
 #include <nlohmann/json.hpp>
 
 #include "core/input_error.hpp"
-#include "evolve/walk_problem.hpp"
-#include "evolve/honesty.hpp"
-#include "evolve/run_config.hpp"
-#include "evolve/variation.hpp"
+#include "evolve/problems/walk_problem.hpp"
+#include "evolve/problems/honesty.hpp"
+#include "evolve/config/run_config.hpp"
+#include "evolve/algorithms/variation.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/model_file.hpp"
 #include "test_support.hpp"

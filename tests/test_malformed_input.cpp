@@ -13,9 +13,9 @@
 
 #include "core/constants.hpp"
 #include "core/input_error.hpp"
-#include "evolve/input_limits.hpp"
-#include "evolve/run_config.hpp"
-#include "evolve/run_store.hpp"
+#include "evolve/config/input_limits.hpp"
+#include "evolve/config/run_config.hpp"
+#include "evolve/store/run_store.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/model_file.hpp"
 #include "fuzz/input_checks.hpp"

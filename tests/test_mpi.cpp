@@ -12,8 +12,8 @@
 #include <fstream>
 #include <string>
 
-#include "evolve/run_reader.hpp"
-#include "evolve/run_store.hpp"
+#include "evolve/store/run_reader.hpp"
+#include "evolve/store/run_store.hpp"
 #include "formats/atomic_file.hpp"
 #include "test_support.hpp"
 

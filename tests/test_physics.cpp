@@ -10,7 +10,7 @@
 #include "bench/analytic_scenes.hpp"
 #include "core/model.hpp"
 #include "core/step.hpp"
-#include "evolve/rng.hpp"
+#include "evolve/algorithms/rng.hpp"
 
 namespace {
 

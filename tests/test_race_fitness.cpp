@@ -1,4 +1,4 @@
-// Race fitness (/fitness/kind "race", evolve/race_problem.hpp) and the fast race
+// Race fitness (/fitness/kind "race", evolve/problems/race_problem.hpp) and the fast race
 // runner (core/race_lane.hpp run_race_fast): the fast runner against the original
 // racer's golden results (tests/data/terrain/races.tsv, copied from
 // ../shared/models/soda/golden/terrain) and against the reference runner; a race
@@ -18,14 +18,14 @@
 #include "core/input_error.hpp"
 #include "core/race_lane.hpp"
 #include "core/step.hpp"
-#include "evolve/evolution_run.hpp"
-#include "evolve/map_elites_run.hpp"
-#include "evolve/race_problem.hpp"
-#include "evolve/replica_estimator.hpp"
-#include "evolve/run_reader.hpp"
-#include "evolve/run_store.hpp"
-#include "evolve/run_roles.hpp"
-#include "evolve/wire_format.hpp"
+#include "evolve/runs/evolution_run.hpp"
+#include "evolve/runs/map_elites_run.hpp"
+#include "evolve/problems/race_problem.hpp"
+#include "evolve/estimators/replica_estimator.hpp"
+#include "evolve/store/run_reader.hpp"
+#include "evolve/store/run_store.hpp"
+#include "evolve/runs/run_roles.hpp"
+#include "evolve/problems/wire_format.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/model_file.hpp"
 #include "formats/race_file.hpp"

@@ -1,5 +1,5 @@
 // The progress score a racer search ranks by (/fitness/race/score "progress",
-// evolve/race_progress.hpp): its order checked by hand-computed values, its config
+// evolve/problems/race_progress.hpp): its order checked by hand-computed values, its config
 // key, and the race problem's fitness under it against a reference race (run_race,
 // the reference step) whose furthest least x test_race.cpp checks against the
 // original racer's golden traces.
@@ -10,10 +10,10 @@
 
 #include "core/input_error.hpp"
 #include "core/race_lane.hpp"
-#include "evolve/race_problem.hpp"
-#include "evolve/race_progress.hpp"
-#include "evolve/run_roles.hpp"
-#include "evolve/wire_format.hpp"
+#include "evolve/problems/race_problem.hpp"
+#include "evolve/problems/race_progress.hpp"
+#include "evolve/runs/run_roles.hpp"
+#include "evolve/problems/wire_format.hpp"
 #include "formats/model_file.hpp"
 #include "formats/race_file.hpp"
 #include "test_support.hpp"

@@ -1,4 +1,4 @@
-// `sodaevo records` (app/records_command.cpp, evolve/record_book.hpp): the record
+// `sodaevo records` (app/records_command.cpp, evolve/runs/record_book.hpp): the record
 // book over two race files, with a racer of ours (results/bench/race_flat_champion.xml)
 // and public contenders whose results are the original racer's
 // (tests/data/terrain/races.tsv, an independent source).

@@ -1,5 +1,5 @@
-// Replica ensembles (evolve/replica_ensemble.hpp), their summary
-// (evolve/sample_summary.hpp) and `simulate --replicas`.
+// Replica ensembles (evolve/estimators/replica_ensemble.hpp), their summary
+// (evolve/estimators/sample_summary.hpp) and `simulate --replicas`.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/step.hpp"
-#include "evolve/replica_ensemble.hpp"
-#include "evolve/sample_summary.hpp"
+#include "evolve/estimators/replica_ensemble.hpp"
+#include "evolve/estimators/sample_summary.hpp"
 #include "test_support.hpp"
 
 using sodaevo::test::golden_dir;

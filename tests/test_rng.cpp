@@ -8,7 +8,7 @@
 #include <cstring>
 #include <limits>
 
-#include "evolve/rng.hpp"
+#include "evolve/algorithms/rng.hpp"
 
 using namespace sodaevo;
 

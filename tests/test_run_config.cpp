@@ -1,5 +1,5 @@
 // The run configuration: defaults, every key, the bundled configs, the resolved
-// round trip and the error messages (evolve/run_config.hpp, configs/README.md).
+// round trip and the error messages (evolve/config/run_config.hpp, configs/README.md).
 #include <catch2/catch.hpp>
 
 #include <atomic>
@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/input_error.hpp"
-#include "evolve/run_config.hpp"
+#include "evolve/config/run_config.hpp"
 #include "formats/model_file.hpp"
 #include "test_support.hpp"
 

@@ -14,8 +14,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/sine_identity.hpp"
-#include "evolve/map_elites_config.hpp"
-#include "evolve/run_sine.hpp"
+#include "evolve/config/map_elites_config.hpp"
+#include "evolve/store/run_sine.hpp"
 #include "formats/atomic_file.hpp"
 #include "test_support.hpp"
 

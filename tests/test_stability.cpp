@@ -18,8 +18,8 @@
 #include "core/step.hpp"
 #include "core/stiffness.hpp"
 #include "core/input_error.hpp"
-#include "evolve/run_config.hpp"
-#include "evolve/walk_problem.hpp"
+#include "evolve/config/run_config.hpp"
+#include "evolve/problems/walk_problem.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo::test;

@@ -13,7 +13,7 @@
 #include "core/divergence.hpp"
 #include "core/model.hpp"
 #include "core/step.hpp"
-#include "evolve/walk_problem.hpp"
+#include "evolve/problems/walk_problem.hpp"
 #include "test_support.hpp"
 
 using namespace sodaevo;

@@ -10,7 +10,7 @@
 
 #include "core/fast_step.hpp"
 #include "core/model.hpp"
-#include "evolve/run_config.hpp"
+#include "evolve/config/run_config.hpp"
 
 namespace sodaevo::test {
 

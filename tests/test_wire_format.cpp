@@ -7,11 +7,11 @@
 #include <cmath>
 #include <limits>
 
-#include "evolve/estimator.hpp"
-#include "evolve/replica_estimator.hpp"
-#include "evolve/variation.hpp"
-#include "evolve/walk_problem.hpp"
-#include "evolve/wire_format.hpp"
+#include "evolve/estimators/estimator.hpp"
+#include "evolve/estimators/replica_estimator.hpp"
+#include "evolve/algorithms/variation.hpp"
+#include "evolve/problems/walk_problem.hpp"
+#include "evolve/problems/wire_format.hpp"
 #include "formats/model_file.hpp"
 #include "test_support.hpp"
 

@@ -75,7 +75,8 @@ echo "build_wasm.sh: wrote $out/soda_engine_wasm.js ($(wc -c < "$out/soda_engine
 mkdir -p "$out/evolve-include"
 ln -sfn /usr/include/nlohmann "$out/evolve-include/nlohmann"
 evolve_sources=("$root/web/evolve_api.cpp" "$root/web/wasm_lockstep_stub.cpp" "$out/pugixml_oiio.cpp")
-for src in "$root"/core/*.cpp "$root"/core/fused/*.cpp "$root"/formats/*.cpp "$root"/evolve/*.cpp; do
+for src in "$root"/core/*.cpp "$root"/core/fused/*.cpp "$root"/formats/*.cpp "$root"/evolve/*/*.cpp; do
+  case "$src" in */evolve/mpi/*) continue ;; esac
   case "$(basename "$src")" in lockstep_*.cpp) continue ;; esac
   evolve_sources+=("$src")
 done

@@ -9,7 +9,7 @@
 #include <thread>
 
 #include "evolve/mpi/mpi_protocol.hpp"
-#include "evolve/wire_format.hpp"
+#include "evolve/problems/wire_format.hpp"
 
 namespace sodaevo {
 

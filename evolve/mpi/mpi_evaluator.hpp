@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "evolve/evaluator.hpp"
+#include "evolve/evaluators/evaluator.hpp"
 #include "evolve/mpi/mpi_session.hpp"
 
 namespace sodaevo {

@@ -10,11 +10,11 @@
 #include <stdexcept>
 #include <string>
 
-#include "evolve/estimator.hpp"
-#include "evolve/evaluator.hpp"
+#include "evolve/estimators/estimator.hpp"
+#include "evolve/evaluators/evaluator.hpp"
 #include "evolve/mpi/mpi_protocol.hpp"
-#include "evolve/problem.hpp"
-#include "evolve/wire_format.hpp"
+#include "evolve/problems/problem.hpp"
+#include "evolve/problems/wire_format.hpp"
 
 namespace sodaevo {
 
