@@ -15,12 +15,12 @@
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
 #include "app/run_report.hpp"
-#include "app/score_unit.hpp"
 #include "charts/svg_chart.hpp"
 #include "formats/atomic_file.hpp"
 #include "core/input_error.hpp"
 #include "formats/model_file.hpp"
 #include "core/number_text.hpp"
+#include "evolve/problems/fitness_kind.hpp"
 #include "evolve/problems/race_problem.hpp"
 #include "evolve/config/run_config.hpp"
 #include "evolve/runs/run_roles.hpp"
@@ -174,10 +174,11 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   }
   const json& metrics = archive.at("metrics");
   const json& cells = archive.at("cells");
-  const ScoreUnit score = ScoreUnit::of(config);
-  const bool race = score.race;
-  const auto shown = [score](double fitness) { return number(score.shown(fitness)); };
-  const std::string unit = std::string(" ") + score.unit();
+  const FitnessKindInfo& score = fitness_kind_info(config.fitness.kind);
+  const bool race = config.fitness.kind == FitnessKind::Race; // its elites are shown racing
+  const auto shown = [&score](double fitness) { return number(score.shown(fitness)); };
+  const std::string unit = std::string(" ") + score.unit;
+  const std::string score_name = score.score_name;
   double lo = std::numeric_limits<double>::infinity(), hi = -lo;
   for (const json& c : cells) {
     lo = std::min(lo, c.at("fitness").at("mean").get<double>());
@@ -200,7 +201,7 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
     << ", terms below 0 as 0)</td></tr><tr><td>normalised QD-score</td><td>"
     << number(metrics.at("normalized_qd_score").get<double>()) << " (QD-score / cells)</td></tr><tr><td>best</td><td>"
     << shown(metrics.at("best").get<double>()) << unit << "</td></tr><tr><td>mean elite"
-    << (race ? " race result" : " fitness") << "</td><td>" << shown(metrics.at("mean_fitness").get<double>()) << unit
+    << " " << score_name << "</td><td>" << shown(metrics.at("mean_fitness").get<double>()) << unit
     << "</td></tr></table>\n"
     << (race ? "<p class=\"note\">A race: fitness is minus the frames to the finish (fewer is better).</p>\n" : "");
   if (!checked.is_null()) {
@@ -221,7 +222,7 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
   constexpr int kSide = 14;
   o << "<h2>The archive</h2>\n<p class=\"note\">" << esc(ax.name) << " across, " << esc(ay.name) << " up"
     << (panels > 1 ? ", one map per bin of " + esc(axes[2].name) : std::string()) << "; colour: "
-    << (race ? "race result " : "fitness ") << shown(lo) << " <span class=\"legend\"></span> " << shown(hi) << unit
+    << score_name << " " << shown(lo) << " <span class=\"legend\"></span> " << shown(hi) << unit
     << ". Click a cell to play its elite below.</p>\n";
   if (panels > 1) {
     o << "<p><label>" << esc(axes[2].name) << ": <select id=\"third\"><option value=\"all\">every bin (small "
@@ -237,7 +238,7 @@ std::string archive_report_html(const fs::path& run_dir, const ArchiveReportOpti
     const double f = c.at("fitness").at("mean").get<double>();
     const std::string id = c.at("id").get<std::string>();
     std::ostringstream caption;
-    caption << "cell " << c.at("cell").get<long long>() << ": " << id << (race ? ", race result " : ", fitness ")
+    caption << "cell " << c.at("cell").get<long long>() << ": " << id << ", " << score_name << " "
             << shown(f) << unit << " (n "
             << c.at("fitness").at("n").get<long long>() << ", sd " << number(c.at("fitness").at("sd").get<double>())
             << ")";

@@ -13,13 +13,13 @@
 #include <string>
 
 #include "app/commands.hpp"
-#include "app/score_unit.hpp"
 #include "app/evolve_map_elites.hpp"
 #include "app/run_report.hpp"
 #include "charts/fixed_text.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "core/sine_identity.hpp"
+#include "evolve/problems/fitness_kind.hpp"
 #include "evolve/evaluators/evaluator.hpp"
 #include "evolve/runs/evolution_run.hpp"
 #include "evolve/evaluators/mpi_launch.hpp"
@@ -284,7 +284,7 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
   }
   std::cout << "run folder   " << store->dir().string() << "\n";
   const RunConfig& config = store->config();
-  const ScoreUnit score = ScoreUnit::of(config);
+  const FitnessKindInfo& score = fitness_kind_info(config.fitness.kind);
   // What the best's fitness stands on: the statistic of its replicas (a single
   // rollout is one draw, not the creature's walk).
   const auto it = std::find_if(checks.begin(), checks.end(), [&](const ReplicaCheck& c) { return c.id == outcome.best_id; });
@@ -293,19 +293,24 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     basis = " (" + statistic_name(config.fitness.statistic) + " of " + std::to_string(it->selection.rollouts) +
             " replicas, sd " + fixed(it->selection.sd, 2) + ")";
   }
-  if (std::isfinite(outcome.best_fitness) && score.race) {
+  if (std::isfinite(outcome.best_fitness)) {
     std::cout << "champion     " << outcome.best_id << " (best of the last generation)  fitness "
-              << soda::format_double_plain(outcome.best_fitness) << basis << " (races in " << soda::format_double_plain(-outcome.best_fitness) << " frames)\n";
-  } else if (std::isfinite(outcome.best_fitness)) {
-    std::cout << "champion     " << outcome.best_id << " (best of the last generation)  fitness "
-              << soda::format_double_plain(outcome.best_fitness) << basis << " px in " << config.fitness.frames << " frames ("
-              << soda::format_double_plain(outcome.best_fitness / static_cast<double>(config.fitness.frames))
-              << " px/frame)\n";
+              << soda::format_double_plain(outcome.best_fitness) << basis;
+    switch (config.fitness.kind) { // no default: a new kind says what its best did
+      case FitnessKind::Walk:
+        std::cout << " px in " << config.fitness.frames << " frames ("
+                  << soda::format_double_plain(outcome.best_fitness / static_cast<double>(config.fitness.frames))
+                  << " px/frame)\n";
+        break;
+      case FitnessKind::Race:
+        std::cout << " (races in " << soda::format_double_plain(-outcome.best_fitness) << " frames)\n";
+        break;
+    }
   } else {
     std::cout << "champion     none: no creature could be scored (the reasons are in the saved generations)\n";
   }
   if (it != checks.end()) { // rounded for reading; champions.json keeps every digit
-    std::cout << "             " << check_comment(*it, score.unit(), score.race ? 1 : 2) << "\n";
+    std::cout << "             " << check_comment(*it, score.unit, score.digits) << "\n";
   }
   std::cout << "report       " << default_report_path(store->dir()).string() << "\n"
             << "export with  sodaevo export " << store->dir().string() << " --best 5 --out DIR\n";

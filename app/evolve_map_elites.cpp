@@ -8,8 +8,8 @@
 #include <optional>
 
 #include "app/archive_report.hpp"
-#include "app/score_unit.hpp"
 #include "charts/fixed_text.hpp"
+#include "evolve/problems/fitness_kind.hpp"
 #include "evolve/runs/archive_check.hpp"
 #include "evolve/runs/map_elites_run.hpp"
 
@@ -35,9 +35,9 @@ void evolve_map_elites(const RunStore& store, Evaluator& evaluator, int threads,
       std::cerr << "\nsodaevo: warning: archive report not written: " << e.what() << '\n';
     }
   };
-  const ScoreUnit score = ScoreUnit::of(config);
-  const auto shown = [score](double fitness) { return fixed(score.shown(fitness), 2); };
-  const std::string unit_text = std::string(" ") + score.unit();
+  const FitnessKindInfo& score = fitness_kind_info(config.fitness.kind);
+  const auto shown = [&score](double fitness) { return fixed(score.shown(fitness), 2); };
+  const std::string unit_text = std::string(" ") + score.unit;
   const char* unit = unit_text.c_str();
   MapElitesOptions options;
   options.stop_requested = stop;

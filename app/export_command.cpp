@@ -7,10 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
-#include "app/score_unit.hpp"
 #include "core/contender_filter.hpp"
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
+#include "evolve/problems/fitness_kind.hpp"
 #include "evolve/runs/archive_check.hpp"
 #include "evolve/store/archive_store.hpp"
 #include "evolve/runs/race_schedule.hpp"
@@ -61,10 +61,10 @@ void export_archive(const std::filesystem::path& run, const ExportOptions& opt) 
                                                opt.threads, config.map_elites.qd_offset);
   const std::filesystem::path out(opt.out);
   nlohmann::json champions = nlohmann::json::array();
-  const ScoreUnit score = ScoreUnit::of(config);
-  const char* unit = score.unit();
+  const FitnessKindInfo& score = fitness_kind_info(config.fitness.kind);
+  const char* unit = score.unit;
   std::printf("cell    id            fitness (%s)   replicas   checked median [95 %% interval] (%s)   file\n",
-              score.fitness_unit(), unit);
+              score.fitness_unit, unit);
   for (std::size_t i = 0; i < checked.cells.size(); ++i) {
     const std::size_t cell = checked.cells[i];
     const ArchiveEntry& e = *archive.elite(cell);
@@ -86,7 +86,8 @@ void export_archive(const std::filesystem::path& run, const ExportOptions& opt) 
   std::printf("champions.json: each elite's estimate against a check on %d fresh replicas; checked archive: "
               "QD-score %.1f (run's %.1f), best fitness %.2f (run's %.2f) %s\n",
               opt.check_replicas, checked.checked.qd_score, checked.selection.qd_score, checked.checked.best,
-              checked.selection.best, config.fitness.kind == FitnessKind::Race ? "(minus frames)" : "px");
+              checked.selection.best,
+              score.lower_is_better ? ("(minus " + std::string(score.unit) + ")").c_str() : score.fitness_unit);
 }
 
 void run_export(const ExportOptions& opt) {
@@ -102,10 +103,10 @@ void run_export(const ExportOptions& opt) {
   // claims against what it walks (evolve/runs/replica_check.hpp).
   const std::vector<ReplicaCheck> checks =
       check_all_on_fresh_replicas(*problem, best, replica_plan(config), opt.check_replicas, opt.threads);
-  const ScoreUnit score = ScoreUnit::of(config);
-  const std::string unit = score.unit();
+  const FitnessKindInfo& score = fitness_kind_info(config.fitness.kind);
+  const std::string unit = score.unit;
   std::printf("rank  id            fitness (%s)   replicas   checked median [95 %% interval] (%s)   file\n",
-              score.fitness_unit(), unit.c_str());
+              score.fitness_unit, unit.c_str());
   nlohmann::json champions = nlohmann::json::array();
   for (std::size_t i = 0; i < best.size(); ++i) {
     const Individual& ind = best[i];

@@ -17,7 +17,7 @@
 #include "app/designer_page.hpp"
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
-#include "app/score_unit.hpp"
+#include "evolve/problems/fitness_kind.hpp"
 #include "charts/fixed_text.hpp"
 #include "charts/svg_chart.hpp"
 #include "core/input_error.hpp"
@@ -273,7 +273,8 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
     }
   }
   const std::vector<GenerationRow> rows = read_generations_csv(run_dir / "generations.csv");
-  const ScoreUnit score = ScoreUnit::of(config);
+  const FitnessKindInfo& score = fitness_kind_info(config.fitness.kind);
+  const bool race = config.fitness.kind == FitnessKind::Race; // a race is shown racing, with its terrains
   const RunSine sine = read_run_sine(run_dir);
   const std::string sine_note = report_sine_note(run_dir);
 
@@ -300,13 +301,13 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   for (const GenerationRow& r : rows) invalid_total += r.invalid, diverged_total += r.diverged;
   if (!rows.empty()) {
     LineChart fitness;
-    fitness.title = score.race ? "Race result: frames to the finish on " + terrain_names(config.fitness.race) +
+    fitness.title = race ? "Race result: frames to the finish on " + terrain_names(config.fitness.race) +
                                      " (fewer is better)"
                                : "Fitness: centroid distance " + direction_name(config.fitness.direction) + " in " +
                                      std::to_string(config.fitness.frames) + " frames";
     fitness.x_axis.label = "generation";
     fitness.x_axis.integer = true;
-    fitness.y_axis = {score.race ? "frames (fewer is better)" : "fitness (px)"};
+    fitness.y_axis = {race ? "frames (fewer is better)" : "fitness (px)"};
     auto named = [](const char* name) {
       LineSeries s;
       s.name = name;
@@ -422,7 +423,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
       }
     };
     o << "<table class=\"best\">\n<tr><th>#</th><th>creature</th><th>best of generations</th>"
-      << (score.race ? "<th>race result (frames, fewer is better)</th><th>raced again (frames)</th>"
+      << (race ? "<th>race result (frames, fewer is better)</th><th>raced again (frames)</th>"
                      : "<th>fitness (px)</th><th>distance (px)</th><th>speed (px/frame)</th>")
       << "<th>file</th></tr>\n";
     int rank = 0;
@@ -437,14 +438,14 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
       }
       o << "<tr><td class=\"n\">" << rank << "</td><td>" << html_escape(r.best_id) << "</td><td class=\"n\">" << generation_ranges(k.generations)
         << "</td><td class=\"n\">" << table_number(score.shown(r.best), 1) << "</td><td class=\"n\">" << distance << "</td>"
-        << (score.race ? "" : "<td class=\"n\">" + speed + "</td>") << "<td><a href=\"best/" << generation_file_name(r.generation) << "\">best/"
+        << (race ? "" : "<td class=\"n\">" + speed + "</td>") << "<td><a href=\"best/" << generation_file_name(r.generation) << "\">best/"
         << generation_file_name(r.generation) << "</a>" << designer_link(file_text(best_file(r.generation))) << "</td></tr>\n";
     }
     if (classic_evaluation && classic_evaluation->ok()) {
       o << "<tr class=\"classic\"><td></td><td>Dainty Walker (classic)</td><td></td><td class=\"n\">"
         << table_number(score.shown(classic_evaluation->fitness), 1) << "</td><td class=\"n\">"
         << table_number(classic_evaluation->distance, 1) << "</td>"
-        << (score.race ? "" : "<td class=\"n\">" + table_number(classic_evaluation->px_per_frame, 3) + "</td>") << "<td>built in"
+        << (race ? "" : "<td class=\"n\">" + table_number(classic_evaluation->px_per_frame, 3) + "</td>") << "<td>built in"
         << designer_link(std::string(dainty_walker_xml())) << "</td></tr>\n";
     }
     o << "</table>\n";
@@ -457,7 +458,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   // and Evolve mode exports it; the table's first row, the highest fitness any
   // generation scored, is shown as the top score when it is another creature.
   const auto fitness_text = [&](double v) {
-    return (score.race ? std::string() : std::string("fitness ")) + table_number(score.shown(v), 1) + " " + score.unit();
+    return (race ? std::string() : std::string("fitness ")) + table_number(score.shown(v), 1) + " " + score.unit;
   };
   const std::string of_planned = " of " + std::to_string(config.budget.generations);
   if (!ranked.empty() && !rows.back().best_id.empty()) {
@@ -498,7 +499,7 @@ std::string run_report_html(const fs::path& run_dir, const ReportOptions& option
   if (classic) shown.push_back(*classic);
   if (!classic_problem.empty()) classic_problem = "<p class=\"note\">Dainty Walker not shown: " + html_escape(classic_problem) + "</p>\n";
   o << "<h2>Watch them</h2>\n";
-  if (score.race) race_players(o, *scored, shown, classic_problem, options);
+  if (race) race_players(o, *scored, shown, classic_problem, options);
   else walk_players(o, config, shown, classic_problem, options);
   o << player_script() << "</body>\n</html>\n";
   return o.str();

@@ -9,6 +9,7 @@
 #include "bench/median.hpp"
 #include "bench/replica_runs.hpp"
 #include "core/model.hpp"
+#include "evolve/runs/run_roles.hpp"
 #include "evolve/algorithms/rng.hpp"
 #include "evolve/config/run_config.hpp"
 #include "evolve/algorithms/variation.hpp"
@@ -123,7 +124,7 @@ void creature_section(const AccuracyOptions& o, const std::string& section,
   for (const auto& [name, path] : creatures) {
     say(o, section + ": " + name + ", reference");
     const soda::ModelDef creature = creature_from_seed(soda::read_model_file(path).def, config);
-    const soda::Model model = soda::build_model(WalkProblem(config).prepare(creature));
+    const soda::Model model = soda::build_model(walk_problem_of(config).prepare(creature));
     const ExpectedDistance ref = expected_distance(model, reference_of(o), plan);
     const ExpectedDistance half_ref = expected_distance(model, reference_of(o, 2), plan);
     const double scale = scale_of(ref.summary.mean);
@@ -175,7 +176,7 @@ std::vector<soda::Model> random_walkers(const AccuracyOptions& o) {
   for (std::uint64_t i = 0; static_cast<int>(models.size()) < o.walkers && i < 100ull * o.walkers; ++i) {
     Rng rng = Rng::stream(o.seed, i, 0, 0xacc);
     try {
-      models.push_back(soda::build_model(WalkProblem(config).prepare(random_creature(config, rng))));
+      models.push_back(soda::build_model(walk_problem_of(config).prepare(random_creature(config, rng))));
     } catch (const std::exception&) {
       // e.g. too small to scale within gravity's range: draw another
     }

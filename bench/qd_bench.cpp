@@ -8,6 +8,7 @@
 #include "charts/fixed_text.hpp"
 #include "charts/svg_chart.hpp"
 #include "core/input_error.hpp"
+#include "evolve/runs/run_roles.hpp"
 #include "evolve/runs/archive_check.hpp"
 #include "evolve/evaluators/evaluator.hpp"
 #include "evolve/runs/evolution_run.hpp"
@@ -92,7 +93,7 @@ std::vector<QdRow> run_qd_bench(const QdOptions& opt) {
                  population_archive(me_config, me_config.map_elites, last->generation, evaluator), 0.0, ga_seconds};
     const std::vector<Individual> best = best_individuals(ga_dir, 1);
     if (!best.empty()) {
-      const ReplicaCheck c = check_on_fresh_replicas(WalkProblem(ga_config), best.front(), replica_plan(ga_config),
+      const ReplicaCheck c = check_on_fresh_replicas(walk_problem_of(ga_config), best.front(), replica_plan(ga_config),
                                                      opt.check_replicas);
       if (c.ok) ga_row.best_checked = c.selection.mean - c.winners_curse;
     }

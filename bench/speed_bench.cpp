@@ -11,6 +11,7 @@
 #include "core/lockstep_batch.hpp"
 #include "core/model.hpp"
 #include "core/simd_level.hpp"
+#include "evolve/runs/run_roles.hpp"
 #include "evolve/config/run_config.hpp"
 #include "evolve/store/run_reader.hpp"
 #include "evolve/problems/walk_problem.hpp"
@@ -66,7 +67,7 @@ void time_ga_section(const SpeedSectionInput& in, SpeedReport& report) {
   if (in.options.ga_run.empty()) return;
   const std::filesystem::path run(in.options.ga_run);
   const RunConfig config = read_run_config(run / "config.json");
-  const WalkProblem problem(config);
+  const WalkProblem problem = walk_problem_of(config);
   std::vector<int> generations = saved_generations(run);
   if (generations.empty()) throw std::runtime_error(in.options.ga_run + ": the run has no saved generation");
   if (in.options.quick && generations.size() > 2) generations = {generations.front(), generations.back()};

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <limits>
 #include <stdexcept>
+#include <string>
 
 #include <Eigen/Dense>
 
@@ -146,12 +147,14 @@ LargestEigenvalue largest_eigenvalue(const Eigen::SparseMatrix<double>& K, int d
 
 bool mode_is_stable(const Stepping& s, double friction, double omega, double dt) {
   const double w2dt2 = omega * omega * dt * dt;
-  if (s.mode == PhysicsMode::Soda || s.integrator == Integrator::Euler) {
-    // (x, dt v) -> x' = x + c (dt v - s x), dt v' = c (dt v - s x): [[1 - c s, c], [-c s, c]]
-    const double c = s.mode == PhysicsMode::Soda ? 1.0 - friction : std::pow(1.0 - friction, dt);
-    return spectral_radius(1.0 - c * w2dt2, c, -c * w2dt2, c) <= 1.0 + kRadiusSlack;
-  }
-  switch (s.integrator) {
+  // The soda mode's step is the semi-implicit Euler step. No default: a new
+  // integrator must say here whether it is stable (-Wswitch, an error in CI).
+  switch (s.mode == PhysicsMode::Soda ? Integrator::Euler : s.integrator) {
+    case Integrator::Euler: {
+      // (x, dt v) -> x' = x + c (dt v - s x), dt v' = c (dt v - s x): [[1 - c s, c], [-c s, c]]
+      const double c = s.mode == PhysicsMode::Soda ? 1.0 - friction : std::pow(1.0 - friction, dt);
+      return spectral_radius(1.0 - c * w2dt2, c, -c * w2dt2, c) <= 1.0 + kRadiusSlack;
+    }
     case Integrator::Verlet: {
       // kick-drift-kick between the friction halves h = (1 - f)^(dt/2); det = h^4, trace (1 + h^2)(1 - s/2)
       const double h = std::pow(1.0 - friction, dt / 2.0);
@@ -165,8 +168,10 @@ bool mode_is_stable(const Stepping& s, double friction, double omega, double dt)
       const std::complex<double> mu1 = -lambda / 2.0 + root, mu2 = -lambda / 2.0 - root;
       return rk4_amplification(mu1 * dt) <= 1.0 + kRadiusSlack && rk4_amplification(mu2 * dt) <= 1.0 + kRadiusSlack;
     }
-    default: return true; // implicit schemes are A-stable
+    case Integrator::BackwardEuler:
+    case Integrator::ImplicitMidpoint: return true; // implicit schemes are A-stable
   }
+  throw std::logic_error("mode_is_stable: integrator " + std::to_string(static_cast<int>(s.integrator)));
 }
 
 StabilityPrediction predict_stability(const Model& model, double omega_max, const Stepping& stepping) {

@@ -7,31 +7,13 @@
 
 namespace soda {
 
-std::string mode_name(PhysicsMode mode) { return mode == PhysicsMode::Soda ? "soda" : "continuous"; }
+std::string mode_name(PhysicsMode mode) { return name_of(kPhysicsModeNames, mode); }
 
-std::string integrator_name(Integrator integrator) {
-  switch (integrator) {
-    case Integrator::Euler: return "euler";
-    case Integrator::Verlet: return "verlet";
-    case Integrator::Rk4: return "rk4";
-    case Integrator::BackwardEuler: return "backward-euler";
-    case Integrator::ImplicitMidpoint: return "implicit-midpoint";
-  }
-  return "euler";
-}
+std::string integrator_name(Integrator integrator) { return name_of(kIntegratorNames, integrator); }
 
-std::optional<PhysicsMode> parse_mode(const std::string& name) {
-  if (name == "soda") return PhysicsMode::Soda;
-  if (name == "continuous") return PhysicsMode::Continuous;
-  return std::nullopt;
-}
+std::optional<PhysicsMode> parse_mode(const std::string& name) { return value_of(kPhysicsModeNames, name); }
 
-std::optional<Integrator> parse_integrator(const std::string& name) {
-  for (Integrator in : kIntegrators) {
-    if (name == integrator_name(in)) return in;
-  }
-  return std::nullopt;
-}
+std::optional<Integrator> parse_integrator(const std::string& name) { return value_of(kIntegratorNames, name); }
 
 std::string stepping_label(const Stepping& s) {
   if (s.mode == PhysicsMode::Soda) return "soda";

@@ -7,10 +7,12 @@
 // name a setting the same way, so the names live here once.
 #pragma once
 
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <string>
 
+#include "enum_names.hpp"
 #include "model.hpp"
 
 namespace soda {
@@ -24,9 +26,22 @@ enum class PhysicsMode { Soda, Continuous };
 /// solves with a sparse factorisation (implicit_step.hpp).
 enum class Integrator { Euler, Verlet, Rk4, BackwardEuler, ImplicitMidpoint };
 
-/// Every integrator, in the order of the enum (for option lists and sweeps).
-inline constexpr Integrator kIntegrators[] = {Integrator::Euler, Integrator::Verlet, Integrator::Rk4,
-                                              Integrator::BackwardEuler, Integrator::ImplicitMidpoint};
+/// The names of the modes and integrators (enum_names.hpp): the config's
+/// /fitness/mode and /fitness/integrator, the commands' --mode and --integrator and
+/// the Python module's keywords all read these.
+inline constexpr EnumName<PhysicsMode> kPhysicsModeNames[] = {{PhysicsMode::Soda, "soda"},
+                                                              {PhysicsMode::Continuous, "continuous"}};
+inline constexpr EnumName<Integrator> kIntegratorNames[] = {{Integrator::Euler, "euler"},
+                                                            {Integrator::Verlet, "verlet"},
+                                                            {Integrator::Rk4, "rk4"},
+                                                            {Integrator::BackwardEuler, "backward-euler"},
+                                                            {Integrator::ImplicitMidpoint, "implicit-midpoint"}};
+
+/// Every integrator, in the order of its name table (for option lists and sweeps).
+inline constexpr Integrator kIntegrators[] = {kIntegratorNames[0].value, kIntegratorNames[1].value,
+                                              kIntegratorNames[2].value, kIntegratorNames[3].value,
+                                              kIntegratorNames[4].value};
+static_assert(std::size(kIntegrators) == std::size(kIntegratorNames));
 
 /// Largest sub-step count accepted (dt = 1/4096 frame): far below any useful dt,
 /// and a bound that keeps a typo from running for days.

@@ -17,6 +17,7 @@
 #include "core/input_error.hpp"
 #include "core/lockstep_batch.hpp"
 #include "core/step.hpp"
+#include "evolve/runs/run_roles.hpp"
 #include "evolve/problems/walk_problem.hpp"
 #include "evolve/algorithms/rng.hpp"
 #include "evolve/config/run_config.hpp"
@@ -54,7 +55,7 @@ void add_random_creatures(int count, std::uint64_t seed, std::vector<std::pair<s
     c.collisions.surface_reflection = -0.2 * (i % 5);
     soda::ModelDef prepared;
     try {
-      prepared = sodaevo::WalkProblem(config).prepare(c);
+      prepared = sodaevo::walk_problem_of(config).prepare(c);
     } catch (const soda::InputError&) {
       continue; // scaled gravity above the original's limit
     }

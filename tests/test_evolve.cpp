@@ -262,11 +262,11 @@ TEST_CASE("replay and export reproduce the logged fitness exactly", "[evolve]") 
   CHECK(checked >= 2 * config.population.size);
   // Exported (prepared) XML, read back and simulated, scores the logged fitness.
   for (const Individual& ind : best_individuals(dir, 3)) {
-    const soda::ModelDef prepared = WalkProblem(config).prepare(ind.creature);
+    const soda::ModelDef prepared = walk_problem_of(config).prepare(ind.creature);
     const fs::path out = dir / (ind.id + ".xml");
     soda::write_model_file(out, prepared);
     const soda::ModelDef reloaded = soda::read_model_file(out).def;
-    const Evaluation e = WalkProblem(config).rollouts({&reloaded}).front();
+    const Evaluation e = walk_problem_of(config).rollouts({&reloaded}).front();
     REQUIRE(e.ok());
     // One exact rollout of the export is the logged estimate's replica 0.
     CHECK(e.distance == ind.evaluation.distance);
@@ -326,7 +326,7 @@ TEST_CASE("batch and single evaluation give identical Evaluations", "[evolve]") 
            std::memcmp(&a.distance, &b.distance, sizeof(double)) == 0 &&
            std::memcmp(&a.px_per_frame, &b.px_per_frame, sizeof(double)) == 0;
   };
-  const std::vector<Evaluation> batch = SingleRollout().estimate(WalkProblem(config), ptrs);
+  const std::vector<Evaluation> batch = SingleRollout().estimate(walk_problem_of(config), ptrs);
   REQUIRE(batch.size() == creatures.size());
   int ok = 0;
   for (std::size_t i = 0; i < creatures.size(); ++i) {
@@ -338,7 +338,7 @@ TEST_CASE("batch and single evaluation give identical Evaluations", "[evolve]") 
   CHECK(ok >= 17);
   for (int threads : {1, 2, 3}) {
     for (std::size_t size : {std::size_t{0}, std::size_t{1}, std::size_t{4}, std::size_t{7}}) {
-      const std::vector<Evaluation> again = ThreadEvaluator(threads, size).evaluate(ptrs, WalkProblem(config), SingleRollout());
+      const std::vector<Evaluation> again = ThreadEvaluator(threads, size).evaluate(ptrs, walk_problem_of(config), SingleRollout());
       for (std::size_t i = 0; i < creatures.size(); ++i) CHECK(same(again[i], batch[i]));
     }
   }
@@ -422,7 +422,7 @@ TEST_CASE("a run folder without its manifest (killed right after its config) get
 
 TEST_CASE("the single-rollout estimator: the rollout's score is the fitness; refused creatures name why", "[evolve]") {
   const RunConfig config = small_config();
-  const WalkProblem problem(config);
+  const WalkProblem problem = walk_problem_of(config);
   const soda::ModelDef walker = creature_from_seed(soda::read_model_file(test::models_dir() / "dainty_walker.xml").def, config);
   soda::ModelDef unlinked = walker;
   unlinked.links.clear();

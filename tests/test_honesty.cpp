@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/input_error.hpp"
+#include "evolve/runs/run_roles.hpp"
 #include "evolve/problems/walk_problem.hpp"
 #include "evolve/problems/honesty.hpp"
 #include "evolve/config/run_config.hpp"
@@ -33,7 +34,7 @@ RunConfig config_with(const std::string& fitness_json) {
 
 soda::ModelDef prepared_dainty_walker(const RunConfig& config) {
   const soda::ModelDef seed = soda::read_model_file(std::string(SODAEVO_MODELS_DIR) + "/dainty_walker.xml").def;
-  return WalkProblem(config).prepare(creature_from_seed(seed, config));
+  return walk_problem_of(config).prepare(creature_from_seed(seed, config));
 }
 
 } // namespace
@@ -68,8 +69,8 @@ TEST_CASE("fitness: continuous Euler at one step per frame scores exactly as sod
   const RunConfig cont_config =
       config_with(R"({"frames": 1500, "settle_frames": 100, "mode": "continuous", "integrator": "euler"})");
   const soda::ModelDef walker = prepared_dainty_walker(soda_config);
-  const Evaluation a = WalkProblem(soda_config).rollouts({&walker}).front();
-  const Evaluation b = WalkProblem(cont_config).rollouts({&walker}).front();
+  const Evaluation a = walk_problem_of(soda_config).rollouts({&walker}).front();
+  const Evaluation b = walk_problem_of(cont_config).rollouts({&walker}).front();
   REQUIRE(a.ok());
   REQUIRE(b.ok());
   CHECK(std::memcmp(&a.fitness, &b.fitness, sizeof(double)) == 0);
@@ -96,11 +97,11 @@ TEST_CASE("honesty: the GA flags a creature whose distance changes more than all
   const RunConfig strict = config_with(R"({"frames": 1000, "settle_frames": 100, "honesty": {"max_change": 1e-9}})");
   const RunConfig lax = config_with(R"({"frames": 1000, "settle_frames": 100, "honesty": {"max_change": 1e6}})");
   const soda::ModelDef walker = prepared_dainty_walker(strict);
-  const Evaluation flagged = WalkProblem(strict).rollouts({&walker}).front();
+  const Evaluation flagged = walk_problem_of(strict).rollouts({&walker}).front();
   CHECK(flagged.status == EvaluationStatus::Diverged);
   CHECK(flagged.reason.find("dishonest") == 0);
   CHECK(flagged.reason.find("euler/4") != std::string::npos);
-  const Evaluation ok = WalkProblem(lax).rollouts({&walker}).front();
+  const Evaluation ok = walk_problem_of(lax).rollouts({&walker}).front();
   REQUIRE(ok.ok());
   CHECK(ok.honesty_change != 0.0);
   CHECK(std::isfinite(ok.honesty_change));

@@ -15,6 +15,7 @@
 #include "core/input_error.hpp"
 #include "core/model.hpp"
 #include "core/step.hpp"
+#include "evolve/runs/run_roles.hpp"
 #include "evolve/runs/archive_check.hpp"
 #include "evolve/estimators/replica_estimator.hpp"
 #include "evolve/store/run_store.hpp"
@@ -627,7 +628,7 @@ TEST_CASE("corrected archive: every elite checked on fresh replicas; export --ar
   // The first elite by hand: its genome prepared, 3 runs with the check's seeds.
   const GridArchive elites = read_run_archive(dir, config);
   const ArchiveEntry& first = elites.elites().begin()->second;
-  const WalkProblem problem(config);
+  const WalkProblem problem = walk_problem_of(config);
   const soda::ModelDef prepared = problem.prepare(first.creature);
   double sum = 0.0;
   for (int r = 0; r < 3; ++r) {

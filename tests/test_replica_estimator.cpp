@@ -12,6 +12,7 @@
 
 #include "core/model.hpp"
 #include "core/step.hpp"
+#include "evolve/runs/run_roles.hpp"
 #include "evolve/evaluators/evaluator.hpp"
 #include "evolve/runs/replica_check.hpp"
 #include "evolve/estimators/replica_estimator.hpp"
@@ -97,7 +98,7 @@ TEST_CASE("the replica statistic: mean, median and the lower confidence bound", 
 TEST_CASE("replicas: each replica is the reference step with its jitter; replica 0 is the exact run",
           "[replicas]") {
   const RunConfig config = walker_config(6, 12);
-  const WalkProblem problem(config);
+  const WalkProblem problem = walk_problem_of(config);
   const ReplicaEstimator estimator(replica_plan(config));
   const soda::ModelDef creature = estimator_dainty();
   const Evaluation e = estimator.estimate(problem, {&creature}).front();
@@ -129,7 +130,7 @@ TEST_CASE("replicas: each replica is the reference step with its jitter; replica
 TEST_CASE("adaptive resampling: survivors gather replicas up to the cap, whatever the thread count",
           "[replicas]") {
   const RunConfig config = walker_config(2, 5);
-  const WalkProblem problem(config);
+  const WalkProblem problem = walk_problem_of(config);
   const ReplicaEstimator estimator(replica_plan(config));
   Generation g = generation_of(3, [](soda::ModelDef& c, int i) { c.nodes[0].x += i; });
   ThreadEvaluator one(1), two(2);
@@ -156,7 +157,7 @@ TEST_CASE("confirmation: the best end estimated on replicas_max, ranked again un
           "[replicas]") {
   RunConfig config = walker_config(2, 8);
   config.fitness.frames = 2000; // past the mutants' predictability horizon: replicas differ
-  const WalkProblem problem(config);
+  const WalkProblem problem = walk_problem_of(config);
   const ReplicaEstimator estimator(replica_plan(config));
   // Mutants of the Dainty Walker: a population whose best are partly lucky draws.
   Generation g = generation_of(12, [&](soda::ModelDef& c, int i) {
@@ -268,7 +269,7 @@ TEST_CASE("confirmation ranks again: a lucky best falls back and the next is con
 
 TEST_CASE("a saved generation keeps each creature's estimate", "[replicas]") {
   const RunConfig config = walker_config(3, 6);
-  const WalkProblem problem(config);
+  const WalkProblem problem = walk_problem_of(config);
   const ReplicaEstimator estimator(replica_plan(config));
   Generation g;
   Individual ind;
@@ -288,7 +289,7 @@ TEST_CASE("a saved generation keeps each creature's estimate", "[replicas]") {
 
 TEST_CASE("the check on fresh replicas: exact distance, the fresh ensemble, the winner's curse", "[replicas]") {
   const RunConfig config = walker_config(4, 8);
-  const WalkProblem problem(config);
+  const WalkProblem problem = walk_problem_of(config);
   const ReplicaEstimator estimator(replica_plan(config));
   Individual ind;
   ind.id = "g3-1";

@@ -135,7 +135,7 @@
     $('ev-progress').classList.toggle('error', !!isError);
   }
 
-  function shownFitness(v) { return ev.info && ev.info.race ? -v : v; }
+  function shownFitness(v) { return ev.info && ev.info.lower_is_better ? -v : v; }
 
   /// Starts a run of `configText`; resolves when it ends (or stops on an error).
   function startRun(configText) {
@@ -210,7 +210,7 @@
   function show(p) {
     var seconds = (performance.now() - ev.started) / 1000;
     var rate = ev.run.evaluateSeconds > 0 ? ev.run.evaluations / ev.run.evaluateSeconds : 0;
-    var unit = ev.info.race ? 'frames' : 'px';
+    var unit = ev.info.unit;
     if (p.algorithm === 'map-elites') {
       setProgress('iteration ' + p.iteration + ' of ' + p.iterations + ': ' + p.filled + ' of ' + p.cells + ' cells filled, QD-score ' +
                   Math.round(p.qd_score) + ', best ' + shownFitness(p.best).toFixed(1) + ' ' + unit + '; ' + p.evaluations +

@@ -25,7 +25,7 @@
 #include <emscripten/emscripten.h>
 #include <nlohmann/json.hpp>
 
-#include "app/score_unit.hpp"
+#include "evolve/problems/fitness_kind.hpp"
 #include "core/input_error.hpp"
 #include "evolve/runs/archive_check.hpp"
 #include "evolve/evaluators/ask_tell_evaluator.hpp"
@@ -197,6 +197,8 @@ EMSCRIPTEN_KEEPALIVE int sev_start(const char* config_path, const char* run_dir)
     json j = {{"name", config.name},
               {"algorithm", config.algorithm == AlgorithmKind::MapElites ? "map-elites" : "ga"},
               {"race", config.fitness.kind == FitnessKind::Race},
+              {"unit", fitness_kind_info(config.fitness.kind).unit},
+              {"lower_is_better", fitness_kind_info(config.fitness.kind).lower_is_better},
               {"generations", config.budget.generations},
               {"frames", config.fitness.frames},
               {"config", to_json(config)}};
@@ -332,7 +334,7 @@ EMSCRIPTEN_KEEPALIVE int sev_export(const char* out_dir, int best_count) {
       const std::unique_ptr<Problem> problem = problem_of(config, 0);
       const CheckedArchive checked =
           check_archive(archive, *problem, replica_plan(config), 16, 1, config.map_elites.qd_offset);
-      const std::string unit = sodaevo::app::ScoreUnit::of(config).unit();
+      const std::string unit = sodaevo::fitness_kind_info(config.fitness.kind).unit;
       fs::create_directories(out_dir);
       json champions = json::array();
       for (std::size_t i = 0; i < checked.cells.size(); ++i) {
@@ -358,7 +360,7 @@ EMSCRIPTEN_KEEPALIVE int sev_export(const char* out_dir, int best_count) {
     fs::create_directories(out_dir);
     const std::vector<Individual> best = best_individuals(run, best_count);
     const std::vector<ReplicaCheck> checks = check_all_on_fresh_replicas(*problem, best, replica_plan(config), 16, 1);
-    const std::string unit = sodaevo::app::ScoreUnit::of(config).unit();
+    const std::string unit = sodaevo::fitness_kind_info(config.fitness.kind).unit;
     json champions = json::array();
     for (std::size_t i = 0; i < best.size(); ++i) {
       const Individual& ind = best[i];

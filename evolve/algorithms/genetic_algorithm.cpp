@@ -25,7 +25,7 @@ std::size_t tournament(const Generation& g, int size, Rng& rng) {
 
 } // namespace
 
-Generation initial_generation(const RunConfig& config, const std::vector<soda::ModelDef>& seeds) {
+Generation initial_generation(const GeneticSettings& config, const std::vector<soda::ModelDef>& seeds) {
   Generation g;
   g.index = 0;
   const int n = config.population.size;
@@ -50,7 +50,7 @@ Generation initial_generation(const RunConfig& config, const std::vector<soda::M
   return g;
 }
 
-Generation next_generation(const RunConfig& config, const Generation& evaluated) {
+Generation next_generation(const GeneticSettings& config, const Generation& evaluated) {
   Generation next;
   next.index = evaluated.index + 1;
   const std::size_t n = static_cast<std::size_t>(config.population.size);

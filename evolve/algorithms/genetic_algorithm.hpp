@@ -13,7 +13,7 @@
 #include "core/model_def.hpp"
 #include "evolve/algorithms/algorithm.hpp"
 #include "evolve/algorithms/population.hpp"
-#include "evolve/config/run_config.hpp"
+#include "evolve/algorithms/genetic_settings.hpp"
 
 namespace sodaevo {
 
@@ -22,18 +22,18 @@ enum class RngPurpose : std::uint64_t { Initial = 1, Breed = 2 };
 
 /// Generation 0: seeds (index 0..: first each seed as is, then mutated copies)
 /// and random creatures, in the proportions of the config. Not evaluated.
-Generation initial_generation(const RunConfig& config, const std::vector<soda::ModelDef>& seeds);
+Generation initial_generation(const GeneticSettings& config, const std::vector<soda::ModelDef>& seeds);
 
 /// The next generation from an evaluated one: the elites (copied with their
 /// evaluation) then children by tournament selection, optional crossover and
 /// mutation. Not evaluated (except the elites).
-Generation next_generation(const RunConfig& config, const Generation& evaluated);
+Generation next_generation(const GeneticSettings& config, const Generation& evaluated);
 
 /// The GA as the run loop drives it: initial_generation and next_generation with
 /// the config's population, selection, variation and limits.
 class GeneticAlgorithm final : public Algorithm {
  public:
-  explicit GeneticAlgorithm(const RunConfig& config) : config_(config) {}
+  explicit GeneticAlgorithm(const GeneticSettings& config) : config_(config) {}
   [[nodiscard]] Generation first(const std::vector<soda::ModelDef>& seeds) const override {
     return initial_generation(config_, seeds);
   }
@@ -46,7 +46,7 @@ class GeneticAlgorithm final : public Algorithm {
   }
 
  private:
-  RunConfig config_;
+  GeneticSettings config_;
 };
 
 } // namespace sodaevo

@@ -55,7 +55,7 @@ struct Asked {
 
 } // namespace
 
-std::vector<Individual> map_elites_children(const RunConfig& config, const MapElitesConfig& me,
+std::vector<Individual> map_elites_children(const GeneticSettings& config, const MapElitesConfig& me,
                                             const GridArchive& archive, int iteration) {
   std::vector<const ArchiveEntry*> elites;
   for (const auto& [cell, e] : archive.elites()) elites.push_back(&e);

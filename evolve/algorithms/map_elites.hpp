@@ -28,9 +28,9 @@
 
 #include "evolve/problems/evaluation.hpp"
 #include "evolve/algorithms/grid_archive.hpp"
-#include "evolve/config/map_elites_config.hpp"
+#include "evolve/algorithms/map_elites_settings.hpp"
 #include "evolve/algorithms/population.hpp"
-#include "evolve/config/run_config.hpp"
+#include "evolve/algorithms/genetic_settings.hpp"
 
 namespace sodaevo {
 
@@ -45,7 +45,7 @@ struct Challenger {
 
 /// The children of iteration `iteration` >= 1 from a non-empty archive (not evaluated).
 /// `config` gives the seed, the mutation operators and the limits.
-std::vector<Individual> map_elites_children(const RunConfig& config, const MapElitesConfig& me,
+std::vector<Individual> map_elites_children(const GeneticSettings& config, const MapElitesConfig& me,
                                             const GridArchive& archive, int iteration);
 
 /// More replicas of one creature: [first, first + count).

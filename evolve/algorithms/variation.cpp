@@ -129,7 +129,7 @@ bool mutate_move_mass(soda::ModelDef& c, const MutationConfig& m, Rng& rng) {
   return true;
 }
 
-bool mutate_add_link(soda::ModelDef& c, const RunConfig& cfg, Rng& rng) {
+bool mutate_add_link(soda::ModelDef& c, const GeneticSettings& cfg, Rng& rng) {
   if (static_cast<int>(c.links.size()) >= cfg.limits.max_links) return false;
   std::vector<std::pair<int, int>> free_pairs;
   const int n = static_cast<int>(c.nodes.size());
@@ -176,7 +176,7 @@ bool mutate_toggle_muscle(soda::ModelDef& c, Rng& rng) {
   return true;
 }
 
-bool mutate_add_mass(soda::ModelDef& c, const RunConfig& cfg, Rng& rng) {
+bool mutate_add_mass(soda::ModelDef& c, const GeneticSettings& cfg, Rng& rng) {
   const int n = static_cast<int>(c.nodes.size());
   if (n >= cfg.limits.max_masses || n < 2 || static_cast<int>(c.links.size()) + 2 > cfg.limits.max_links) return false;
   const soda::NodeDef& p = c.nodes[rng.below(n)];
@@ -210,7 +210,7 @@ void remove_node(soda::ModelDef& c, int victim) {
   c.links = std::move(kept);
 }
 
-bool mutate_remove_mass(soda::ModelDef& c, const RunConfig& cfg, Rng& rng) {
+bool mutate_remove_mass(soda::ModelDef& c, const GeneticSettings& cfg, Rng& rng) {
   const int n = static_cast<int>(c.nodes.size());
   if (n <= cfg.limits.min_masses) return false;
   const int start = static_cast<int>(rng.below(n));
@@ -225,7 +225,7 @@ bool mutate_remove_mass(soda::ModelDef& c, const RunConfig& cfg, Rng& rng) {
   return false;
 }
 
-bool mutate_world(soda::ModelDef& c, const RunConfig& cfg, Rng& rng) {
+bool mutate_world(soda::ModelDef& c, const GeneticSettings& cfg, Rng& rng) {
   if (cfg.world.evolve.empty()) return false;
   const std::string& name = pick(cfg.world.evolve, rng);
   auto perturb = [&](double& v, soda::Range r) {
@@ -242,7 +242,7 @@ bool mutate_world(soda::ModelDef& c, const RunConfig& cfg, Rng& rng) {
 
 } // namespace
 
-soda::ModelDef random_creature(const RunConfig& cfg, Rng& rng) {
+soda::ModelDef random_creature(const GeneticSettings& cfg, Rng& rng) {
   const RandomCreatureConfig& r = cfg.population.random;
   soda::ModelDef c;
   apply_world(c, cfg.world);
@@ -273,7 +273,7 @@ soda::ModelDef random_creature(const RunConfig& cfg, Rng& rng) {
   return soda::canonical_form(c);
 }
 
-void mutate(soda::ModelDef& c, const RunConfig& cfg, Rng& rng) {
+void mutate(soda::ModelDef& c, const GeneticSettings& cfg, Rng& rng) {
   const MutationConfig& m = cfg.mutation;
   bool changed = false;
   if (rng.chance(m.muscle_phase_rate)) changed |= mutate_muscle_phase(c, m, rng);
@@ -293,7 +293,7 @@ void mutate(soda::ModelDef& c, const RunConfig& cfg, Rng& rng) {
   c = soda::canonical_form(c);
 }
 
-soda::ModelDef crossover(const soda::ModelDef& a, const soda::ModelDef& b, const RunConfig& cfg, Rng& rng) {
+soda::ModelDef crossover(const soda::ModelDef& a, const soda::ModelDef& b, const GeneticSettings& cfg, Rng& rng) {
   const int na = static_cast<int>(a.nodes.size()), nb = static_cast<int>(b.nodes.size());
   if (na < 2 || nb < 2) return a;
   const int k = rng.between(1, std::min(na, nb) - 1);
@@ -314,7 +314,7 @@ soda::ModelDef crossover(const soda::ModelDef& a, const soda::ModelDef& b, const
   return child;
 }
 
-soda::ModelDef creature_from_seed(const soda::ModelDef& seed, const RunConfig& cfg) {
+soda::ModelDef creature_from_seed(const soda::ModelDef& seed, const GeneticSettings& cfg) {
   soda::ModelDef c = seed;
   for (int i = static_cast<int>(c.nodes.size()) - 1; i >= 0; --i) {
     if (c.nodes[i].fixed) remove_node(c, i);

@@ -182,13 +182,6 @@ class Reader {
 
 } // namespace
 
-const std::vector<std::string>& algorithm_names() {
-  static const std::vector<std::string> names = {"ga", "map-elites"};
-  return names;
-}
-
-std::string algorithm_name(AlgorithmKind a) { return algorithm_names()[a == AlgorithmKind::Genetic ? 0 : 1]; }
-
 void read_map_elites(const json& value, MapElitesConfig& config, std::vector<ConfigProblem>& problems) {
   Reader(config, problems).read(value);
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <exception>
+#include <optional>
 #include <system_error>
 
 #include "core/number_text.hpp"
@@ -16,9 +17,6 @@ namespace sodaevo {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string fitness_kind_name(FitnessKind k) { return k == FitnessKind::Race ? "race" : "walk"; }
-std::string race_combine_name(RaceCombine c) { return c == RaceCombine::Worst ? "worst" : "mean"; }
-std::string race_score_name(RaceScore s) { return s == RaceScore::Progress ? "progress" : "racer"; }
 
 fs::path find_race_terrain(const std::string& entry, const fs::path& base_dir) {
   std::error_code ec;
@@ -54,8 +52,9 @@ class RaceFitnessReader {
       }
     }
     if (const auto it = v.find("score"); it != v.end()) {
-      if (*it == "racer") config_.score = RaceScore::Racer;
-      else if (*it == "progress") config_.score = RaceScore::Progress;
+      const std::optional<RaceScore> score =
+          it->is_string() ? soda::value_of(kRaceScoreNames, it->get<std::string>()) : std::nullopt;
+      if (score) config_.score = *score;
       else expected("/score", "one of \"racer\" or \"progress\"", *it);
     }
     if (v.contains("curriculum") && v.contains("terrains")) {
@@ -70,8 +69,9 @@ class RaceFitnessReader {
       else config_.timeout_factor = it->get<double>();
     }
     if (const auto it = v.find("combine"); it != v.end()) {
-      if (*it == "mean") config_.combine = RaceCombine::Mean;
-      else if (*it == "worst") config_.combine = RaceCombine::Worst;
+      const std::optional<RaceCombine> combine =
+          it->is_string() ? soda::value_of(kRaceCombineNames, it->get<std::string>()) : std::nullopt;
+      if (combine) config_.combine = *combine;
       else expected("/combine", "one of \"mean\" or \"worst\"", *it);
     }
     if (const auto it = v.find("timeout"); it != v.end()) {

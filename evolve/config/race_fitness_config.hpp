@@ -1,5 +1,5 @@
-// RaceFitnessConfig: the /fitness/race object of a run config (configs/README.md,
-// "Race fitness"), read and checked here and embedded in FitnessConfig.
+// Reading the /fitness/race object of a run config (configs/README.md, "Race
+// fitness") into RaceFitnessConfig (problems/race_settings.hpp).
 //
 // A race run scores a creature by racing it, as the original Sodarace racer does
 // (core/race_lane.hpp), on one or more terrains: race files named by path (relative
@@ -15,60 +15,12 @@
 
 #include <nlohmann/json.hpp>
 
-#include "evolve/config/map_elites_config.hpp"
+#include "evolve/algorithms/map_elites_settings.hpp"
+#include "evolve/config/strict_json.hpp"
+#include "evolve/problems/fitness_kind.hpp"
+#include "evolve/problems/race_settings.hpp"
 
 namespace sodaevo {
-
-/// /fitness/kind: what a creature is scored on.
-enum class FitnessKind { Walk, Race };
-/// /fitness/race/combine: the score over several terrains.
-enum class RaceCombine { Mean, Worst };
-/// /fitness/race/score: what a search ranks racers by (evolve/problems/race_progress.hpp).
-/// Racer: the original racer's result (frames, or timeout + the fraction left at
-/// the last frame). Progress: files finished first, then frames on the finished
-/// ones and the furthest ground held on the others.
-enum class RaceScore { Racer, Progress };
-std::string fitness_kind_name(FitnessKind k); ///< "walk", "race"
-std::string race_combine_name(RaceCombine c); ///< "mean", "worst"
-std::string race_score_name(RaceScore s);     ///< "racer", "progress"
-
-/// One stage of /fitness/race/curriculum: its terrain (a race file, absolute once
-/// resolved) and the result (frames) under which the best racer moves the run on
-/// to the next stage (unused on the last).
-struct CurriculumStage {
-  std::string terrain;
-  double threshold = 0.0;
-
-  bool operator==(const CurriculumStage&) const = default;
-};
-
-/// Most stages /fitness/race/curriculum takes (stage indices 0 to 63).
-inline constexpr int kMaxCurriculumStages = 64;
-
-struct RaceFitnessConfig {
-  std::vector<std::string> terrains; ///< /fitness/race/terrains: race files, absolute paths once resolved
-  RaceCombine combine = RaceCombine::Mean;
-  /// /fitness/race/score. The logged frames (Evaluation::distance) are the racer's
-  /// result under either; only the fitness differs.
-  RaceScore score = RaceScore::Racer;
-  /// /fitness/race/timeout: frames, [0, 49997]; 0 = each race file's own timeout.
-  /// A shorter one makes evaluations cheaper: a creature that does not finish still
-  /// scores timeout + the fraction of the way it had left.
-  int timeout = 0;
-  /// /fitness/race/timeout_factor: 0 (off) or [1, 100]. As wodka did, a generation
-  /// races with a timeout of this factor times the frames of the previous
-  /// generation's best racer (rounded up; never above `timeout` or the file's):
-  /// slow creatures are cut off early. Its timeout is saved with each generation
-  /// (evolve/runs/race_schedule.hpp).
-  double timeout_factor = 0.0;
-  /// /fitness/race/curriculum: 1 to 64 stages instead of `terrains` (as wodka's hill
-  /// curriculum): the run races stage 0's terrain until a generation's best racer
-  /// finishes in fewer frames than its threshold, then the next stage's. The stage
-  /// is saved with each generation (evolve/runs/race_schedule.hpp).
-  std::vector<CurriculumStage> curriculum;
-
-  bool operator==(const RaceFitnessConfig&) const = default;
-};
 
 /// Where a /fitness/race/terrains entry names a file: a path (relative to
 /// `base_dir`) if one exists there, else a bundled terrain of that name (".xml"

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string_view>
@@ -21,6 +22,8 @@
 #include "core/input_error.hpp"
 #include "core/number_text.hpp"
 #include "evolve/config/input_limits.hpp"
+#include "evolve/config/map_elites_config.hpp"
+#include "evolve/config/race_fitness_config.hpp"
 #include "evolve/config/seed_model_paths.hpp"
 #include "evolve/config/strict_json.hpp"
 
@@ -233,47 +236,11 @@ bool is_valid_name(const std::string& s) {
   });
 }
 
-template <class E>
-struct EnumName {
-  E value;
-  const char* name;
-};
+using soda::EnumName;
 
-constexpr EnumName<WalkDirection> kDirections[] = {
-    {WalkDirection::Right, "right"}, {WalkDirection::Left, "left"}, {WalkDirection::Either, "either"}};
-constexpr EnumName<FitnessScaling> kScalings[] = {
-    {FitnessScaling::Sodarace, "sodarace"}, {FitnessScaling::None, "none"}};
-constexpr EnumName<soda::PhysicsMode> kModes[] = {
-    {soda::PhysicsMode::Soda, "soda"}, {soda::PhysicsMode::Continuous, "continuous"}};
-constexpr EnumName<soda::Integrator> kIntegrators[] = {
-    {soda::Integrator::Euler, "euler"},
-    {soda::Integrator::Verlet, "verlet"},
-    {soda::Integrator::Rk4, "rk4"},
-    {soda::Integrator::BackwardEuler, "backward-euler"},
-    {soda::Integrator::ImplicitMidpoint, "implicit-midpoint"}};
-constexpr EnumName<DivergenceCheck> kDivergenceChecks[] = {
-    {DivergenceCheck::Finite, "finite"}, {DivergenceCheck::Energy, "energy"}};
-constexpr EnumName<EstimateStatistic> kStatistics[] = {
-    {EstimateStatistic::Mean, "mean"}, {EstimateStatistic::Median, "median"}, {EstimateStatistic::LowerBound, "lcb"}};
-constexpr EnumName<soda::GravityDirection> kGravityDirections[] = {
-    {soda::GravityDirection::Down, "down"},
-    {soda::GravityDirection::Up, "up"},
-    {soda::GravityDirection::Off, "off"}};
-
-template <class E, std::size_t N>
-std::string enum_name(const EnumName<E> (&names)[N], E value) {
-  for (const auto& n : names) {
-    if (n.value == value) return n.name;
-  }
-  return "?";
-}
-
-template <class E, std::size_t N>
-std::vector<std::string> enum_names(const EnumName<E> (&names)[N]) {
-  std::vector<std::string> out;
-  for (const auto& n : names) out.emplace_back(n.name);
-  return out;
-}
+// The names of the enums are their own tables (core/stepping.hpp,
+// problems/fitness_settings.hpp, problems/world_settings.hpp,
+// algorithms/map_elites_settings.hpp; /fitness/kind: problems/fitness_kind.hpp).
 
 // --- the parser -----------------------------------------------------------------
 
@@ -433,8 +400,12 @@ class ConfigReader {
       case Kind::SeedModels:
         return read_seed_models(v);
       case Kind::FitnessKindName:
-        if (v == "race") config_.fitness.kind = FitnessKind::Race;
-        else if (v != "walk") expected(p, "one of " + quoted_list({"walk", "race"}), v);
+        if (const std::optional<FitnessKind> kind =
+                v.is_string() ? parse_fitness_kind(v.get<std::string>()) : std::nullopt) {
+          config_.fitness.kind = *kind;
+        } else {
+          expected(p, "one of " + quoted_list(fitness_kind_names()), v);
+        }
         return;
       case Kind::Race: {
         std::vector<ConfigProblem> problems;
@@ -444,25 +415,23 @@ class ConfigReader {
         return;
       }
       case Kind::Direction:
-        return read_enum(p, v, kDirections, config_.fitness.direction);
+        return read_enum(p, v, kWalkDirectionNames, config_.fitness.direction);
       case Kind::Scaling:
-        return read_enum(p, v, kScalings, config_.fitness.scaling);
+        return read_enum(p, v, kFitnessScalingNames, config_.fitness.scaling);
       case Kind::Mode:
-        return read_enum(p, v, kModes, config_.fitness.mode);
+        return read_enum(p, v, soda::kPhysicsModeNames, config_.fitness.mode);
       case Kind::Integrator:
-        return read_enum(p, v, kIntegrators, config_.fitness.integrator);
+        return read_enum(p, v, soda::kIntegratorNames, config_.fitness.integrator);
       case Kind::Divergence:
-        return read_enum(p, v, kDivergenceChecks, config_.fitness.divergence);
+        return read_enum(p, v, kDivergenceCheckNames, config_.fitness.divergence);
       case Kind::Statistic:
-        return read_enum(p, v, kStatistics, config_.fitness.statistic);
+        return read_enum(p, v, kEstimateStatisticNames, config_.fitness.statistic);
       case Kind::GravityDirection:
-        return read_enum(p, v, kGravityDirections, config_.world.gravity_direction);
+        return read_enum(p, v, kGravityDirectionNames, config_.world.gravity_direction);
       case Kind::WorldEvolve:
         return read_world_evolve(v);
       case Kind::Algorithm:
-        if (v == "map-elites") config_.algorithm = AlgorithmKind::MapElites;
-        else if (v != "ga") expected(p, "one of " + quoted_list(algorithm_names()), v);
-        return;
+        return read_enum(p, v, kAlgorithmNames, config_.algorithm);
       case Kind::MapElites: {
         std::vector<ConfigProblem> problems;
         read_map_elites(v, config_.map_elites, problems);
@@ -475,14 +444,12 @@ class ConfigReader {
   template <class E, std::size_t N>
   void read_enum(const std::string& p, const json& v, const EnumName<E> (&names)[N], E& out) {
     if (v.is_string()) {
-      for (const auto& n : names) {
-        if (v.get<std::string>() == n.name) {
-          out = n.value;
-          return;
-        }
+      if (const std::optional<E> value = soda::value_of(names, v.get<std::string>())) {
+        out = *value;
+        return;
       }
     }
-    expected(p, "one of " + quoted_list(enum_names(names)), v);
+    expected(p, "one of " + quoted_list(soda::names_of(names)), v);
   }
 
   void read_seed_models(const json& v) {
@@ -608,17 +575,6 @@ class ConfigReader {
 
 } // namespace
 
-const std::vector<std::string>& world_parameter_names() {
-  static const std::vector<std::string> names = {"gravity", "friction", "springyness", "surface_friction", "surface_reflection"};
-  return names;
-}
-
-std::string direction_name(WalkDirection d) { return enum_name(kDirections, d); }
-std::string scaling_name(FitnessScaling s) { return enum_name(kScalings, s); }
-std::string divergence_check_name(DivergenceCheck d) { return enum_name(kDivergenceChecks, d); }
-std::string statistic_name(EstimateStatistic s) { return enum_name(kStatistics, s); }
-std::string gravity_direction_name(soda::GravityDirection d) { return enum_name(kGravityDirections, d); }
-
 RunConfig parse_run_config(const std::string& json_text, const std::string& source,
                            const std::filesystem::path& base_dir) {
   if (json_text.size() > kMaxConfigBytes) {
@@ -676,8 +632,8 @@ nlohmann::json to_json(const RunConfig& config) {
         break;
       case Kind::Direction: j[p] = direction_name(c.fitness.direction); break;
       case Kind::Scaling: j[p] = scaling_name(c.fitness.scaling); break;
-      case Kind::Mode: j[p] = enum_name(kModes, c.fitness.mode); break;
-      case Kind::Integrator: j[p] = enum_name(kIntegrators, c.fitness.integrator); break;
+      case Kind::Mode: j[p] = soda::mode_name(c.fitness.mode); break;
+      case Kind::Integrator: j[p] = soda::integrator_name(c.fitness.integrator); break;
       case Kind::Divergence: j[p] = divergence_check_name(c.fitness.divergence); break;
       case Kind::Statistic: j[p] = statistic_name(c.fitness.statistic); break;
       case Kind::GravityDirection: j[p] = gravity_direction_name(c.world.gravity_direction); break;

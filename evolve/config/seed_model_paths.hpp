@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "evolve/config/map_elites_config.hpp"
+#include "evolve/config/strict_json.hpp"
 
 namespace sodaevo {
 

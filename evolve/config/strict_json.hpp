@@ -6,10 +6,17 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 namespace sodaevo {
+
+/// One problem found while reading: where, and "expected ..., got ..." or similar.
+struct ConfigProblem {
+  std::string pointer;
+  std::string message;
+};
 
 /// Parses `text`. A syntax error, a number too large for a double, or nesting
 /// deeper than kMaxJsonDepth throws soda::InputError naming `source` and the

@@ -5,7 +5,7 @@
 #include <exception>
 #include <string>
 
-#include "evolve/algorithms/rng.hpp"
+#include "core/mix64.hpp"
 #include "evolve/estimators/sample_summary.hpp"
 #include "evolve/problems/wire_format.hpp"
 
@@ -33,26 +33,26 @@ std::uint64_t creature_key(const soda::ModelDef& creature) {
   genome.comment.clear();
   const std::vector<char> bytes = encode_creature(genome);
   std::uint64_t h = 0x6a09e667f3bcc909ULL;
-  for (char c : bytes) h = mix64(h ^ static_cast<unsigned char>(c));
-  return mix64(h ^ bytes.size());
+  for (char c : bytes) h = soda::mix64(h ^ static_cast<unsigned char>(c));
+  return soda::mix64(h ^ bytes.size());
 }
 
 std::uint64_t replica_seed(std::uint64_t run_seed, ReplicaPurpose purpose, std::uint64_t key, int replica) {
   if (purpose == ReplicaPurpose::Selection && replica == 0) return 0;
-  std::uint64_t h = mix64(run_seed ^ 0x243f6a8885a308d3ULL);
-  h = mix64(h ^ static_cast<std::uint64_t>(purpose));
-  h = mix64(h ^ key);
-  h = mix64(h ^ static_cast<std::uint64_t>(replica));
+  std::uint64_t h = soda::mix64(run_seed ^ 0x243f6a8885a308d3ULL);
+  h = soda::mix64(h ^ static_cast<std::uint64_t>(purpose));
+  h = soda::mix64(h ^ key);
+  h = soda::mix64(h ^ static_cast<std::uint64_t>(replica));
   return h == 0 ? 1 : h;
 }
 
-ReplicaPlan replica_plan(const RunConfig& config) {
+ReplicaPlan replica_plan(const FitnessConfig& fitness, std::uint64_t run_seed) {
   ReplicaPlan p;
-  p.replicas = config.fitness.replicas;
-  p.replicas_max = config.fitness.replicas_max;
-  p.statistic = config.fitness.statistic;
-  p.jitter = config.fitness.jitter;
-  p.run_seed = config.seed;
+  p.replicas = fitness.replicas;
+  p.replicas_max = fitness.replicas_max;
+  p.statistic = fitness.statistic;
+  p.jitter = fitness.jitter;
+  p.run_seed = run_seed;
   return p;
 }
 

@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "evolve/estimators/estimator.hpp"
-#include "evolve/config/run_config.hpp"
+#include "evolve/problems/fitness_settings.hpp"
 
 namespace sodaevo {
 
@@ -59,8 +59,9 @@ struct ReplicaPlan {
   bool operator==(const ReplicaPlan&) const = default;
 };
 
-/// The plan of a run's config.
-ReplicaPlan replica_plan(const RunConfig& config);
+/// The plan of /fitness (replicas, replicas_max, statistic, jitter) in a run of
+/// seed `run_seed` (runs/run_roles.hpp: the plan of a run's config).
+ReplicaPlan replica_plan(const FitnessConfig& fitness, std::uint64_t run_seed);
 
 /// The statistic of replica scores (at least one): mean, median, or
 /// mean - t(0.975, n-1) * sd / sqrt(n) (the mean itself for one score).

@@ -8,9 +8,17 @@
 #include <string>
 
 #include "core/model_def.hpp"
-#include "evolve/config/run_config.hpp"
 
 namespace sodaevo {
+
+/// /limits: the counts a genome must keep to.
+struct LimitsConfig {
+  int min_masses = 3;   ///< /limits/min_masses [2, max_masses]
+  int max_masses = 40;  ///< /limits/max_masses [min_masses, 10000]
+  int max_links = 150;  ///< /limits/max_links [1, 100000]
+
+  bool operator==(const LimitsConfig&) const = default;
+};
 
 /// Why `creature` is not a valid genome under `limits` (masses only, at least one
 /// link, connected, within counts), or nullopt if it is.

@@ -4,9 +4,10 @@
 // that model (rollouts). It does not choose how many rollouts make a score (the
 // Estimator does) nor where they run (the Evaluator does).
 //
-// Today's kind is WalkProblem (evolve/problems/walk_problem.hpp): how far a creature walks
-// on a flat floor. A race over terrains (fewer frames is better) is another
-// kind: it implements the same four calls and its own wire tag.
+// Its kinds (fitness_kind.hpp: each kind's name, unit and how its score is shown)
+// are WalkProblem (walk_problem.hpp): how far a creature walks on a flat floor,
+// and RaceProblem (race_problem.hpp): how fast it races over terrains, fewer
+// frames is better.
 #pragma once
 
 #include <memory>
@@ -16,6 +17,7 @@
 #include "core/model_def.hpp"
 #include "core/sine_jitter.hpp"
 #include "evolve/problems/evaluation.hpp"
+#include "evolve/problems/fitness_kind.hpp"
 
 namespace sodaevo {
 
@@ -36,8 +38,10 @@ class Problem {
  public:
   virtual ~Problem() = default;
 
+  /// What it scores: its row of kFitnessKinds says how the scores read.
+  [[nodiscard]] virtual FitnessKind fitness_kind() const = 0;
   /// The kind's name, also its tag in the wire format ("walk").
-  [[nodiscard]] virtual std::string kind() const = 0;
+  [[nodiscard]] std::string kind() const { return fitness_kind_name(fitness_kind()); }
 
   /// The model that is stepped (and exported) for `creature`. Throws
   /// soda::InputError saying why the creature is refused (outside the limits, or

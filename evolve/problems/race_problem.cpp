@@ -92,12 +92,9 @@ bool race_together(const std::vector<Rollout>& runs,
 
 } // namespace
 
-RaceProblem::RaceProblem(const RunConfig& config)
-    : RaceProblem(config, config.algorithm == AlgorithmKind::MapElites ? config.map_elites.sample_every : 0) {}
-
-RaceProblem::RaceProblem(const RunConfig& config, long long describe_every)
-    : RaceProblem(config.fitness.race, read_terrains(config.fitness.race), config.world, config.limits,
-                  describe_every) {}
+RaceProblem::RaceProblem(const FitnessConfig& fitness, const WorldConfig& world, const LimitsConfig& limits,
+                         long long describe_every)
+    : RaceProblem(fitness.race, read_terrains(fitness.race), world, limits, describe_every) {}
 
 int RaceProblem::timeout_of(std::size_t t) const {
   const int base = race_.timeout > 0 ? race_.timeout : terrains_[t].race.timeout;

@@ -34,8 +34,10 @@
 #include "core/race_def.hpp"
 #include "core/race_lane.hpp"
 #include "evolve/problems/descriptors.hpp"
+#include "evolve/problems/creature_limits.hpp"
+#include "evolve/problems/fitness_settings.hpp"
 #include "evolve/problems/problem.hpp"
-#include "evolve/config/run_config.hpp"
+#include "evolve/problems/world_settings.hpp"
 
 namespace sodaevo {
 
@@ -55,16 +57,14 @@ class RaceProblem final : public Problem {
   /// `describe_every` > 0: measure the descriptors every that many frames of a race.
   RaceProblem(const RaceFitnessConfig& race, std::vector<RaceTerrain> terrains, const WorldConfig& world,
               const LimitsConfig& limits, long long describe_every = 0);
-  /// The run's problem: /fitness/race (its terrains read now), /world and /limits;
-  /// with /algorithm "map-elites" it measures descriptors every
-  /// /map_elites/sample_every frames.
-  explicit RaceProblem(const RunConfig& config);
-  /// The run's problem measuring descriptors every `describe_every` frames (0: none).
-  RaceProblem(const RunConfig& config, long long describe_every);
+  /// The run's problem: /fitness/race (its terrains read now), /world and /limits,
+  /// measuring descriptors every `describe_every` frames (0: none).
+  RaceProblem(const FitnessConfig& fitness, const WorldConfig& world, const LimitsConfig& limits,
+              long long describe_every);
 
   [[nodiscard]] const std::vector<RaceTerrain>& terrains() const { return terrains_; }
 
-  [[nodiscard]] std::string kind() const override { return "race"; }
+  [[nodiscard]] FitnessKind fitness_kind() const override { return FitnessKind::Race; }
   [[nodiscard]] soda::ModelDef prepare(const soda::ModelDef& creature) const override;
   /// Each run on every terrain; the lanes of one prepared model are built once and
   /// shared by its replicas; all race together (run_races_together: the results of

@@ -61,10 +61,6 @@ WalkProblem::WalkProblem(const FitnessConfig& fitness, const WorldConfig& world,
   if (describe_every_ < 0) throw std::invalid_argument("WalkProblem: negative descriptor sample interval");
 }
 
-WalkProblem::WalkProblem(const RunConfig& config)
-    : WalkProblem(config.fitness, config.world, config.limits,
-                  config.algorithm == AlgorithmKind::MapElites ? config.map_elites.sample_every : 0) {}
-
 namespace {
 
 bool world_evolves(const WorldConfig& world, const char* name) {

@@ -16,8 +16,10 @@
 #include <optional>
 
 #include "core/stepping.hpp"
+#include "evolve/problems/creature_limits.hpp"
+#include "evolve/problems/fitness_settings.hpp"
 #include "evolve/problems/problem.hpp"
-#include "evolve/config/run_config.hpp"
+#include "evolve/problems/world_settings.hpp"
 
 namespace sodaevo {
 
@@ -37,16 +39,13 @@ class WalkProblem final : public Problem {
   /// (and after the last one); 0: no descriptors.
   WalkProblem(const FitnessConfig& fitness, const WorldConfig& world, const LimitsConfig& limits,
               long long describe_every = 0);
-  /// The run's problem: its /fitness, /world and /limits; with /algorithm
-  /// "map-elites" it measures descriptors every /map_elites/sample_every frames.
-  explicit WalkProblem(const RunConfig& config);
 
   [[nodiscard]] const FitnessConfig& fitness() const { return fitness_; }
   [[nodiscard]] const WorldConfig& world() const { return world_; }
   [[nodiscard]] const LimitsConfig& limits() const { return limits_; }
   [[nodiscard]] long long describe_every() const { return describe_every_; }
 
-  [[nodiscard]] std::string kind() const override { return "walk"; }
+  [[nodiscard]] FitnessKind fitness_kind() const override { return FitnessKind::Walk; }
   [[nodiscard]] soda::ModelDef prepare(const soda::ModelDef& creature) const override;
   /// In the soda mode with only the non-finite check and no honesty re-run, the
   /// models are stepped together (soda::BatchStepper, their links in shared SIMD

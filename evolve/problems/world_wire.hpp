@@ -2,8 +2,11 @@
 // part every Problem kind shares (walk_problem.hpp, race_problem.hpp).
 #pragma once
 
-#include "evolve/config/run_config.hpp"
+#include <string>
+
+#include "evolve/problems/creature_limits.hpp"
 #include "evolve/problems/wire_format.hpp"
+#include "evolve/problems/world_settings.hpp"
 
 namespace sodaevo {
 

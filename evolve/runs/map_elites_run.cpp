@@ -104,7 +104,7 @@ MapElitesOutcome run_map_elites(const std::filesystem::path& dir, const RunConfi
       if (!pause || !checkpointed) store.write_checkpoint(archive, state);
       if (!pause) {
         store.write_snapshot(archive, me, state.iteration);
-        store.write_archive(archive, config, me, state.iteration);
+        store.write_archive(archive, *problem_of(config, 0), config, me, state.iteration);
       }
       outcome.stopped_because = stop;
       outcome.last_iteration = state.iteration;

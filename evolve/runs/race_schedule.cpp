@@ -22,7 +22,7 @@ std::optional<double> best_frames(const Generation& evaluated) {
 
 int next_race_timeout(const RunConfig& config, const Generation& evaluated) {
   const double factor = config.fitness.race.timeout_factor;
-  if (config.fitness.kind != FitnessKind::Race || !(factor > 0.0)) return 0;
+  if (!(factor > 0.0)) return 0; // off, or not a race (a walk has no /fitness/race)
   const std::optional<double> frames = best_frames(evaluated);
   if (!frames) return evaluated.race_timeout;
   const double timeout = std::ceil(factor * *frames);
@@ -32,7 +32,7 @@ int next_race_timeout(const RunConfig& config, const Generation& evaluated) {
 int next_race_stage(const RunConfig& config, const Generation& evaluated) {
   const std::vector<CurriculumStage>& stages = config.fitness.race.curriculum;
   const std::size_t stage = static_cast<std::size_t>(evaluated.race_stage);
-  if (config.fitness.kind != FitnessKind::Race || stage + 1 >= stages.size()) return evaluated.race_stage;
+  if (stage + 1 >= stages.size()) return evaluated.race_stage; // the last stage, or no curriculum
   const std::optional<double> frames = best_frames(evaluated);
   if (!frames) return evaluated.race_stage;
   return *frames < stages[stage].threshold ? evaluated.race_stage + 1 : evaluated.race_stage;

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/number_text.hpp"
+#include "evolve/config/race_fitness_config.hpp"
 #include "evolve/evaluators/parallel_for.hpp"
 #include "evolve/runs/race_schedule.hpp"
 #include "evolve/store/run_reader.hpp"
@@ -75,11 +76,14 @@ nlohmann::json champion_json(const ReplicaCheck& c, const std::string& file, lon
 
 nlohmann::json champion_json(const ReplicaCheck& c, const std::string& file, const RunConfig& config) {
   nlohmann::json j = champion_json(c, file, config.fitness.settle_frames, config.fitness.frames);
-  if (config.fitness.kind == FitnessKind::Race) {
-    j.erase("settle_frames");
-    j.erase("frames");
-    j["unit"] = "frames";
-    j["race"] = to_json(config.fitness.race);
+  switch (config.fitness.kind) { // no default: a new kind says what its entry holds
+    case FitnessKind::Walk: break;
+    case FitnessKind::Race:
+      j.erase("settle_frames");
+      j.erase("frames");
+      j["unit"] = fitness_kind_info(config.fitness.kind).unit;
+      j["race"] = to_json(config.fitness.race);
+      break;
   }
   return j;
 }

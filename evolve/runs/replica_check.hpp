@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include "evolve/algorithms/population.hpp"
+#include "evolve/config/run_config.hpp"
 #include "evolve/problems/problem.hpp"
 #include "evolve/estimators/replica_estimator.hpp"
 #include "evolve/estimators/sample_summary.hpp"

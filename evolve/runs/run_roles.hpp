@@ -10,7 +10,9 @@
 #include "core/model_def.hpp"
 #include "evolve/algorithms/algorithm.hpp"
 #include "evolve/estimators/estimator.hpp"
+#include "evolve/estimators/replica_estimator.hpp"
 #include "evolve/problems/problem.hpp"
+#include "evolve/problems/walk_problem.hpp"
 #include "evolve/config/run_config.hpp"
 
 namespace sodaevo {
@@ -28,6 +30,13 @@ std::unique_ptr<Problem> problem_of(const RunConfig& config, long long describe_
 /// problem_of measuring descriptors as the run does: every /map_elites/sample_every
 /// frames with /algorithm "map-elites", else not.
 std::unique_ptr<Problem> problem_of(const RunConfig& config);
+
+/// The WalkProblem of a walk run's config: its /fitness, /world and /limits; with
+/// /algorithm "map-elites" measuring descriptors every /map_elites/sample_every frames.
+WalkProblem walk_problem_of(const RunConfig& config);
+
+/// The ReplicaEstimator's plan of a run's config: its /fitness and /seed.
+ReplicaPlan replica_plan(const RunConfig& config);
 
 /// problem_of(config); a ReplicaEstimator
 /// (/fitness/replicas...) and a GeneticAlgorithm.

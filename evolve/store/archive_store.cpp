@@ -8,7 +8,6 @@
 #include "core/sine_identity.hpp"
 #include "formats/model_file.hpp"
 #include "core/number_text.hpp"
-#include "evolve/runs/run_roles.hpp"
 #include "evolve/store/run_store.hpp"
 
 namespace sodaevo {
@@ -128,14 +127,13 @@ void ArchiveStore::write_snapshot(const GridArchive& archive, const MapElitesCon
   soda::write_file_atomically(dir_ / "snapshots" / name, archive_to_json(archive, me, iteration).dump(1) + "\n");
 }
 
-void ArchiveStore::write_archive(const GridArchive& archive, const RunConfig& config, const MapElitesConfig& me,
-                                 int iteration) const {
+void ArchiveStore::write_archive(const GridArchive& archive, const Problem& exporter, const RunConfig& config,
+                                 const MapElitesConfig& me, int iteration) const {
   const fs::path elites = dir_ / "elites";
   fs::remove_all(elites);
   fs::create_directories(elites);
-  const std::unique_ptr<Problem> problem = problem_of(config, 0);
   for (const auto& [cell, e] : archive.elites()) {
-    const soda::ModelDef prepared = problem->export_form(e.creature, e.id, elite_evaluation(e, config));
+    const soda::ModelDef prepared = exporter.export_form(e.creature, e.id, elite_evaluation(e, config));
     soda::write_model_file(dir_ / elite_file(e.id), prepared);
   }
   json j = archive_to_json(archive, me, iteration);

@@ -31,6 +31,7 @@
 #include "evolve/algorithms/grid_archive.hpp"
 #include "evolve/algorithms/map_elites.hpp"
 #include "evolve/config/run_config.hpp"
+#include "evolve/problems/problem.hpp"
 
 namespace sodaevo {
 
@@ -60,9 +61,11 @@ class ArchiveStore {
   /// Drops qd.csv rows after `iteration` (resume), keeping the others in memory.
   void truncate_after(int iteration);
   void write_snapshot(const GridArchive& archive, const MapElitesConfig& me, int iteration) const;
-  /// archive.json and elites/ (replaced whole: elites no longer in the archive go).
-  void write_archive(const GridArchive& archive, const RunConfig& config, const MapElitesConfig& me,
-                     int iteration) const;
+  /// archive.json and elites/ (replaced whole: elites no longer in the archive go),
+  /// each elite as `exporter` (the run's Problem) gives its file: the store never
+  /// prepares a creature itself.
+  void write_archive(const GridArchive& archive, const Problem& exporter, const RunConfig& config,
+                     const MapElitesConfig& me, int iteration) const;
   void write_checkpoint(const GridArchive& archive, const ArchiveCheckpoint& c) const;
   /// The checkpoint's state, its elites placed into `archive` (empty, of the run's
   /// grid); nullopt if there is none. Throws InputError naming the file if corrupt.
