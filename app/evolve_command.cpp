@@ -5,6 +5,7 @@
 #include <cmath>
 #include <chrono>
 #include <csignal>
+#include <optional>
 #include <cstdio>
 #include <cstring>
 #include <ctime>
@@ -86,6 +87,26 @@ void prepare_terminated_message(const std::string& dir) {
                            "  sodaevo evolve --resume " + dir + "\n";
   std::snprintf(g_terminated_message, sizeof g_terminated_message, "%s", text.c_str());
 }
+
+/// The stop signals (Ctrl-C, SIGUSR1: finish the step and save; SIGTERM: say how
+/// to resume and exit) handled while a run is in this scope, whichever algorithm
+/// runs, and the defaults restored when it is left, by a return or an exception.
+class StopSignals {
+ public:
+  explicit StopSignals(const std::string& dir) {
+    prepare_terminated_message(dir);
+    std::signal(SIGINT, on_interrupt);
+    std::signal(SIGUSR1, on_polite_stop);
+    std::signal(SIGTERM, on_terminate);
+  }
+  ~StopSignals() {
+    std::signal(SIGTERM, SIG_DFL);
+    std::signal(SIGUSR1, SIG_DFL);
+    std::signal(SIGINT, SIG_DFL);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+};
 
 std::string timestamp() {
   const std::time_t t = std::time(nullptr);
@@ -182,25 +203,20 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     where = std::to_string(e->threads()) + " thread(s); Ctrl-C";
     evaluator = std::move(e);
   }
+  // Installed once, for either algorithm; the defaults are back once its loop ends.
+  std::optional<StopSignals> signals(std::in_place, store->dir().string());
   if (store->config().algorithm == AlgorithmKind::MapElites) {
     if (!opt.quiet) {
       std::cerr << (opt.resume.empty() ? "evolving" : "resuming") << " '" << store->config().name
                 << "' (MAP-Elites) into " << store->dir().string() << " on " << where
                 << " stops after the current iteration\n";
     }
-    prepare_terminated_message(store->dir().string());
-    std::signal(SIGINT, on_interrupt);
-    std::signal(SIGUSR1, on_polite_stop);
-    std::signal(SIGTERM, on_terminate);
     try {
       evolve_map_elites(*store, *evaluator, opt.threads, opt.quiet, &g_stop_requested);
     } catch (const std::exception& e) {
       throw std::runtime_error(std::string(e.what()) + "\nThe run stopped; the run folder is intact at its last "
                                "checkpoint. Continue with:\n  sodaevo evolve --resume " + store->dir().string());
     }
-    std::signal(SIGTERM, SIG_DFL);
-    std::signal(SIGUSR1, SIG_DFL);
-    std::signal(SIGINT, SIG_DFL);
     return;
   }
   const bool tty = ::isatty(STDERR_FILENO) != 0;
@@ -236,10 +252,6 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     if (tty) std::cerr << "\r\033[K" << line << std::flush;
     else std::cerr << line << '\n';
   };
-  prepare_terminated_message(store->dir().string());
-  std::signal(SIGINT, on_interrupt);
-  std::signal(SIGUSR1, on_polite_stop);
-  std::signal(SIGTERM, on_terminate);
   EvolutionOutcome outcome;
   try {
     outcome = run_evolution(*store, *evaluator, options);
@@ -250,9 +262,7 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
     throw std::runtime_error(std::string(e.what()) + "\nThe run stopped; the run folder is intact at its last checkpoint. Continue with:\n  sodaevo evolve --resume " +
                              store->dir().string());
   }
-  std::signal(SIGTERM, SIG_DFL);
-  std::signal(SIGUSR1, SIG_DFL);
-  std::signal(SIGINT, SIG_DFL);
+  signals.reset();
   // The best creatures again on fresh replicas: claimed against checked, for the
   // report (RUN/champions.json).
   std::vector<ReplicaCheck> checks;
@@ -266,7 +276,7 @@ void run_evolve(const EvolveOptions& opt, const std::string& command_line) {
   refresh_report();
   if (!opt.quiet) {
     if (tty) std::cerr << '\n';
-    std::cerr << "stopped: " << outcome.stopped_because << " after generation " << outcome.last_generation + 1 << " ("
+    std::cerr << "stopped: " << stop_reason_name(outcome.stopped_because) << " after generation " << outcome.last_generation + 1 << " ("
               << outcome.evaluations << " evaluations)\n";
 #if SODAEVO_HAS_MPI
     if (mpi_evaluator) {

@@ -68,7 +68,7 @@ void evolve_map_elites(const RunStore& store, Evaluator& evaluator, int threads,
   refresh_report();
   if (!quiet) {
     if (tty) std::cerr << '\n';
-    std::cerr << "stopped: " << outcome.stopped_because << " after iteration " << outcome.last_iteration << " ("
+    std::cerr << "stopped: " << stop_reason_name(outcome.stopped_because) << " after iteration " << outcome.last_iteration << " ("
               << outcome.evaluations << " evaluations)\n";
   }
   const QdMetrics& m = outcome.metrics;

@@ -36,7 +36,7 @@ QdMetrics population_archive(const RunConfig& config, const MapElitesConfig& me,
   const std::vector<Evaluation> described = evaluator.evaluate(creatures, problem, estimator);
   std::vector<Challenger> challengers;
   for (std::size_t i = 0; i < creatures.size(); ++i) challengers.push_back({population.individuals[i], described[i]});
-  insert_challengers(archive, std::move(challengers), 0, map_elites_resample_plan(config),
+  insert_challengers(archive, std::move(challengers), 0, map_elites_resample_plan(replica_plan(config)),
                      replica_sampler(evaluator, problem, estimator));
   return archive.metrics(me.qd_offset);
 }

@@ -7,6 +7,7 @@
 #include "core/number_text.hpp"
 #include "formats/atomic_file.hpp"
 #include "formats/model_file.hpp"
+#include "formats/xml_escape.hpp"
 #include "formats/xml_util.hpp"
 
 namespace soda {
@@ -86,45 +87,13 @@ void check_writable(const ModelDef& def) {
   }
 }
 
-/// Appends UTF-8 text escaped for an ISO-8859-1 XML document: markup characters as
-/// entities, U+00A0..U+00FF as single latin-1 bytes, the C1 controls and
-/// everything above U+00FF as character references. Characters XML 1.0 does not
-/// allow (and malformed UTF-8) become U+FFFD. In attribute values, tab, LF and CR
-/// are written as references too, since a parser would turn them into spaces.
-void append_escaped(std::string& out, std::string_view utf8, bool attribute) {
-  bool changed = false;
-  for (char32_t cp : xml::decode_xml_text(utf8, changed)) {
-    switch (cp) {
-      case '&': out += "&amp;"; continue;
-      case '<': out += "&lt;"; continue;
-      case '>': out += "&gt;"; continue;
-      case '"': out += "&quot;"; continue;
-      case '\r': out += "&#13;"; continue; // a raw CR would be read back as LF
-      case '\t':
-      case '\n':
-        if (!attribute) {
-          out += static_cast<char>(cp);
-          continue;
-        }
-        break;
-      default:
-        if ((cp >= 0x20 && cp < 0x7F) || (cp >= 0xA0 && cp <= 0xFF)) {
-          out += static_cast<char>(static_cast<unsigned char>(cp));
-          continue;
-        }
-        break;
-    }
-    out += "&#" + std::to_string(static_cast<unsigned long>(cp)) + ";";
-  }
-}
-
 std::string attr(const char* name, double v) {
   return std::string(" ") + name + "=\"" + format_double(v) + "\"";
 }
 
 std::string id_attr(const char* name, const std::string& id) {
   std::string out = std::string(" ") + name + "=\"";
-  append_escaped(out, id, true);
+  append_xml_escaped(out, id, true);
   return out + "\"";
 }
 
@@ -157,11 +126,11 @@ std::string write_model_text(const ModelDef& input) {
   out += "<!DOCTYPE sodaconstructor>\n";
   out += "<model>\n";
   out += "\t<comment>";
-  append_escaped(out, def.comment, false);
+  append_xml_escaped(out, def.comment, false);
   out += "</comment>\n";
   if (!def.name.empty()) {
     out += "\t<name>";
-    append_escaped(out, def.name, false);
+    append_xml_escaped(out, def.name, false);
     out += "</name>\n";
   }
   out += "\t<container width=\"" + std::to_string(def.width) + "\" height=\"" + std::to_string(def.height) +

@@ -94,7 +94,7 @@ class Optimiser {
             progress_.append(iteration_progress(p));
           };
           const MapElitesOutcome o = run_map_elites(store_->dir(), config_, config_.map_elites, evaluator_, options);
-          stopped = o.stopped_because;
+          stopped = stop_reason_name(o.stopped_because);
           filled_ = o.metrics.filled;
         } else {
           EvolutionOptions options;
@@ -105,7 +105,7 @@ class Optimiser {
             progress_.append(generation_progress(p));
           };
           const EvolutionOutcome o = run_evolution(*store_, evaluator_, options);
-          stopped = o.stopped_because;
+          stopped = stop_reason_name(o.stopped_because);
           best_fitness_ = o.best_fitness;
           best_id_ = o.best_id;
         }

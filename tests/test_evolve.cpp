@@ -98,7 +98,7 @@ TEST_CASE("the evaluation budget ends the run at the generation worked out by ha
   RunStore store = RunStore::create(dir, c, false, "test");
   ThreadEvaluator evaluator(2);
   const EvolutionOutcome o = run_evolution(store, evaluator, {});
-  CHECK(o.stopped_because == "evaluation budget");
+  CHECK(o.stopped_because == StopReason::EvaluationBudget);
   CHECK(o.last_generation == 3);
   CHECK(o.evaluations == 34);
   fs::remove_all(dir);
@@ -185,7 +185,7 @@ TEST_CASE("an interrupted run resumes to exactly the uninterrupted result", "[ev
   const fs::path dir = fresh_dir("interrupted");
   {
     const EvolutionOutcome o = run_until(dir, config, 2);
-    CHECK(o.stopped_because == "interrupted");
+    CHECK(o.stopped_because == StopReason::Interrupted);
     CHECK(o.last_generation == 2);
   }
   {
@@ -196,7 +196,7 @@ TEST_CASE("an interrupted run resumes to exactly the uninterrupted result", "[ev
     CHECK(store.config() == expected);
     ThreadEvaluator evaluator(1);
     const EvolutionOutcome o = run_evolution(store, evaluator, {});
-    CHECK(o.stopped_because == "completed");
+    CHECK(o.stopped_because == StopReason::Completed);
   }
   require_same_evolve_results(whole, dir);
   fs::remove_all(dir.parent_path());
@@ -213,7 +213,7 @@ TEST_CASE("a run folder is self-contained: moved away from its seed models it is
   config.budget.generations = 3;
   config.save.generation_every = 1;
   config.population.seed_models = {(base / "mine" / "dainty_walker.xml").string()};
-  CHECK(run_until(base / "run", config, 1).stopped_because == "interrupted");
+  CHECK(run_until(base / "run", config, 1).stopped_because == StopReason::Interrupted);
   CHECK(soda::read_whole_file(base / "run" / "seeds" / "dainty_walker.xml") ==
         soda::read_whole_file(fs::path(SODAEVO_MODELS_DIR) / "dainty_walker.xml"));
   CHECK(nlohmann::json::parse(soda::read_whole_file(base / "run" / "config.json"))["population"]["seed_models"] ==
@@ -227,7 +227,7 @@ TEST_CASE("a run folder is self-contained: moved away from its seed models it is
   {
     RunStore store = RunStore::open(moved);
     ThreadEvaluator evaluator(1);
-    CHECK(run_evolution(store, evaluator, {}).stopped_because == "completed");
+    CHECK(run_evolution(store, evaluator, {}).stopped_because == StopReason::Completed);
   }
   RunConfig plain = small_config();
   plain.budget.generations = 3;

@@ -493,7 +493,7 @@ TEST_CASE("MAP-Elites run: the same archive on 1, 2 and 8 threads, and resumed a
   ThreadEvaluator threads1(1), threads2(2);
   const MapElitesOutcome a = run_map_elites(one, run.config, run.me, threads1, {});
   const MapElitesOutcome b = run_map_elites(two, run.config, run.me, threads2, {});
-  CHECK(a.stopped_because == "completed");
+  CHECK(a.stopped_because == StopReason::Completed);
   CHECK(a.last_iteration == 4);
   CHECK(a.evaluations > 12 + 4 * 10); // the children, and the further replicas insertion asked for
   CHECK(a.rollouts >= 2 * a.evaluations); // 2 replicas a creature, 2 more at a time
@@ -515,7 +515,7 @@ TEST_CASE("MAP-Elites run: the same archive on 1, 2 and 8 threads, and resumed a
     if (p.iteration == 2) stop = true;
   };
   const MapElitesOutcome first = run_map_elites(stopped, run.config, run.me, threads2, options);
-  CHECK(first.stopped_because == "interrupted");
+  CHECK(first.stopped_because == StopReason::Interrupted);
   CHECK(first.last_iteration == 2);
   const MapElitesOutcome rest = run_map_elites(stopped, run.config, run.me, threads2, {});
   CHECK(rest.last_iteration == 4);

@@ -387,7 +387,7 @@ TEST_CASE("MAP-Elites with race fitness: elites scored by their race, the same a
   ThreadEvaluator threads1(1), threads2(2);
   const MapElitesOutcome a = run_map_elites(one, config, me, threads1, {});
   run_map_elites(two, config, me, threads2, {});
-  CHECK(a.stopped_because == "completed");
+  CHECK(a.stopped_because == StopReason::Completed);
   REQUIRE(a.metrics.filled > 1);
   const std::string archive_text = soda::read_whole_file(one / "archive.json");
   CHECK(archive_text == soda::read_whole_file(two / "archive.json"));

@@ -232,7 +232,7 @@ EMSCRIPTEN_KEEPALIVE int sev_advance() {
         run.last_progress = map_elites_json(*run.store, p);
       };
       const MapElitesOutcome o = run_map_elites(run.store->dir(), config, config.map_elites, run.evaluator, options);
-      stopped = o.stopped_because;
+      stopped = stop_reason_name(o.stopped_because);
       run.best_fitness = o.metrics.best;
       if (stopped != "interrupted") run.last_progress = map_elites_json(*run.store, {o.last_iteration, config.map_elites.iterations, o.evaluations, o.rollouts, o.metrics, {}, 0.0});
     } else {
@@ -243,7 +243,7 @@ EMSCRIPTEN_KEEPALIVE int sev_advance() {
         run.last_progress = generation_json(*run.store, p);
       };
       const EvolutionOutcome o = run_evolution(*run.store, run.evaluator, options);
-      stopped = o.stopped_because;
+      stopped = stop_reason_name(o.stopped_because);
       run.best_id = o.best_id;
       run.best_fitness = o.best_fitness;
     }

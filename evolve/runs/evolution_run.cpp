@@ -5,6 +5,7 @@
 
 #include "core/input_error.hpp"
 #include "evolve/runs/race_schedule.hpp"
+#include "evolve/runs/run_budget.hpp"
 #include "evolve/runs/run_roles.hpp"
 #include "evolve/algorithms/variation.hpp"
 #include "formats/model_file.hpp"
@@ -39,11 +40,10 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
   const RunConfig& config = store.config();
   const RunRoles roles = roles_of(config);
   using Clock = std::chrono::steady_clock;
-  const auto started = Clock::now();
+  RunClock clock;
   EvolutionOutcome outcome;
 
   Generation current;
-  double previous_wall = 0.0;
   long long evaluations = 0;
   bool need_evaluation = true;
   bool rescoring = false; // the checkpoint's generation, scored again (options.rescore_checkpoint)
@@ -52,7 +52,7 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
     store.truncate_logs_after(checkpoint->generation.index);
     current = std::move(checkpoint->generation);
     evaluations = checkpoint->evaluations;
-    previous_wall = checkpoint->wall_seconds;
+    clock.carry_over(checkpoint->wall_seconds);
     need_evaluation = false; // the checkpoint holds an evaluated generation
     checkpointed = !options.rescore_checkpoint;
     outcome.last_generation = current.index;
@@ -63,7 +63,7 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
   } else {
     current = roles.algorithm->first(load_seed_creatures(config));
   }
-  auto wall = [&] { return previous_wall + std::chrono::duration<double>(Clock::now() - started).count(); };
+  auto wall = [&] { return clock.seconds(); };
 
   // The evaluation budget stops the run before a generation it has no room for
   // (its children, then the final confirmation, /fitness/confirm).
@@ -71,7 +71,6 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
   const auto no_room_after = [&](long long spent) {
     return limit > 0 && spent + roles.algorithm->evaluations_per_generation() + config.fitness.confirm > limit;
   };
-  outcome.stopped_because = "completed";
   for (;;) {
     if (need_evaluation) {
       const auto t0 = Clock::now();
@@ -112,20 +111,17 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
     }
     need_evaluation = true;
 
-    const int next_index = current.index + 1;
-    std::string stop;
-    if (next_index >= config.budget.generations) stop = "completed";
-    else if (no_room_after(evaluations)) stop = "evaluation budget"; // as `last` above foresaw
-    else if (config.budget.max_wall_seconds > 0 && wall() >= config.budget.max_wall_seconds) stop = "wall-time budget";
-    else if (options.stop_requested && options.stop_requested->load()) stop = "interrupted";
-    if (!stop.empty()) {
+    // The evaluation budget's verdict is the one `last` above foresaw.
+    if (const std::optional<StopReason> stop =
+            stop_before_next_step(current.index + 1 >= config.budget.generations, no_room_after(evaluations),
+                                  config.budget, clock, options.stop_requested)) {
       // Whatever stopped the run, the last generation is saved whole and
       // checkpointed; a pause only checkpoints it.
       const GenerationStats stats = summarize(current, evaluations);
-      const bool pause = stop == "interrupted" && options.stop_is_pause;
+      const bool pause = *stop == StopReason::Interrupted && options.stop_is_pause;
       if (!pause || !checkpointed) store.write_checkpoint({current, evaluations, wall(), {}});
       if (!pause) store.save_generation(current);
-      outcome.stopped_because = stop;
+      outcome.stopped_because = *stop;
       outcome.evaluations = evaluations;
       if (stats.best_index >= 0) {
         outcome.best_id = current.individuals[static_cast<std::size_t>(stats.best_index)].id;

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "evolve/evaluators/evaluator.hpp"
+#include "evolve/runs/run_budget.hpp"
 #include "evolve/algorithms/population.hpp"
 #include "evolve/store/run_store.hpp"
 
@@ -42,7 +43,7 @@ struct EvolutionOptions {
 struct EvolutionOutcome {
   int last_generation = -1;
   long long evaluations = 0;
-  std::string stopped_because; ///< "completed", "evaluation budget", "wall-time budget", "interrupted"
+  StopReason stopped_because = StopReason::Completed;
   std::string best_id;
   double best_fitness = kWorstFitness;
 };

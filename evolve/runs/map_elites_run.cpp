@@ -1,7 +1,6 @@
 #include "map_elites_run.hpp"
 
 #include <algorithm>
-#include <chrono>
 
 #include <map>
 #include <utility>
@@ -17,9 +16,7 @@ WalkProblem map_elites_problem(const RunConfig& config, const MapElitesConfig& m
 }
 
 
-ResamplePlan map_elites_resample_plan(const RunConfig& config) {
-  return {config.fitness.replicas_max, config.fitness.replicas};
-}
+ResamplePlan map_elites_resample_plan(const ReplicaPlan& plan) { return {plan.replicas_max, plan.replicas}; }
 
 ReplicaSampler replica_sampler(Evaluator& evaluator, const Problem& problem, const ReplicaEstimator& estimator) {
   return [&evaluator, &problem, &estimator](const std::vector<SampleRequest>& requests) {
@@ -55,20 +52,19 @@ std::vector<Challenger> evaluate_children(std::vector<Individual> children, Eval
 
 MapElitesOutcome run_map_elites(const std::filesystem::path& dir, const RunConfig& config, const MapElitesConfig& me,
                                 Evaluator& evaluator, const MapElitesOptions& options) {
-  using Clock = std::chrono::steady_clock;
-  const auto started = Clock::now();
+  RunClock clock;
   ArchiveStore store(dir);
   GridArchive archive(me.axes);
   const std::unique_ptr<Problem> scored = problem_of(config, me.sample_every);
   const Problem& problem = *scored;
   const ReplicaEstimator estimator(replica_plan(config));
-  const ResamplePlan resample = map_elites_resample_plan(config);
+  const ResamplePlan resample = map_elites_resample_plan(estimator.plan());
   const ReplicaSampler sample = replica_sampler(evaluator, problem, estimator);
   // Evaluates a batch of children and inserts them, counting what it cost.
   auto evaluate_and_insert = [&](std::vector<Individual> children, int t, ArchiveCheckpoint& s) {
     std::vector<Challenger> challengers = evaluate_children(std::move(children), evaluator, problem, estimator);
     s.evaluations += static_cast<long long>(challengers.size());
-    s.rollouts += static_cast<long long>(challengers.size()) * config.fitness.replicas;
+    s.rollouts += static_cast<long long>(challengers.size()) * estimator.plan().replicas;
     const InsertionCounts counts = insert_challengers(archive, std::move(challengers), t, resample, sample);
     s.evaluations += counts.resampled;
     s.rollouts += counts.resampled_rollouts;
@@ -87,18 +83,15 @@ MapElitesOutcome run_map_elites(const std::filesystem::path& dir, const RunConfi
     store.write_snapshot(archive, me, 0);
     store.write_checkpoint(archive, state);
   }
-  const double previous_wall = state.wall_seconds;
-  auto wall = [&] { return previous_wall + std::chrono::duration<double>(Clock::now() - started).count(); };
+  clock.carry_over(state.wall_seconds);
+  auto wall = [&] { return clock.seconds(); };
 
   for (;;) {
-    std::string stop;
-    if (state.iteration >= me.iterations) stop = "completed";
-    else if (config.budget.max_evaluations > 0 && state.evaluations + me.batch_size > config.budget.max_evaluations)
-      stop = "evaluation budget";
-    else if (config.budget.max_wall_seconds > 0 && wall() >= config.budget.max_wall_seconds) stop = "wall-time budget";
-    else if (options.stop_requested != nullptr && options.stop_requested->load()) stop = "interrupted";
-    if (!stop.empty()) {
-      const bool pause = stop == "interrupted" && options.stop_is_pause;
+    const bool no_room =
+        config.budget.max_evaluations > 0 && state.evaluations + me.batch_size > config.budget.max_evaluations;
+    if (const std::optional<StopReason> stop = stop_before_next_step(state.iteration >= me.iterations, no_room,
+                                                                     config.budget, clock, options.stop_requested)) {
+      const bool pause = *stop == StopReason::Interrupted && options.stop_is_pause;
       const bool checkpointed = state.iteration % config.save.checkpoint_every == 0; // iteration 0 too
       state.wall_seconds = wall();
       if (!pause || !checkpointed) store.write_checkpoint(archive, state);
@@ -106,7 +99,7 @@ MapElitesOutcome run_map_elites(const std::filesystem::path& dir, const RunConfi
         store.write_snapshot(archive, me, state.iteration);
         store.write_archive(archive, *problem_of(config, 0), config, me, state.iteration);
       }
-      outcome.stopped_because = stop;
+      outcome.stopped_because = *stop;
       outcome.last_iteration = state.iteration;
       outcome.evaluations = state.evaluations;
       outcome.rollouts = state.rollouts;

@@ -18,6 +18,7 @@
 #include "evolve/algorithms/map_elites.hpp"
 #include "evolve/estimators/replica_estimator.hpp"
 #include "evolve/problems/walk_problem.hpp"
+#include "evolve/runs/run_budget.hpp"
 
 namespace sodaevo {
 
@@ -25,10 +26,10 @@ namespace sodaevo {
 /// /map_elites/sample_every scored frames.
 WalkProblem map_elites_problem(const RunConfig& config, const MapElitesConfig& me);
 
-/// How insertion samples under the run's /fitness: new creatures on
-/// /fitness/replicas, at most /fitness/replicas_max a side, /fitness/replicas more
-/// for a confirmation.
-ResamplePlan map_elites_resample_plan(const RunConfig& config);
+/// How insertion samples with the run's estimator: new creatures on its
+/// replicas (/fitness/replicas), at most replicas_max a side, replicas more for a
+/// confirmation.
+ResamplePlan map_elites_resample_plan(const ReplicaPlan& plan);
 
 /// The sampler insertion asks for further replicas: requests grouped by their
 /// replica range, each group one call of `evaluator`.
@@ -57,7 +58,7 @@ struct MapElitesOutcome {
   int last_iteration = -1;
   long long evaluations = 0;
   long long rollouts = 0;
-  std::string stopped_because; ///< "completed", "evaluation budget", "wall-time budget", "interrupted"
+  StopReason stopped_because = StopReason::Completed;
   QdMetrics metrics;
 };
 

@@ -18,6 +18,7 @@
 #include "evolve/config/input_limits.hpp"
 #include "evolve/estimators/sample_summary.hpp"
 #include "formats/atomic_file.hpp"
+#include "formats/xml_escape.hpp"
 #include "formats/generation_xml.hpp"
 #include "formats/model_file.hpp"
 
@@ -92,19 +93,6 @@ double parse_fitness(const std::string* written, const Evaluation& e, const std:
 // cell is left empty rather than holding an infinity.
 std::string statistic_cell(double v) { return std::isfinite(v) ? soda::format_double_plain(v) : std::string(); }
 
-std::string xml_escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 std::string join(const std::vector<std::string>& v, char sep) {
   std::string out;
@@ -160,10 +148,10 @@ std::string generation_to_xml(const Generation& g) {
                     (g.race_stage > 0 ? " race_stage=\"" + std::to_string(g.race_stage) + "\"" : "") + ">\n";
   for (const Individual& ind : g.individuals) {
     const Evaluation& e = ind.evaluation;
-    std::string attrs = "id=\"" + xml_escape(ind.id) + "\" parents=\"" + xml_escape(join(ind.parents, ' ')) +
+    std::string attrs = "id=\"" + soda::xml_attribute_escaped(ind.id) + "\" parents=\"" + soda::xml_attribute_escaped(join(ind.parents, ' ')) +
                         "\" status=\"" + status_name(e.status) + "\"" + fitness_attribute(e) + estimate_attributes(e) +
                         " distance=\"" +
-                        soda::format_double_plain(e.distance) + "\" reason=\"" + xml_escape(e.reason) + "\"";
+                        soda::format_double_plain(e.distance) + "\" reason=\"" + soda::xml_attribute_escaped(e.reason) + "\"";
     out += model_element(ind.creature, attrs);
   }
   out += "</generation>\n";

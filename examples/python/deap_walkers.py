@@ -8,6 +8,9 @@ cores, with the GIL released. The fitness is configs/default.json's: distance
 walked right over 4000 frames after 400, Sodarace scaling, mean of 8 replicas.
 
   PYTHONPATH=build/python /usr/bin/python3 examples/python/deap_walkers.py [--generations 30]
+
+The champion is written to results/deap_champion.xml (--out), an output folder
+beside the run folders, never into the sources.
 """
 import argparse
 import random
@@ -24,6 +27,7 @@ ap = argparse.ArgumentParser()
 ap.add_argument("--generations", type=int, default=30)
 ap.add_argument("--population", type=int, default=100)
 ap.add_argument("--seed", type=int, default=1)
+ap.add_argument("--out", type=Path, default=Path("results") / "deap_champion.xml", help="where the champion is written")
 args = ap.parse_args()
 random.seed(args.seed)  # DEAP's selection draws from the random module: the run is reproducible
 rng = random
@@ -86,4 +90,6 @@ print(f"champion      {check.fitness[0]:.1f} px (95 % of runs in [{check.interva
       f"{check.interval95[0, 1]:.1f}])")
 print(f"Dainty Walker {check.fitness[1]:.1f} px")
 print("better than the Dainty Walker" if check.fitness[0] > check.fitness[1] else "not better than the Dainty Walker")
-champion.save("deap_champion.xml")
+args.out.parent.mkdir(parents=True, exist_ok=True)
+champion.save(str(args.out))
+print(f"champion written to {args.out}")

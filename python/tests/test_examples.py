@@ -23,7 +23,7 @@ def run_example(name, *args, cwd):
 def test_deap_loop(tmp_path):
     pytest.importorskip("deap")
     out = run_example("deap_walkers.py", "--generations", "3", "--population", "24", cwd=tmp_path)
-    assert "Dainty Walker" in out and (tmp_path / "deap_champion.xml").is_file()
+    assert "Dainty Walker" in out and (tmp_path / "results" / "deap_champion.xml").is_file()
 
 
 def test_random_search(tmp_path):
