@@ -31,8 +31,6 @@ class MpiSession {
 
   [[nodiscard]] int rank() const { return rank_; }
   [[nodiscard]] int size() const { return size_; }
-  /// Ranks of this job on this node (they share its cores).
-  [[nodiscard]] int ranks_on_this_node() const { return local_size_; }
   [[nodiscard]] const std::string& host() const { return host_; }
   [[nodiscard]] MPI_Comm comm() const { return MPI_COMM_WORLD; }
 

@@ -63,7 +63,6 @@ class WireReader {
   soda::ModelDef creature();
   Evaluation evaluation();
 
-  [[nodiscard]] bool at_end() const { return pos_ == size_; }
   /// Throws WireError unless every byte was read.
   void expect_end() const;
 
