@@ -31,7 +31,8 @@ fs::path local_path(const fs::path& data, const std::string& p) {
 
 
 long long situation_count(const soda::BarMemory& m, int k) {
-  return k == 0 ? m.far_starts : k == 1 ? m.near_end_misses : m.far_end_corners;
+  const soda::BarCounters& c = m.counters;
+  return k == 0 ? c.far_starts : k == 1 ? c.near_end_misses : c.far_end_corners;
 }
 
 bool diagnosed(const std::string& contender_path) {
@@ -59,11 +60,11 @@ const std::vector<RaceDiagnosis>& race_diagnoses() {
        "frame 6763, mass 3: bar 1 remembers it on side 0 (handed over at the joint from bar 0); its move starts "
        "2.68 px above the bar's line and ends on that side. The original lets it go; the remembered side 0 "
        "caught it at the line's crossing point."},
-      {"walker_382", BarSituation::FarEndCorner, "FixedBars::far_end_corner",
+      {"walker_382", BarSituation::FarEndCorner, "InferredBarRules::far_end_corner",
        "frame 3307, mass 4 slides up bar 1 (side 0) past its end into the steeper bar 2, a concave joint; its "
        "end point projects 0.88 px beyond bar 2's far end. The original puts it at that node (50074, 20), in the "
        "corner of bars 2 and 3; it was put on bar 2's line beyond the node."},
-      {"walker_514", BarSituation::NearEndMiss, "FixedBars::hit_margin (1e-5, was 1e-4)",
+      {"walker_514", BarSituation::NearEndMiss, "InferredBarRules::hit_margin (1e-5, was 1e-4)",
        "frame 6457, mass 1 (on bar 1, to the floor): bar 0 remembers it (side -1) and its move crosses bar 0's "
        "line 9.35e-5 px beyond the bar's end: a hit under a 1e-4 margin, none in the original, so bar 0 forgets "
        "it and catches it anew with side 0. At frame 6463 its move off bar 0 is caught (side 0) in the "

@@ -21,7 +21,6 @@ bool parse_bar_engine(const std::string& text, BarEngine& engine) {
   return true;
 }
 
-std::string side_rule_name(SideRule rule) { return rule == SideRule::Near ? "near" : "stored"; }
 
 int relative_ccw(double x1, double y1, double x2, double y2, double px, double py) {
   x2 -= x1;
@@ -62,7 +61,7 @@ int remembered_side(const FixedBar& bar, SideRule rule, int side, double ox, dou
   const double num = bar.w * (oy - bar.y1) - bar.h * (ox - bar.x1); // the distance to the line times L
   if (std::fabs(num) <= kSideTolerance * bar.length) return side;
   const int own = side_of(bar, ox, oy);
-  if (own != side) ++memory.far_starts;
+  if (own != side) ++memory.counters.far_starts;
   return rule == SideRule::Stored ? side : own;
 }
 
@@ -244,9 +243,9 @@ Point joint(const FixedBars& bars, BarMemory& memory, int mass, int bar_index, i
   // Concave: caught in the corner, unless the end point is already beyond the node on c.
   const std::int8_t end = c.a == node ? 0 : 1;
   if (end == 0 ? on_c >= c.length : on_c <= 0.0) {
-    // Past c's far end: at that end, in the corner there (FixedBars::far_end_corner).
-    ++memory.far_end_corners;
-    if (bars.far_end_corner) {
+    // Past c's far end: at that end, in the corner there (InferredBarRules::far_end_corner).
+    ++memory.counters.far_end_corners;
+    if (bars.inferred.far_end_corner) {
       memory.corners[static_cast<std::size_t>(mass)] = {next, static_cast<std::int8_t>(1 - end)};
       return point_at(c, end == 0 ? c.length : 0.0);
     }
@@ -415,7 +414,7 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
       continue;
     }
     const int s0 =
-        remembered ? remembered_side(bar, bars.side_rule, remembered->side, m.x0, m.y0, memory) : side_of(bar, m.x0, m.y0);
+        remembered ? remembered_side(bar, bars.inferred.side_rule, remembered->side, m.x0, m.y0, memory) : side_of(bar, m.x0, m.y0);
     const int s1 = side_of(bar, m.x, m.y);
     if (s0 == s1 && s0 != 0) {
       if (remembered) memory.forget(k, mass);
@@ -427,8 +426,8 @@ bool collide_with_fixed_bars(const FixedBars& bars, BarMemory& memory, int mass,
       // A move exactly parallel to the bar (p is its end) hits iff it starts exactly
       // on the bar's line, wherever it ends (docs/physics.md, "The last bits").
       const bool parallel = bar.h * (m.x - m.x0) - bar.w * (m.y - m.y0) == 0.0;
-      if (parallel ? bar.w * (m.y0 - bar.y1) - bar.h * (m.x0 - bar.x1) != 0.0 : !in_box_with_margin(bar, p, bars.hit_margin)) {
-        if (!parallel && in_box_with_margin(bar, p, kTweakMargin)) ++memory.near_end_misses;
+      if (parallel ? bar.w * (m.y0 - bar.y1) - bar.h * (m.x0 - bar.x1) != 0.0 : !in_box_with_margin(bar, p, bars.inferred.hit_margin)) {
+        if (!parallel && in_box_with_margin(bar, p, kTweakMargin)) ++memory.counters.near_end_misses;
         memory.forget(k, mass);
         continue;
       }

@@ -47,7 +47,6 @@ enum class SideRule : std::uint8_t {
   /// 2.6 px keeps every golden set and that race, 3e-12 or 2.7 px do not.
   Near,
 };
-std::string side_rule_name(SideRule rule); ///< "stored" | "near"
 /// The distance from a bar's line within which SideRule::Near keeps the remembered side.
 inline constexpr double kSideTolerance = 1e-4;
 
@@ -73,10 +72,12 @@ struct FixedBar {
   bool prev_reversed = false;       ///< the previous bar starts (not ends) at a
 };
 
-/// The bars of a model: geometry, chains and an index of bars by x (so a mass tests
-/// only the bars whose x range its move reaches: terrains are 100,000 px wide).
-struct FixedBars {
-  BarEngine engine = BarEngine::SodaConstructor2003;
+/// The rules inferred from the golden races (docs/physics.md, "Inferred rules") as
+/// switches. They exist for the refutation tests (tests/test_races_inferred.cpp),
+/// which switch each to the alternative the golden races refute and watch the
+/// golden result go; every Model steps with these defaults. Kept apart from the
+/// bars' geometry, as Box2D keeps its test toggles apart from its bodies.
+struct InferredBarRules {
   SideRule side_rule = SideRule::Near;
   double hit_margin = kHitMargin; ///< kTweakMargin: FixedBar.TWEAK's margin
   /// A concave joint whose end point projects past the far end of the next bar c:
@@ -85,6 +86,13 @@ struct FixedBars {
   /// beyond the end (the joint rule read literally). Inferred from one race
   /// (walker_382 on TerrainAi, frame 3307) and bounded only by it.
   bool far_end_corner = true;
+};
+
+/// The bars of a model: geometry, chains and an index of bars by x (so a mass tests
+/// only the bars whose x range its move reaches: terrains are 100,000 px wide).
+struct FixedBars {
+  BarEngine engine = BarEngine::SodaConstructor2003;
+  InferredBarRules inferred; ///< the defaults, but in the refutation tests
   std::vector<FixedBar> bars; ///< link order
   // Index by x: cells of cell_width px from cell_x0; cell c holds the bars whose
   // normalised x range touches it, in link order (cell_start[c] .. cell_start[c+1]).
@@ -135,17 +143,22 @@ struct BarCorner {
   bool operator==(const BarCorner&) const = default;
 };
 
+/// How often the situations the inferred rules decide came up (diagnostics for
+/// `bench races`, as Box2D keeps b2Counters): a remembered mass's move starting
+/// farther than kSideTolerance from the bar's line on another side than the
+/// remembered one (SideRule); a crossing point outside hit_margin but within
+/// kTweakMargin of the bar's box; a concave joint past the next bar's far end
+/// (far_end_corner).
+struct BarCounters {
+  long long far_starts = 0, near_end_misses = 0, far_end_corners = 0;
+};
+
 /// The dynamic part of the bar rules (belongs to a State).
 struct BarMemory {
   std::vector<BarContact> contacts; ///< unordered; one entry per (bar, mass)
   std::vector<BarCorner> corners;   ///< [mass_count] once a mass met a bar, else empty
-  /// How often the situations the inferred rules decide came up (for diagnostics,
-  /// bench races): a remembered mass's move starting farther than kSideTolerance
-  /// from the bar's line on another side than the remembered one (SideRule); a
-  /// crossing point outside hit_margin but within kTweakMargin of the bar's box;
-  /// a concave joint past the next bar's far end (far_end_corner).
-  long long far_starts = 0, near_end_misses = 0, far_end_corners = 0;
-  bool operator==(const BarMemory&) const = default;
+  BarCounters counters;             ///< diagnostics: not state, so not compared
+  bool operator==(const BarMemory& o) const { return contacts == o.contacts && corners == o.corners; }
 
   /// The remembered side, or nullptr.
   [[nodiscard]] const BarContact* find(int bar, int mass) const;

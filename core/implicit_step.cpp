@@ -51,7 +51,6 @@ bool ImplicitSolver::step(const double* x, const double* y, const double* vx, co
   std::copy(y, y + m.point_count, y1);
   std::copy(vx, vx + m.point_count, vx1);
   std::copy(vy, vy + m.point_count, vy1);
-  last_iterations_ = 0;
   if (n == 0) return true;
   Linear& l = *linear_;
   for (int i = 0; i < n; ++i) { // start from the current velocity
@@ -61,7 +60,6 @@ bool ImplicitSolver::step(const double* x, const double* y, const double* vx, co
   l.residual.resize(2 * n);
   char text[160];
   for (int iteration = 1; iteration <= kMaxNewtonIterations; ++iteration) {
-    last_iterations_ = iteration;
     for (int i = 0; i < n; ++i) { // x1 holds the evaluation point x + h w
       x1[i] = x[i] + h_ * w_[2 * i];
       y1[i] = y[i] + h_ * w_[2 * i + 1];

@@ -55,8 +55,6 @@ public:
   bool step(const double* x, const double* y, const double* vx, const double* vy, double phase_eval, double* x1,
             double* y1, double* vx1, double* vy1, std::string& why);
 
-  [[nodiscard]] int last_iterations() const { return last_iterations_; }
-
 private:
   struct Linear; // Eigen's matrix and factorisation, kept out of this header
   const Model& model_;
@@ -64,7 +62,6 @@ private:
   Acceleration acceleration_;
   std::unique_ptr<Linear> linear_;
   std::vector<double> w_, ax_, ay_;
-  int last_iterations_ = 0;
 };
 
 } // namespace soda

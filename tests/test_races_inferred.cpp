@@ -45,7 +45,7 @@ TEST_CASE("inferred bar rule, near side: walker_313 on TerrainAi races as the or
   CHECK(our_result("walker_313", [](soda::FixedBars&) {}) == golden);
   // Always the remembered side: at frame 6763 a mass 2.68 px above bar 1, which
   // remembers it on side 0, is caught by the bar's extended crossing point.
-  CHECK(our_result("walker_313", [](soda::FixedBars& b) { b.side_rule = soda::SideRule::Stored; }) != golden);
+  CHECK(our_result("walker_313", [](soda::FixedBars& b) { b.inferred.side_rule = soda::SideRule::Stored; }) != golden);
 }
 
 TEST_CASE("inferred bar rule, hit margin below 9.35e-5: walker_514 on TerrainAi races as the original",
@@ -54,10 +54,10 @@ TEST_CASE("inferred bar rule, hit margin below 9.35e-5: walker_514 on TerrainAi 
   CHECK(our_result("walker_514", [](soda::FixedBars&) {}) == golden);
   // Research's 1e-4: at frame 6457 bar 0 keeps mass 1 (side -1) for a crossing point
   // 9.35e-5 px beyond its end; at 6463 the mass's move off the bar is then released.
-  CHECK(our_result("walker_514", [](soda::FixedBars& b) { b.hit_margin = soda::kTweakMargin; }) != golden);
+  CHECK(our_result("walker_514", [](soda::FixedBars& b) { b.inferred.hit_margin = soda::kTweakMargin; }) != golden);
   // The bound: just above the crossing point's distance the race parts again.
-  CHECK(our_result("walker_514", [](soda::FixedBars& b) { b.hit_margin = 9.3e-5; }) == golden);
-  CHECK(our_result("walker_514", [](soda::FixedBars& b) { b.hit_margin = 9.4e-5; }) != golden);
+  CHECK(our_result("walker_514", [](soda::FixedBars& b) { b.inferred.hit_margin = 9.3e-5; }) == golden);
+  CHECK(our_result("walker_514", [](soda::FixedBars& b) { b.inferred.hit_margin = 9.4e-5; }) != golden);
 }
 
 TEST_CASE("inferred bar rule, a concave joint past the next bar's far end: walker_382 on TerrainAi races as the "
@@ -66,7 +66,7 @@ TEST_CASE("inferred bar rule, a concave joint past the next bar's far end: walke
   const double golden = golden_result("walker_382");
   CHECK(our_result("walker_382", [](soda::FixedBars&) {}) == golden);
   // Put on bar 2's line 0.88 px beyond its far end (50074, 20) at frame 3307.
-  CHECK(our_result("walker_382", [](soda::FixedBars& b) { b.far_end_corner = false; }) != golden);
+  CHECK(our_result("walker_382", [](soda::FixedBars& b) { b.inferred.far_end_corner = false; }) != golden);
 }
 
 // The bench's report (sodaevo bench races): its counts and frames are the data's.
@@ -90,7 +90,7 @@ TEST_CASE("bench races report: counts, situations and first updates come from th
   CHECK(report.find("| near-end miss | 0 of 3 |") != std::string::npos);
   CHECK(report.find("| far-end corner | 2 of 3 |") != std::string::npos);
   // The diagnosed contender, with the first update measured in its race.
-  CHECK(report.find("| walker_382 | far-end corner | FixedBars::far_end_corner | TerrainAi (3307) | 1 of 1 |") !=
+  CHECK(report.find("| walker_382 | far-end corner | InferredBarRules::far_end_corner | TerrainAi (3307) | 1 of 1 |") !=
         std::string::npos);
   CHECK(report.find("| walker_313 | far start | SideRule::Near | - | 0 of 0 |") != std::string::npos);
   CHECK(report.find("1 differ.") != std::string::npos);

@@ -146,11 +146,6 @@ struct Avx2Ops {
   static V bits_and(V a, V b) { return _mm256_and_pd(a, b); }
   static V bits_xor(V a, V b) { return _mm256_xor_pd(a, b); }
   static V bits_or(V a, V b) { return _mm256_or_pd(a, b); }
-  /// Lanes whose bit pattern has `bit` set.
-  static M has_bit(V a, std::int64_t bit) {
-    const __m256i b = _mm256_set1_epi64x(bit);
-    return _mm256_castsi256_pd(_mm256_cmpeq_epi64(_mm256_and_si256(_mm256_castpd_si256(a), b), b));
-  }
   static M le(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_LE_OQ); }
   static M ge(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_GE_OQ); }
   static M ne(V a, V b) { return _mm256_cmp_pd(a, b, _CMP_NEQ_UQ); }
@@ -274,10 +269,6 @@ struct Avx512Ops {
   }
   static V bits_or(V a, V b) {
     return _mm512_castsi512_pd(_mm512_or_si512(_mm512_castpd_si512(a), _mm512_castpd_si512(b)));
-  }
-  /// Lanes whose bit pattern has `bit` set.
-  static M has_bit(V a, std::int64_t bit) {
-    return _mm512_test_epi64_mask(_mm512_castpd_si512(a), _mm512_set1_epi64(bit));
   }
   static M le(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_LE_OQ); }
   static M ge(V a, V b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
