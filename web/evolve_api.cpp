@@ -195,7 +195,7 @@ EMSCRIPTEN_KEEPALIVE int sev_start(const char* config_path, const char* run_dir)
     }
     run->store.emplace(RunStore::create(run_dir, config, true, "sodaevo evolve " + config_name + " (in the browser)"));
     json j = {{"name", config.name},
-              {"algorithm", config.algorithm == AlgorithmKind::MapElites ? "map-elites" : "ga"},
+              {"algorithm", algorithm_name(config.algorithm)},
               {"race", config.fitness.kind == FitnessKind::Race},
               {"unit", fitness_kind_info(config.fitness.kind).unit},
               {"lower_is_better", fitness_kind_info(config.fitness.kind).lower_is_better},
