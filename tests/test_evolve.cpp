@@ -344,6 +344,28 @@ TEST_CASE("batch and single evaluation give identical Evaluations", "[evolve]") 
   }
 }
 
+TEST_CASE("a saved generation declares ISO-8859-1 and holds any reason text as written", "[evolve]") {
+  // A reason with a latin-1 letter, a character beyond latin-1, markup and a line
+  // break: each must read back as written (an untranscoded UTF-8 byte pair would
+  // read back as two latin-1 letters, a raw line break in an attribute as a space).
+  const std::string reason = "caf\xC3\xA9 \xE2\x86\x92 <bar & \"end\">\nnext line";
+  Generation g;
+  g.index = 1;
+  Individual ind;
+  ind.id = "g1-0";
+  ind.creature = soda::read_model_file(test::models_dir() / "dainty_walker.xml").def;
+  ind.evaluation.status = EvaluationStatus::Invalid;
+  ind.evaluation.reason = reason;
+  ind.evaluated = true;
+  g.individuals.push_back(ind);
+  const std::string xml = generation_to_xml(g);
+  CHECK(xml.find("encoding=\"ISO-8859-1\"") != std::string::npos);
+  CHECK(xml.find("caf\xE9 &#8594; &lt;bar &amp; &quot;end&quot;&gt;&#10;next line") != std::string::npos);
+  const Generation back = generation_from_xml(xml, "mem");
+  REQUIRE(back.individuals.size() == 1);
+  CHECK(back.individuals[0].evaluation.reason == reason);
+}
+
 TEST_CASE("creatures that were not scored: no infinity in any file, and they read back unscored", "[evolve]") {
   const soda::ModelDef walker = soda::read_model_file(test::models_dir() / "dainty_walker.xml").def;
   Generation g;

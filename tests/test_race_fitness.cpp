@@ -18,6 +18,7 @@
 #include "core/input_error.hpp"
 #include "core/race_lane.hpp"
 #include "core/step.hpp"
+#include "evolve/problems/fitness_kind.hpp"
 #include "evolve/runs/evolution_run.hpp"
 #include "evolve/runs/map_elites_run.hpp"
 #include "evolve/problems/race_problem.hpp"
@@ -81,6 +82,29 @@ soda::ModelDef dainty_walker() { return soda::read_model_file(models_dir() / "da
 // Independent: the original racer's results. The monster truck and the Dainty
 // Walker as written reproduce on all 20 race files with the reference runner
 // (test_race.cpp); the fast runner must give the same, to the last bit.
+TEST_CASE("fitness kinds: one row each, saying how the kind's scores read", "[race][config]") {
+  // configs/README.md, /fitness/kind: a walk's fitness is the px walked, more is
+  // better; a race's is minus its frames to the finish, shown as frames.
+  const FitnessKindInfo& walk = fitness_kind_info(FitnessKind::Walk);
+  const FitnessKindInfo& race = fitness_kind_info(FitnessKind::Race);
+  CHECK(std::string(walk.name) == "walk");
+  CHECK(std::string(walk.unit) == "px");
+  CHECK(walk.shown(12.5) == 12.5);
+  CHECK(std::string(race.name) == "race");
+  CHECK(std::string(race.unit) == "frames");
+  CHECK(std::string(race.fitness_unit) == "-frames");
+  CHECK(race.shown(-1234.5) == 1234.5);
+  for (const FitnessKindInfo& k : kFitnessKinds) {
+    CHECK(parse_fitness_kind(k.name) == k.kind);
+    CHECK(&fitness_kind_info(k.kind) == &k);
+  }
+  CHECK_FALSE(parse_fitness_kind("climb").has_value());
+  // Each Problem says its kind, and the wire tag is the kind's name.
+  RunConfig config;
+  CHECK(problem_of(config)->fitness_kind() == FitnessKind::Walk);
+  CHECK(problem_of(config)->kind() == "walk");
+}
+
 TEST_CASE("run_race_fast gives the original racer's results (classics on all 20 race files)", "[race][golden]") {
   int raced = 0;
   for (const char* who : {"golden/dw_v1_container651", "monster_truck_v2converted", "dw_v1_wavereverse"}) {

@@ -26,17 +26,14 @@ struct FitnessKindInfo {
   const char* score_name;   ///< what a shown score is called in tables and captions
   bool lower_is_better;     ///< fitness = minus the shown score
   int digits;               ///< decimals of a shown score in one-line summaries
-  /// The key under /fitness of the kind's own settings object, read only with
-  /// this kind (configs/README.md), or nullptr.
-  const char* settings_key;
 
   /// A fitness as it is shown: px, or a race's frames.
   [[nodiscard]] double shown(double fitness) const { return lower_is_better ? -fitness : fitness; }
 };
 
 inline constexpr FitnessKindInfo kFitnessKinds[] = {
-    {FitnessKind::Walk, "walk", "px", "px", "fitness", false, 2, nullptr},
-    {FitnessKind::Race, "race", "frames", "-frames", "race result", true, 1, "race"},
+    {FitnessKind::Walk, "walk", "px", "px", "fitness", false, 2},
+    {FitnessKind::Race, "race", "frames", "-frames", "race result", true, 1},
 };
 
 /// The row of `kind` (std::logic_error if the table lacks it: a kind added to the
