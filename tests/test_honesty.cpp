@@ -77,7 +77,7 @@ TEST_CASE("fitness: continuous Euler at one step per frame scores exactly as sod
   // ... and a different setting scores differently (the setting is really used).
   const RunConfig rk4 = config_with(R"({"frames": 1500, "settle_frames": 100, "mode": "continuous",
                                         "integrator": "rk4", "substeps": 4})");
-  const Evaluation c = WalkProblem(rk4).rollouts({&walker}).front();
+  const Evaluation c = walk_problem_of(rk4).rollouts({&walker}).front();
   REQUIRE(c.ok());
   CHECK(c.fitness != a.fitness);
 }

@@ -550,7 +550,7 @@ TEST_CASE("MAP-Elites run: the same archive on 1, 2 and 8 threads, and resumed a
   // Every elite is written, and each reads back as a model whose exact run walks its logged distance.
   for (const auto& cell : archive["cells"]) {
     const soda::ModelDef prepared = soda::read_model_file(one / cell["file"].get<std::string>()).def;
-    const Evaluation e = WalkProblem(run.config).rollouts({&prepared}).front();
+    const Evaluation e = walk_problem_of(run.config).rollouts({&prepared}).front();
     CHECK(e.distance == cell["distance"].get<double>());
   }
   CHECK(std::filesystem::exists(one / "snapshots" / "archive_00000.json"));

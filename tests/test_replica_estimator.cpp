@@ -237,7 +237,7 @@ class ScriptedEstimator final : public Estimator {
 } // namespace
 
 TEST_CASE("confirmation ranks again: a lucky best falls back and the next is confirmed", "[replicas]") {
-  const WalkProblem problem(walker_config(2, 8));
+  const WalkProblem problem = walk_problem_of(walker_config(2, 8));
   const ScriptedEstimator estimator;
   Generation g;
   for (const char* name : {"E", "D", "C", "B", "A"}) {
