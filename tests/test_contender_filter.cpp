@@ -23,6 +23,7 @@
 #include "core/contender_filter.hpp"
 #include "core/race_lane.hpp"
 #include "core/step.hpp"
+#include "evolve/runs/run_roles.hpp"
 #include "evolve/problems/race_problem.hpp"
 #include "evolve/config/run_config.hpp"
 #include "formats/model_file.hpp"
@@ -353,7 +354,7 @@ TEST_CASE("race problem: rollouts of filtered contenders score the racer's resul
   config.fitness.kind = sodaevo::FitnessKind::Race;
   config.fitness.race.terrains = {terrain_file("TerrainFlat.xml").string()};
   config.fitness.race.timeout = 10000;
-  const sodaevo::RaceProblem problem(config);
+  const sodaevo::RaceProblem problem = sodaevo::race_problem_of(config);
   std::map<std::string, double> golden;
   for (const auto& row : read_tsv(components_dir() / "races.tsv")) golden[row.at(0)] = std::strtod(row.at(1).c_str(), nullptr);
   const std::vector<std::string> names = {"c01_walker_plus_far_pair", "c13_zero_length_only", "c05_no_links"};

@@ -177,7 +177,7 @@ TEST_CASE("race problem: the exported creature races in `race` as the run scored
           "[race][evolve]") {
   RunConfig config = race_config({"TerrainFlat"}, 800);
   config.fitness.replicas = 1;
-  const RaceProblem problem(config);
+  const RaceProblem problem = race_problem_of(config);
   const soda::ModelDef walker = dainty_walker();
   const Evaluation e = estimate_one(problem, config, walker);
   REQUIRE(e.ok());
@@ -209,22 +209,22 @@ TEST_CASE("race problem: several terrains score the mean or the worst of their r
   one.fitness.replicas = 1;
   RunConfig other = race_config({"TerrainHilly"}, 300);
   other.fitness.replicas = 1;
-  const double flat = estimate_one(RaceProblem(one), one, walker).distance;
-  const double hilly = estimate_one(RaceProblem(other), other, walker).distance;
+  const double flat = estimate_one(*problem_of(one), one, walker).distance;
+  const double hilly = estimate_one(*problem_of(other), other, walker).distance;
   REQUIRE(flat != hilly);
   RunConfig both = race_config({"TerrainFlat", "TerrainHilly"}, 300);
   both.fitness.replicas = 1;
-  CHECK(estimate_one(RaceProblem(both), both, walker).distance == (flat + hilly) / 2.0);
+  CHECK(estimate_one(*problem_of(both), both, walker).distance == (flat + hilly) / 2.0);
   both.fitness.race.combine = RaceCombine::Worst;
-  CHECK(estimate_one(RaceProblem(both), both, walker).distance == std::max(flat, hilly));
-  CHECK(estimate_one(RaceProblem(both), both, walker).fitness == -std::max(flat, hilly));
+  CHECK(estimate_one(*problem_of(both), both, walker).distance == std::max(flat, hilly));
+  CHECK(estimate_one(*problem_of(both), both, walker).fitness == -std::max(flat, hilly));
 }
 
 TEST_CASE("race problem: the problem travels over the wire and races its rollouts alike", "[race][evolve]") {
   RunConfig config = race_config({"TerrainFlat"}, 600);
   config.fitness.replicas = 4;
   config.fitness.jitter = 0.2;
-  const RaceProblem problem(config);
+  const RaceProblem problem = race_problem_of(config);
   const soda::ModelDef prepared = problem.prepare(dainty_walker());
   std::vector<Rollout> runs;
   for (std::uint64_t seed : {0, 7, 8}) runs.emplace_back(&prepared, soda::SineJitter{seed, 0.2});
@@ -353,7 +353,7 @@ TEST_CASE("a race run: evolve, export, and `race` confirms the exported champion
 
 TEST_CASE("race problem with descriptors: the race's bits, descriptors sampled on the reference race", "[race][map-elites]") {
   RunConfig config = race_config({"TerrainFlat"}, 500);
-  const RaceProblem plain(config, 0), described(config, 7);
+  const RaceProblem plain = race_problem_of(config, 0), described = race_problem_of(config, 7);
   const soda::ModelDef prepared = plain.prepare(dainty_walker());
   const std::vector<Rollout> runs{Rollout(&prepared), Rollout(&prepared, soda::SineJitter{99, 0.2})};
   const std::vector<Evaluation> a = plain.rollouts(runs), b = described.rollouts(runs);
@@ -548,7 +548,7 @@ TEST_CASE("race curriculum: the next terrain once the best racer finishes under 
                                             [](const Individual& a, const Individual& b) {
                                               return a.evaluation.fitness < b.evaluation.fitness;
                                             });
-  CHECK(estimate_one(RaceProblem(hilly), hilly, top.creature).fitness == top.evaluation.fitness);
+  CHECK(estimate_one(*problem_of(hilly), hilly, top.creature).fitness == top.evaluation.fitness);
   CHECK(top.evaluation.fitness == best[1]);
   const ShellResult replayed = run_sodaevo("replay " + one.string() + " --generation 2");
   INFO(replayed.output);
@@ -563,7 +563,7 @@ TEST_CASE("race curriculum: the next terrain once the best racer finishes under 
 // where the CPU has AVX-512), each with the result it has raced alone.
 TEST_CASE("race problem: replicas raced together give each replica's race alone, bit for bit", "[race][lockstep]") {
   RunConfig config = race_config({"TerrainFlat", "TerrainHilly"}, 600);
-  const RaceProblem problem(config);
+  const RaceProblem problem = race_problem_of(config);
   const soda::ModelDef prepared = problem.prepare(dainty_walker());
   std::vector<Rollout> runs;
   for (std::uint64_t seed = 0; seed < 11; ++seed) runs.emplace_back(&prepared, soda::SineJitter{seed, 0.2});
@@ -588,7 +588,7 @@ TEST_CASE("race problem: different creatures raced together give each run's race
   config.limits.min_masses = 2; // the slug has 2, the GA racer 60
   config.limits.max_masses = 60;
   config.limits.max_links = 400;
-  const RaceProblem problem(config);
+  const RaceProblem problem = race_problem_of(config);
   const soda::ModelDef walker = problem.prepare(dainty_walker());
   const soda::ModelDef racer = problem.prepare(soda::read_model_file(models_dir() / "wodka_ga109.xml").def);
   const soda::ModelDef slug = problem.prepare(soda::read_model_file(models_dir() / "carefulslug.xml").def);

@@ -77,7 +77,7 @@ TEST_CASE("race progress: the race problem's fitness is minus the cost of the re
   for (const auto& [name, timeout] : {std::pair<std::string, int>{"race08", 600}, {"TerrainFlat", 3000}}) {
     INFO(name);
     RunConfig config = progress_config(name, timeout);
-    const RaceProblem problem(config);
+    const RaceProblem problem = race_problem_of(config);
     const Evaluation e = roles_of(config).estimator->estimate(problem, {&walker}).front();
     INFO(e.reason);
     REQUIRE(e.ok());

@@ -30,6 +30,12 @@ WalkProblem walk_problem_of(const RunConfig& config) {
   return WalkProblem(config.fitness, config.world, config.limits, describe_every_of(config));
 }
 
+RaceProblem race_problem_of(const RunConfig& config, long long describe_every) {
+  return RaceProblem(config.fitness, config.world, config.limits, describe_every);
+}
+
+RaceProblem race_problem_of(const RunConfig& config) { return race_problem_of(config, describe_every_of(config)); }
+
 std::unique_ptr<Problem> problem_of(const RunConfig& config) {
   return problem_of(config, describe_every_of(config));
 }

@@ -12,6 +12,7 @@
 #include "evolve/estimators/estimator.hpp"
 #include "evolve/estimators/replica_estimator.hpp"
 #include "evolve/problems/problem.hpp"
+#include "evolve/problems/race_problem.hpp"
 #include "evolve/problems/walk_problem.hpp"
 #include "evolve/config/run_config.hpp"
 
@@ -34,6 +35,11 @@ std::unique_ptr<Problem> problem_of(const RunConfig& config);
 /// The WalkProblem of a walk run's config: its /fitness, /world and /limits; with
 /// /algorithm "map-elites" measuring descriptors every /map_elites/sample_every frames.
 WalkProblem walk_problem_of(const RunConfig& config);
+
+/// The RaceProblem of a race run's config (its /fitness/race terrains read now),
+/// measuring descriptors as the run does, or every `describe_every` frames.
+RaceProblem race_problem_of(const RunConfig& config);
+RaceProblem race_problem_of(const RunConfig& config, long long describe_every);
 
 /// The ReplicaEstimator's plan of a run's config: its /fitness and /seed.
 ReplicaPlan replica_plan(const RunConfig& config);
