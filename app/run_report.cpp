@@ -17,6 +17,7 @@
 #include "app/designer_page.hpp"
 #include "app/motion.hpp"
 #include "app/player_html.hpp"
+#include "evolve/runs/run_roles.hpp"
 #include "evolve/problems/fitness_kind.hpp"
 #include "charts/fixed_text.hpp"
 #include "charts/svg_chart.hpp"
