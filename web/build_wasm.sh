@@ -23,7 +23,7 @@ export NODE_PATH=${NODE_PATH:-/usr/share/nodejs}
 sources=("$root/web/engine_api.cpp" "$out/pugixml_oiio.cpp")
 # The engine's portable files; the XML code may live in core/ or formats/.
 for name in model model_def step input_error number_text printf_charconv xml_util xml_v1_reader xml_v1_writer \
-  xml_v2_reader model_file atomic_file sine java_sine_large sine_jitter fixed_bars cancellation; do
+  xml_v2_reader xml_escape model_file atomic_file sine java_sine_large sine_jitter fixed_bars cancellation; do
   for dir in core formats; do
     [ -f "$root/$dir/$name.cpp" ] && sources+=("$root/$dir/$name.cpp")
   done
