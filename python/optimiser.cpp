@@ -1,25 +1,28 @@
 // sodaevo.Optimiser: the project's own GA and MAP-Elites as ask/tell. The run's
 // loop (run_evolution, run_map_elites) drives a run folder exactly as `sodaevo
-// evolve` does, with an AskTellEvaluator (evolve/evaluators/ask_tell_evaluator.hpp) as its
-// evaluator, the mechanism the browser's page uses: ask() runs the loop until it
-// needs an evaluation and returns it as an EvaluationRequest (creatures, problem,
-// estimator); evaluate(request) scores it on this process's threads; tell(results)
-// hands the evaluations back, bit for bit (the wire format), and the next ask()
-// runs the loop again from the checkpoint, now answered. So the folder is the
-// command's, byte for byte, whoever evaluates. At the end the champions are
-// checked on fresh replicas as the command checks them.
-#include <atomic>
+// evolve` does, on a thread of its own, with a HandoffEvaluator
+// (evolve/evaluators/handoff_evaluator.hpp) as its evaluator: ask() waits until
+// the loop needs an evaluation and returns it as an EvaluationRequest (creatures,
+// problem, estimator); evaluate(request) scores it on this process's threads;
+// tell(results) hands the evaluations back, bit for bit (the wire format), and
+// the loop goes on. So the folder is the command's, byte for byte, whoever
+// evaluates. At the end the champions are checked on fresh replicas as the
+// command checks them.
 #include <cmath>
+#include <cstdint>
+#include <exception>
+#include <mutex>
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <pybind11/stl.h>
 
 #include "core/input_error.hpp"
 #include "evolve/runs/archive_check.hpp"
-#include "evolve/evaluators/ask_tell_evaluator.hpp"
+#include "evolve/evaluators/handoff_evaluator.hpp"
 #include "evolve/runs/evolution_run.hpp"
 #include "evolve/runs/map_elites_run.hpp"
 #include "evolve/runs/replica_check.hpp"
@@ -76,49 +79,36 @@ class Optimiser {
     config_ = parsed->run;
     store_.emplace(start_run(config_, parsed->source, out, force, command_line));
   }
+  Optimiser(const Optimiser&) = delete;
+  Optimiser& operator=(const Optimiser&) = delete;
+
+  /// An abandoned run (the object dropped before the end) stops where its loop
+  /// waits; its folder is left as after its last checkpoint.
+  ~Optimiser() {
+    if (!loop_.joinable()) return;
+    evaluator_.abandon();
+    loop_.join();
+  }
 
   /// The next request, or None once the run is over (its champions checked).
   py::object ask() {
     if (finished_) return py::none();
     if (request_) return py::cast(*request_); // asked again before being told: the same request
-    for (;;) {
-      std::atomic<bool> stop{false};
-      std::string stopped;
-      try {
-        if (config_.algorithm == AlgorithmKind::MapElites) {
-          MapElitesOptions options;
-          options.stop_requested = &stop;
-          options.stop_is_pause = true;
-          options.on_iteration = [&](const MapElitesProgress& p) {
-            stop = true;
-            progress_.append(iteration_progress(p));
-          };
-          const MapElitesOutcome o = run_map_elites(store_->dir(), config_, config_.map_elites, evaluator_, options);
-          stopped = stop_reason_name(o.stopped_because);
-          filled_ = o.metrics.filled;
-        } else {
-          EvolutionOptions options;
-          options.stop_requested = &stop;
-          options.stop_is_pause = true;
-          options.on_generation = [&](const Progress& p) {
-            stop = true;
-            progress_.append(generation_progress(p));
-          };
-          const EvolutionOutcome o = run_evolution(*store_, evaluator_, options);
-          stopped = stop_reason_name(o.stopped_because);
-          best_fitness_ = o.best_fitness;
-          best_id_ = o.best_id;
-        }
-      } catch (const NeedEvaluation&) {
-        request_ = make_request();
-        return py::cast(*request_);
-      }
-      evaluator_.forget(); // a generation is done: its answers are in the run folder
-      if (stopped != "interrupted") {
-        finish(stopped);
-        return py::none();
-      }
+    if (!loop_.joinable()) loop_ = std::thread([this] { run_loop(); });
+    std::optional<HandoffEvaluator::Request> posted;
+    {
+      const py::gil_scoped_release free_python; // the loop only varies and saves until it asks
+      posted = evaluator_.wait_for_request();
     }
+    if (posted) {
+      request_ = make_request(std::move(*posted));
+      return py::cast(*request_);
+    }
+    loop_.join();
+    finished_ = true;
+    if (loop_error_) std::rethrow_exception(loop_error_);
+    finish();
+    return py::none();
   }
 
   void tell(long long request, const py::bytes& wire) {
@@ -129,16 +119,32 @@ class Optimiser {
                              " (evaluate the request ask() returned)");
     }
     const std::string bytes = wire;
-    if (!evaluator_.tell(0, bytes.data(), bytes.size())) {
-      throw soda::InputError("tell: fewer evaluations than the request's creatures");
+    WireReader reader(bytes.data(), bytes.size());
+    const std::uint32_t count = reader.u32();
+    if (count != request_->creatures.size()) {
+      throw soda::InputError("tell: " + std::to_string(count) + " evaluations for a request of " +
+                             std::to_string(request_->creatures.size()) + " creatures");
     }
+    std::vector<Evaluation> evaluations;
+    evaluations.reserve(count);
+    for (std::uint32_t k = 0; k < count; ++k) evaluations.push_back(reader.evaluation());
+    reader.expect_end();
+    evaluator_.answer(std::move(evaluations));
     request_.reset();
   }
 
   /// Progress dicts of the generations (iterations) finished since the last call.
   py::list take_progress() {
-    py::list out = progress_;
-    progress_ = py::list();
+    std::vector<Progress> generations;
+    std::vector<MapElitesProgress> iterations;
+    {
+      const std::lock_guard lock(progress_mutex_);
+      generations.swap(generations_);
+      iterations.swap(iterations_);
+    }
+    py::list out;
+    for (const Progress& p : generations) out.append(generation_progress(p));
+    for (const MapElitesProgress& p : iterations) out.append(iteration_progress(p));
     return out;
   }
 
@@ -149,7 +155,7 @@ class Optimiser {
     py::dict r;
     r["run"] = dir();
     r["finished"] = finished_;
-    r["stopped_because"] = stopped_because_;
+    r["stopped_because"] = finished_ ? stop_reason_name(stopped_because_) : std::string();
     if (config_.algorithm == AlgorithmKind::MapElites) {
       r["filled"] = filled_;
     } else {
@@ -160,22 +166,50 @@ class Optimiser {
   }
 
  private:
-  EvaluationRequest make_request() {
-    const std::vector<char> head = evaluator_.chunk(0, 0); // problem, estimator, count 0
-    WireReader reader(head.data(), head.size());
+  /// The run's loop, on its own thread, as `sodaevo evolve` runs it; every
+  /// evaluation it needs is handed to ask() by the evaluator.
+  void run_loop() {
+    try {
+      if (config_.algorithm == AlgorithmKind::MapElites) {
+        MapElitesOptions options;
+        options.on_iteration = [&](const MapElitesProgress& p) {
+          const std::lock_guard lock(progress_mutex_);
+          iterations_.push_back(p);
+        };
+        const MapElitesOutcome o = run_map_elites(store_->dir(), config_, config_.map_elites, evaluator_, options);
+        stopped_because_ = o.stopped_because;
+        filled_ = o.metrics.filled;
+      } else {
+        EvolutionOptions options;
+        options.on_generation = [&](const Progress& p) {
+          const std::lock_guard lock(progress_mutex_);
+          generations_.push_back(p);
+        };
+        const EvolutionOutcome o = run_evolution(*store_, evaluator_, options);
+        stopped_because_ = o.stopped_because;
+        best_fitness_ = o.best_fitness;
+        best_id_ = o.best_id;
+      }
+    } catch (const RunAbandoned&) {
+    } catch (...) {
+      loop_error_ = std::current_exception();
+    }
+    evaluator_.loop_ended();
+  }
+
+  EvaluationRequest make_request(HandoffEvaluator::Request posted) {
+    WireReader reader(posted.head.data(), posted.head.size());
     EvaluationRequest r;
     r.problem = read_problem(reader);
     r.estimator = read_estimator(reader);
-    r.creatures = evaluator_.pending();
+    r.creatures = std::move(posted.creatures);
     r.id = ++requests_;
     return r;
   }
 
   /// As `sodaevo evolve` ends a run: the champions (the archive) checked again
   /// on fresh replicas, on this process's threads (Ctrl-C stops it).
-  void finish(const std::string& stopped) {
-    finished_ = true;
-    stopped_because_ = stopped;
+  void finish() {
     const std::filesystem::path run = store_->dir();
     const int threads = threads_;
     if (config_.algorithm == AlgorithmKind::MapElites) {
@@ -192,12 +226,17 @@ class Optimiser {
   int threads_;
   RunConfig config_;
   std::optional<RunStore> store_;
-  AskTellEvaluator evaluator_;
+  HandoffEvaluator evaluator_;
+  std::thread loop_;
+  std::exception_ptr loop_error_;
   std::optional<EvaluationRequest> request_;
   long long requests_ = 0;
-  py::list progress_;
+  std::mutex progress_mutex_;
+  std::vector<Progress> generations_;
+  std::vector<MapElitesProgress> iterations_;
   bool finished_ = false;
-  std::string stopped_because_;
+  // Written by the loop's thread before it ends, read after it is joined.
+  StopReason stopped_because_ = StopReason::Completed;
   std::string best_id_;
   double best_fitness_ = kWorstFitness;
   std::size_t filled_ = 0;

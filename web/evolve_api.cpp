@@ -7,7 +7,7 @@
 //    file system. Its Evaluator cannot wait for the Web Workers (a page has no
 //    blocking wait without SharedArrayBuffer, which a page opened from a file does
 //    not get), so it asks instead: an AskTellEvaluator
-//    (evolve/ask_tell_evaluator.hpp) throws the request out of the loop, the
+//    (evolve/evaluators/ask_tell_evaluator.hpp) throws the request out of the loop, the
 //    workers evaluate it, and the loop is run again from the checkpoint.
 //  - A worker (one instance per Web Worker) evaluates a chunk of a request: the
 //    wire format of evolve/wire_format.hpp, as the MPI workers get theirs.

@@ -47,14 +47,12 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
   long long evaluations = 0;
   bool need_evaluation = true;
   bool rescoring = false; // the checkpoint's generation, scored again (options.rescore_checkpoint)
-  bool checkpointed = false; // the checkpoint holds `current` as it is
   if (std::optional<Checkpoint> checkpoint = store.read_checkpoint()) {
     store.truncate_logs_after(checkpoint->generation.index);
     current = std::move(checkpoint->generation);
     evaluations = checkpoint->evaluations;
     clock.carry_over(checkpoint->wall_seconds);
     need_evaluation = false; // the checkpoint holds an evaluated generation
-    checkpointed = !options.rescore_checkpoint;
     outcome.last_generation = current.index;
     if (options.rescore_checkpoint) {
       for (Individual& ind : current.individuals) ind.evaluation = {}, ind.evaluated = false;
@@ -100,8 +98,9 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
       }
       store.record_generation(current, stats, wall(), seconds, done, save_whole, best_file);
       // Scored again: checkpointed at once, the checkpoint naming the sine that scored it.
-      checkpointed = last || rescoring || current.index % config.save.checkpoint_every == 0;
-      if (checkpointed) store.write_checkpoint({current, evaluations, wall(), {}});
+      if (last || rescoring || current.index % config.save.checkpoint_every == 0) {
+        store.write_checkpoint({current, evaluations, wall(), {}});
+      }
       outcome.last_generation = current.index;
       rescoring = false;
       if (options.on_generation) {
@@ -115,12 +114,10 @@ EvolutionOutcome run_evolution(RunStore& store, Evaluator& evaluator, const Evol
     if (const std::optional<StopReason> stop =
             stop_before_next_step(current.index + 1 >= config.budget.generations, no_room_after(evaluations),
                                   config.budget, clock, options.stop_requested)) {
-      // Whatever stopped the run, the last generation is saved whole and
-      // checkpointed; a pause only checkpoints it.
+      // Whatever stopped the run, the last generation is saved whole and checkpointed.
       const GenerationStats stats = summarize(current, evaluations);
-      const bool pause = *stop == StopReason::Interrupted && options.stop_is_pause;
-      if (!pause || !checkpointed) store.write_checkpoint({current, evaluations, wall(), {}});
-      if (!pause) store.save_generation(current);
+      store.write_checkpoint({current, evaluations, wall(), {}});
+      store.save_generation(current);
       outcome.stopped_because = *stop;
       outcome.evaluations = evaluations;
       if (stats.best_index >= 0) {

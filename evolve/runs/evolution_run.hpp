@@ -28,11 +28,6 @@ struct EvolutionOptions {
   /// When it becomes true, the current generation is finished and saved, then
   /// the run stops (Ctrl-C).
   const std::atomic<bool>* stop_requested = nullptr;
-  /// The stop is a pause: the loop is run again from the checkpoint right after
-  /// (the ask/tell drivers, evolve/ask_tell_evaluator.hpp). The generation is then
-  /// checkpointed (if it was not yet) but not saved whole, so that the folder ends
-  /// as an unpaused run's.
-  bool stop_is_pause = false;
   /// Resuming a checkpoint scored with another sine (evolve --resume-other-sine):
   /// its generation is scored again from scratch, as if newly born, and saved whole,
   /// so that no generation from there on holds fitnesses of two sines (elites

@@ -91,14 +91,10 @@ MapElitesOutcome run_map_elites(const std::filesystem::path& dir, const RunConfi
         config.budget.max_evaluations > 0 && state.evaluations + me.batch_size > config.budget.max_evaluations;
     if (const std::optional<StopReason> stop = stop_before_next_step(state.iteration >= me.iterations, no_room,
                                                                      config.budget, clock, options.stop_requested)) {
-      const bool pause = *stop == StopReason::Interrupted && options.stop_is_pause;
-      const bool checkpointed = state.iteration % config.save.checkpoint_every == 0; // iteration 0 too
       state.wall_seconds = wall();
-      if (!pause || !checkpointed) store.write_checkpoint(archive, state);
-      if (!pause) {
-        store.write_snapshot(archive, me, state.iteration);
-        store.write_archive(archive, *problem_of(config, 0), config, me, state.iteration);
-      }
+      store.write_checkpoint(archive, state);
+      store.write_snapshot(archive, me, state.iteration);
+      store.write_archive(archive, *problem_of(config, 0), config, me, state.iteration);
       outcome.stopped_because = *stop;
       outcome.last_iteration = state.iteration;
       outcome.evaluations = state.evaluations;

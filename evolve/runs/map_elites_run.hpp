@@ -49,9 +49,6 @@ struct MapElitesOptions {
   std::function<void(const MapElitesProgress&)> on_iteration;
   /// When it becomes true, the current iteration is finished and saved, then the run stops.
   const std::atomic<bool>* stop_requested = nullptr;
-  /// The stop is a pause (as EvolutionOptions::stop_is_pause): the iteration is
-  /// checkpointed (if it was not yet), no snapshot or archive.json is written.
-  bool stop_is_pause = false;
 };
 
 struct MapElitesOutcome {

@@ -85,3 +85,28 @@ def test_tell_refuses_what_does_not_answer_the_request(tiny_run, tmp_path):
     assert opt.ask().id == request.id  # asked again before a tell: the same request
     with pytest.raises(sodaevo.InputError, match="answer request 1, the pending request is 2"):
         opt.tell(first)
+
+
+def test_an_abandoned_optimiser_stops_its_loop_and_the_command_resumes_it(tiny_run, tmp_path):
+    # The loop runs on a thread of its own and waits for answers: dropping the
+    # Optimiser mid-run must end that thread (no hang at exit), leaving the folder
+    # as after its last checkpoint, which `sodaevo evolve --resume` finishes to the
+    # uninterrupted command's run.
+    import gc
+    import time
+    _, tiny = tiny_run
+    config = dict(tiny, generations=4)
+    path = tmp_path / "ga.json"
+    path.write_text(json.dumps(config))
+    run_cli("evolve", path, "--out", tmp_path / "cli", "--quiet", "--threads", "2")
+    opt = sodaevo.Optimiser(path, tmp_path / "asktell", threads=2)
+    for _ in range(3):  # generation 0, then generation 1's children, then its confirmation
+        opt.tell(sodaevo.evaluate(opt.ask(), threads=2))
+    assert opt.ask() is not None  # a request left unanswered
+    folder = opt.dir
+    start = time.perf_counter()
+    del opt
+    gc.collect()
+    assert time.perf_counter() - start < 5
+    run_cli("evolve", "--resume", folder, "--quiet", "--threads", "2")
+    assert_same_folder(folder, tmp_path / "cli")
