@@ -3,16 +3,16 @@
 lengths, muscle amplitudes and phases) searched in numpy, each candidate scored
 by the distance `sodaevo simulate` reports. The best is saved as XML, so
 
-  sodaevo simulate cmaes_best.xml --frames 2000 --json
+  sodaevo simulate results/cmaes_best.xml --frames 2000 --json
 
-replays it to the last bit (the printed centroid_dx).
+(the file goes to results/cmaes_best.xml, --out, not the working folder) replays it to the last bit (the printed centroid_dx).
 
 The optimiser below is a plain CMA-ES (Hansen's (mu/mu_w, lambda) with rank-one
 and rank-mu updates) with the ask/tell interface of the `cma` package: with
 `pip install cma`, replace `CMAES(x0, 0.1, seed=1)` by
 `cma.CMAEvolutionStrategy(x0, 0.1, {"seed": 1})` and the loop stays as it is.
 
-  PYTHONPATH=build/python /usr/bin/python3 examples/python/cmaes_walker.py [--generations 40]
+  PYTHONPATH=build/python /usr/bin/python3 examples/python/cmaes_walker.py [--generations 40] [--out FILE]
 """
 import argparse
 import os
@@ -25,6 +25,7 @@ ap = argparse.ArgumentParser()
 ap.add_argument("--generations", type=int, default=40)
 ap.add_argument("--frames", type=int, default=2000)
 ap.add_argument("--model", default=os.path.join(os.path.dirname(__file__), "..", "..", "models", "dainty_walker.xml"))
+ap.add_argument("--out", default="results/cmaes_best.xml")
 args = ap.parse_args()
 
 
@@ -99,6 +100,7 @@ for g in range(args.generations):
     if distances[k] > best_distance:
         best, best_distance = creatures[k], distances[k]
     print(f"generation {g}: best {max(distances):.1f} px, best so far {best_distance:.1f} px, sigma {es.sigma:.3f}")
-best.save("cmaes_best.xml")
+os.makedirs(os.path.dirname(args.out) or ".", exist_ok=True)
+best.save(args.out)
 print(f"Dainty Walker: {start!r} px in {args.frames} frames; CMA-ES best: {best_distance!r} px")
-print(f"replay: sodaevo simulate cmaes_best.xml --frames {args.frames} --json  (centroid_dx {best_distance!r})")
+print(f"replay: sodaevo simulate {args.out} --frames {args.frames} --json  (centroid_dx {best_distance!r})")

@@ -44,7 +44,8 @@ def test_cmaes_improves_the_walker_and_replays_in_simulate(tmp_path):
     start = float(last.split("Dainty Walker: ")[1].split(" px")[0])
     best = float(last.split("CMA-ES best: ")[1].split(" px")[0])
     assert best > start
-    replay = cli_json("simulate", tmp_path / "cmaes_best.xml", "--frames", "800", "--json")
+    assert not (tmp_path / "cmaes_best.xml").exists()  # not into the working folder
+    replay = cli_json("simulate", tmp_path / "results" / "cmaes_best.xml", "--frames", "800", "--json")
     assert replay["centroid_dx"] == best  # bit for bit: repr round-trips a double
 
 
