@@ -26,6 +26,62 @@ std::string player_of(const soda::RaceDef& race, int timeout, const RaceEntry& e
   return player_element(motion, view);
 }
 
+std::string percent(double share) {
+  char text[16];
+  std::snprintf(text, sizeof text, "%.0f %%", 100.0 * share);
+  return text;
+}
+
+/// The README's table in short, each file linking to its races below: what a
+/// reader looks for first.
+std::string summary_table(const RecordBook& book) {
+  std::ostringstream o;
+  o << "<table class=\"summary\">\n<tr><th>race file</th><th>record</th><th>frames</th><th>replicas finishing</th>"
+    << "<th>best public contender</th><th>its frames</th><th>ratio</th></tr>\n";
+  for (const FileRecord& f : book.files) {
+    const std::string name = std::filesystem::path(f.race_file).filename().string();
+    o << "<tr><td><a href=\"#" << html_escape(name) << "\">" << html_escape(name) << "</a></td>";
+    const RaceEntry* record = f.record >= 0 ? &f.candidates[static_cast<std::size_t>(f.record)] : nullptr;
+    const RaceEntry* pub = f.best_public >= 0 ? &f.publics[static_cast<std::size_t>(f.best_public)] : nullptr;
+    if (record != nullptr) {
+      o << "<td>" << html_escape(std::filesystem::path(record->file).filename().string()) << "</td><td class=\"n\"><b>"
+        << race_result_text(record->outcome) << "</b></td><td class=\"n\">" << percent(f.record_replicas.finished_share)
+        << (f.qualified ? "" : " (not qualified)") << "</td>";
+    } else {
+      o << "<td colspan=\"3\">none of ours finishes</td>";
+    }
+    if (pub != nullptr) {
+      o << "<td>" << html_escape(std::filesystem::path(pub->file).filename().string()) << "</td><td class=\"n\">"
+        << race_result_text(pub->outcome) << "</td><td class=\"n\">";
+      if (record != nullptr && pub->outcome.finished) {
+        char ratio[32];
+        std::snprintf(ratio, sizeof ratio, "%.3f", record->outcome.result / pub->outcome.result);
+        o << ratio;
+      } else {
+        o << "-";
+      }
+      o << "</td>";
+    } else {
+      o << "<td colspan=\"3\">no public contender raced</td>";
+    }
+    o << "</tr>\n";
+  }
+  o << "</table>\n";
+  if (book.generalist.candidate >= 0 && !book.files.empty()) {
+    const auto k = static_cast<std::size_t>(book.generalist.candidate);
+    o << "<p><b>The generalist</b>, "
+      << html_escape(std::filesystem::path(book.files.front().candidates[k].file).filename().string()) << ", finishes "
+      << book.generalist.files_finished << " of " << book.files.size() << " files: ";
+    for (std::size_t i = 0; i < book.files.size(); ++i) {
+      const RaceEntry& e = book.files[i].candidates[k];
+      o << (i > 0 ? ", " : "") << html_escape(std::filesystem::path(book.files[i].race_file).filename().string()) << " "
+        << (e.no_result.empty() ? race_result_text(e.outcome) : "no result");
+    }
+    o << " frames.</p>\n";
+  }
+  return o.str();
+}
+
 } // namespace
 
 std::string records_page(const RecordBook& book, int max_samples) {
@@ -33,11 +89,15 @@ std::string records_page(const RecordBook& book, int max_samples) {
   o << "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>The Sodarace record book</title>\n"
     << "<style>body { font-family: Helvetica, Arial, sans-serif; margin: 20px; color: #222; }\n"
     << ".pair { display: flex; flex-wrap: wrap; gap: 16px; }\n.pair .soda-player { max-width: 560px; }\n"
-    << "h2 { margin-top: 28px; }</style>\n"
+    << "h2 { margin-top: 28px; }\ntable.summary { border-collapse: collapse; font-size: 14px; }\n"
+    << "table.summary th, table.summary td { border-bottom: 1px solid #ddd; padding: 3px 10px; text-align: left; }\n"
+    << "table.summary td.n { text-align: right; font-variant-numeric: tabular-nums; }</style>\n"
     << player_head() << "</head>\n<body>\n<pre id=\"page-errors\" hidden></pre>\n"
     << "<h1>The Sodarace record book</h1>\n<p>Each race file's record race (left) beside the best public "
     << "contender's (right), raced exactly as the original racer races them (2004 bar rule). "
-    << "The table with replicas and how each record was found: README.md.</p>\n";
+    << "Frames are the exact result; replicas finishing: the share of 16 jittered replicas (another machine's "
+    << "sine) that finish. Intervals and how each record was found: <a href=\"README.md\">README.md</a>.</p>\n"
+    << summary_table(book);
   for (std::size_t i = 0; i < book.files.size(); ++i) {
     const FileRecord& f = book.files[i];
     const std::string name = std::filesystem::path(f.race_file).filename().string();

@@ -53,7 +53,14 @@ TEST_CASE("records: the book names the record and the best public contender with
   const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
   CHECK_THAT(text, Catch::Contains("| TerrainFlat.xml | `") && Catch::Contains("| **62** |") &&
                        Catch::Contains("configs/sodarace_flat.json`, seed 1, 300 generations"));
-  CHECK(fs::file_size(dir / "book" / "index.html") > 1000);
+  // The page opens with the table: each file linked to its races, the record's
+  // frames, the public contender's (the original racer's 769) and the ratio.
+  std::ifstream page_in(dir / "book" / "index.html");
+  const std::string page((std::istreambuf_iterator<char>(page_in)), std::istreambuf_iterator<char>());
+  CHECK_THAT(page, Catch::Contains("<a href=\"#TerrainFlat.xml\">TerrainFlat.xml</a></td><td>flat.xml</td><td class=\"n\"><b>62</b>") &&
+                       Catch::Contains("<td>walker_430.xml</td><td class=\"n\">769</td><td class=\"n\">0.081</td>") &&
+                       Catch::Contains("<a href=\"#race08.xml\">race08.xml</a></td><td colspan=\"3\">none of ours finishes"));
+  CHECK(page.find("id=\"TerrainFlat.xml\"") != std::string::npos);
 
   // A missing public contender is named with the list's line.
   std::ofstream(dir / "bad.txt") << walker.string() << "\nno/such/file.xml\n";
