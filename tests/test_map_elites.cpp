@@ -455,6 +455,8 @@ TEST_CASE("/map_elites config: bad input names the pointer, what was expected an
   p = problems_of(R"({"descriptors": ["width", "height"], "bins": [4, 4]})");
   CHECK(first(p) == "/map_elites/ranges: expected an array (descriptors, bins and ranges are given together), "
                     "got nothing");
+  p = problems_of(R"({"elite_recent": -1})");
+  CHECK(first(p) == "/map_elites/elite_recent: expected an integer in [0, 1000000], got -1");
   p = problems_of(R"({"batch": 3})");
   CHECK(first(p).rfind("/map_elites/batch: unknown key (expected one of: descriptors, ", 0) == 0);
   p = problems_of(R"([1])");
@@ -712,4 +714,46 @@ TEST_CASE("parent tournament: parents drawn from fitter elites, plain MAP-Elites
   // Uniform: about 4.5. The fittest of 3 draws of 0..9: E = sum_i i * ((i+1)^3 - i^3) / 1000 = 6.975.
   CHECK(mean_parent(1) == Approx(4.5).margin(0.5));
   CHECK(mean_parent(3) == Approx(6.975).margin(0.4));
+}
+
+TEST_CASE("elite pool: the elite share breeds from the fittest elites, or from the fittest recent entrants", "[map-elites]") {
+  const RunConfig config = test::walker_run_config("t", 4, 8, 1, 300, 40);
+  const soda::ModelDef walker = soda::read_model_file(test::models_dir() / "dainty_walker.xml").def;
+  // Ten elites, e<i> with fitness i; e0..e4 entered at iteration 10 (recent),
+  // e5..e9 (the fittest) at iteration 1.
+  GridArchive archive({{Descriptor::Width, 10, 0.0, 100.0}, {Descriptor::Height, 1, 0.0, 1.0}});
+  for (int i = 0; i < 10; ++i) {
+    ArchiveEntry e;
+    e.id = "e" + std::to_string(i);
+    e.creature = walker;
+    e.fitness = estimate(1, static_cast<double>(i));
+    e.iteration = i < 5 ? 10 : 1;
+    archive.place(static_cast<std::size_t>(i), e);
+  }
+  const auto parents = [&](double share, int pool, int recent) {
+    MapElitesConfig me;
+    me.batch_size = 200;
+    me.elite_share = share;
+    me.elite_pool = pool;
+    me.elite_recent = recent;
+    std::vector<int> out;
+    for (const Individual& child : map_elites_children(config, me, archive, 12)) out.push_back(std::stoi(child.parents[0].substr(1)));
+    return out;
+  };
+  // The first half from the pool of the 3 fittest (e7, e8, e9), the rest from all.
+  std::vector<int> p = parents(0.5, 3, 0);
+  CHECK(std::all_of(p.begin(), p.begin() + 100, [](int i) { return i >= 7; }));
+  CHECK(std::any_of(p.begin() + 100, p.end(), [](int i) { return i < 7; }));
+  // Recent within 2 iterations of iteration 12 (entered at 10 or later): the pool is
+  // the 3 fittest of e0..e4 (e2, e3, e4).
+  p = parents(0.5, 3, 2);
+  CHECK(std::all_of(p.begin(), p.begin() + 100, [](int i) { return i >= 2 && i <= 4; }));
+  // A window that reaches no entrant (iteration 10 is 2 before 12, not within 1):
+  // the fittest of all again.
+  p = parents(0.5, 3, 1);
+  CHECK(std::all_of(p.begin(), p.begin() + 100, [](int i) { return i >= 7; }));
+  // A pool larger than the recent entrants is topped up with the fittest of the rest.
+  p = parents(1.0, 7, 2);
+  CHECK(std::all_of(p.begin(), p.end(), [](int i) { return i <= 4 || i >= 8; }));
+  CHECK(std::any_of(p.begin(), p.end(), [](int i) { return i == 9; }));
 }

@@ -63,9 +63,14 @@ std::vector<Individual> map_elites_children(const GeneticSettings& config, const
   if (elites.empty()) return children;
   // The elite pool: the fittest elites, in cell order on ties (stable), for the
   // first elite_share of the batch (the optimising emitter).
+  // With elite_recent, the recent entrants come first (each group fittest first),
+  // so the pool is theirs and the fittest of all only top it up.
   std::vector<const ArchiveEntry*> pool = elites;
-  std::stable_sort(pool.begin(), pool.end(),
-                   [](const ArchiveEntry* a, const ArchiveEntry* b) { return a->fitness.mean > b->fitness.mean; });
+  const auto recent = [&](const ArchiveEntry* e) { return me.elite_recent > 0 && e->iteration >= iteration - me.elite_recent; };
+  std::stable_sort(pool.begin(), pool.end(), [&](const ArchiveEntry* a, const ArchiveEntry* b) {
+    if (recent(a) != recent(b)) return recent(a);
+    return a->fitness.mean > b->fitness.mean;
+  });
   pool.resize(std::min(pool.size(), static_cast<std::size_t>(me.elite_pool)));
   const int from_pool = static_cast<int>(std::lround(me.elite_share * me.batch_size));
   for (int k = 0; k < me.batch_size; ++k) {

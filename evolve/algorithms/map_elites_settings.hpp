@@ -43,6 +43,13 @@ struct MapElitesConfig {
   /// /map_elites/elite_pool [1, 100000]: how many of the fittest elites (highest
   /// mean) the elite share draws its parents from.
   int elite_pool = 16;
+  /// /map_elites/elite_recent [0, 1e6]: when > 0, the elite pool is the fittest of
+  /// the elites that entered their cell in the last this many iterations (topped
+  /// up with the fittest of all). Why: a pool of the fittest of all stalls once no
+  /// child beats them (the archive keeps one per cell and never lets an equal child
+  /// in), while a GA's population keeps moving; drawing on the recent entrants
+  /// lets the pool drift as a population does. 0: the fittest of all.
+  int elite_recent = 0;
   int snapshot_every = 10;     ///< /map_elites/snapshot_every [0, 1e6]: archive snapshots (0 = the last only)
   int sample_every = 8;        ///< /map_elites/sample_every [1, 1e6]: scored frames between descriptor samples
   double qd_offset = 0.0;      ///< /map_elites/qd_offset: subtracted from each elite's fitness in the QD-score

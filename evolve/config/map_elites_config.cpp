@@ -28,7 +28,7 @@ const std::vector<std::string>& keys() {
   static const std::vector<std::string> k = {"descriptors", "bins",          "ranges",       "iterations",
                                              "batch_size",  "crossover_rate", "snapshot_every", "sample_every",
                                              "qd_offset",   "check_replicas", "parent_tournament",
-                                             "elite_share", "elite_pool"};
+                                             "elite_share", "elite_pool",  "elite_recent"};
   return k;
 }
 
@@ -56,6 +56,7 @@ class Reader {
     integer(v, "parent_tournament", 1, 64, config_.parent_tournament);
     number(v, "elite_share", 0, 1, config_.elite_share);
     integer(v, "elite_pool", 1, 100000, config_.elite_pool);
+    integer(v, "elite_recent", 0, 1e6, config_.elite_recent);
     read_axes(v);
   }
 
@@ -193,13 +194,15 @@ json to_json(const MapElitesConfig& c) {
     bins.push_back(a.bins);
     ranges.push_back({a.lo, a.hi});
   }
-  return {{"descriptors", descriptors},     {"bins", bins},
+  json j = {{"descriptors", descriptors},     {"bins", bins},
           {"ranges", ranges},               {"iterations", c.iterations},
           {"batch_size", c.batch_size},     {"crossover_rate", c.crossover_rate},
           {"snapshot_every", c.snapshot_every}, {"sample_every", c.sample_every},
           {"qd_offset", c.qd_offset},       {"check_replicas", c.check_replicas},
           {"parent_tournament", c.parent_tournament}, {"elite_share", c.elite_share},
           {"elite_pool", c.elite_pool}};
+  if (c.elite_recent > 0) j["elite_recent"] = c.elite_recent; // absent when off: older run folders keep their bytes
+  return j;
 }
 
 } // namespace sodaevo
