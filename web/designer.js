@@ -19,8 +19,8 @@
   var $ = function (id) { return document.getElementById(id); };
   var STYLE = JSON.parse($('soda-style').textContent);
   var REPLICAS = 8, REPLICA_FRAMES = 1000, JITTER = 0.002;
-  // Files bigger than this are read by a worker: the XML of 1,000 masses (about
-  // 150 kB) takes the page's engine some 50 ms, more on its first call.
+  // Files bigger than this are read by a worker: the page's engine takes 0.2-0.3 s
+  // for the 740 kB of 5,000 masses on its first call, so some 40 ms for 100 kB.
   var BIG_FILE = 100000;
   var SLIDERS = [
     { key: 'waveSpeed', label: 'wave speed', min: 0, max: 0.1, step: 0.0005, digits: 4 },
@@ -93,14 +93,22 @@
   /// until it is in (the old design stays meanwhile).
   function loadBytes(bytes, name) {
     var opening = ++app.opening; // a later open wins over an earlier one still in the worker
+    var reading = null;
     if (bytes.length > BIG_FILE && window.Worker) {
+      try {
+        app.openWorker = app.openWorker || SodaReplicaWorker.fromPage(document);
+        reading = app.openWorker.open(bytes, name);
+      } catch (e) {
+        reading = null; // no worker here (a browser's rule for file pages, say): read it on the page
+      }
+    }
+    if (reading) {
       message('opening ' + name + ' (' + Math.round(bytes.length / 1000) + ' kB)\u2026');
-      app.openWorker = app.openWorker || SodaReplicaWorker.fromPage(document);
-      return app.openWorker.open(bytes, name).then(function (r) {
+      return reading.then(function (r) {
         if (opening !== app.opening) return false;
         var warnings;
         try {
-          warnings = app.engine.importDesign(r.design);
+          warnings = app.engine.importDesign(r.design, r.object);
           // Its objects now (what the pointer meets), its picture in the next task:
           // two shorter blocks of the page's thread.
           app.design = app.engine.design();

@@ -8,7 +8,8 @@
 // SodaEngine.exportDesign's bytes (doubles as their bits: the same design at
 // both ends), which an engine takes in milliseconds.
 //
-// open(xmlBytes, name) resolves with {design: bytes, warnings} of the file, or
+// open(xmlBytes, name) resolves with {design: bytes, object: its design(),
+// warnings} of the file, or
 // rejects with the reader's message; run(designBytes, replicas, frames, jitter)
 // resolves with SodaEngine.replicas' result, or rejects with the engine's message.
 // A newer job ends an older one (its worker is terminated, its promise never
@@ -27,7 +28,7 @@
           if (job.open) {
             var warnings = engine.loadXml(new Uint8Array(job.open), job.name);
             var design = engine.exportDesign().buffer;
-            self.postMessage({ result: { design: design, warnings: warnings } }, [design]);
+            self.postMessage({ result: { design: design, object: engine.design(), warnings: warnings } }, [design]);
             return;
           }
           engine.importDesign(new Uint8Array(job.design));
@@ -78,7 +79,7 @@
   ReplicaWorker.prototype.open = function (xmlBytes, name) {
     var bytes = new Uint8Array(xmlBytes).slice().buffer; // a copy: the caller keeps its bytes
     return this.job({ open: bytes, name: name }, bytes).then(function (r) {
-      return { design: new Uint8Array(r.design), warnings: r.warnings };
+      return { design: new Uint8Array(r.design), object: r.object, warnings: r.warnings };
     });
   };
 

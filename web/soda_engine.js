@@ -76,10 +76,13 @@
     return this.outputBytes();
   };
   /// Takes exportDesign's bytes as loadXml takes a file: returns the warnings.
-  SodaEngine.prototype.importDesign = function (bytes) {
+  /// `design`: the exporting engine's design() of them, if at hand (a worker's
+  /// comes as a copy made natively, cheaper than making it again on a page).
+  SodaEngine.prototype.importDesign = function (bytes, design) {
     var self = this;
     this.designCache = null;
     this.withBytes(bytes, function (p, n) { self.check(self.module._soda_import_design(self.session, p, n)); });
+    this.designCache = design || null;
     var warnings = this.outputText();
     return warnings ? warnings.replace(/\n$/, '').split('\n') : [];
   };
