@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <cstdint>
 
 namespace soda {
 
@@ -15,6 +16,84 @@ struct Decimal {
   std::string digits;
   int exponent = 0;
 };
+
+/// Exact powers of ten: 10^22 is the largest a double holds exactly.
+constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,  1e8,  1e9,  1e10, 1e11,
+                             1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
+/// The shortest digits of a (positive, finite) when it is n / 10^p for a small p,
+/// as the numbers of a design mostly are ("20", "6.5", "0.125"), without printf or
+/// strtod (each try of shortest_digits costs microseconds in WebAssembly: seconds
+/// for a 5,000-mass design). n / 10^p == a (both exact, so the division rounds the
+/// rational n / 10^p as strtod rounds the decimal) says the decimal reads back. The
+/// least such p gives the fewest digits; the exact nearest integer to a * 10^p is
+/// within one of the rounded product (under 2^52), so three candidates cover it, and
+/// a p where two read back is left to shortest_digits (digits beyond the double's
+/// precision, where the nearest must be picked). False: not such a number.
+bool short_decimal_digits(double a, Decimal& out) {
+  for (int p = 0; p <= 17; ++p) {
+    const double x = a * kPow10[p];
+    if (!(x < 4503599627370496.0)) return false; // 2^52
+    const double m = std::nearbyint(x);
+    double found = 0.0;
+    int reading_back = 0;
+    for (const double n : {m - 1.0, m, m + 1.0}) {
+      if (n > 0.0 && n / kPow10[p] == a) {
+        found = n;
+        ++reading_back;
+      }
+    }
+    if (reading_back > 1) return false;
+    if (reading_back == 1) {
+      out.digits = std::to_string(static_cast<std::uint64_t>(found));
+      out.exponent = static_cast<int>(out.digits.size()) - 1 - p;
+      return true;
+    }
+  }
+  return false;
+}
+
+/// What strtod gives for text of from_chars' syntax (checked) when its digits make
+/// an integer n < 10^15 and its point and exponent a power 10^k with |k| <= 22:
+/// n * 10^k or n / 10^-k, one correctly rounded operation on exact operands, which
+/// is the correctly rounded value strtod gives (the numbers of a design: "20.0",
+/// "6.5"; strtod costs microseconds in WebAssembly). Nullopt: not such text.
+std::optional<double> short_decimal_value(std::string_view text) {
+  std::size_t i = 0;
+  const bool negative = !text.empty() && text[0] == '-';
+  if (negative) ++i;
+  std::uint64_t n = 0;
+  int digits = 0, scale = 0; // significant digits in n; the power of ten n carries
+  bool point = false;
+  for (; i < text.size() && text[i] != 'e' && text[i] != 'E'; ++i) {
+    if (text[i] == '.') {
+      point = true;
+      continue;
+    }
+    if (n == 0 && text[i] == '0') { // a leading zero adds no digit
+      if (point) --scale;
+      continue;
+    }
+    if (++digits > 15) return std::nullopt;
+    n = 10 * n + static_cast<std::uint64_t>(text[i] - '0');
+    if (point) --scale;
+  }
+  if (i < text.size()) { // the exponent, at most four digits
+    ++i;
+    const bool below = i < text.size() && text[i] == '-';
+    if (i < text.size() && (text[i] == '-' || text[i] == '+')) ++i;
+    if (text.size() - i > 4) return std::nullopt;
+    int e = 0;
+    for (; i < text.size(); ++i) e = 10 * e + (text[i] - '0');
+    scale += below ? -e : e;
+  }
+  double v = 0.0;
+  if (n != 0) {
+    if (scale < -22 || scale > 22) return std::nullopt;
+    v = scale < 0 ? static_cast<double>(n) / kPow10[-scale] : static_cast<double>(n) * kPow10[scale];
+  }
+  return negative ? -v : v;
+}
 
 double read_back(const Decimal& d, bool negative) {
   std::string text = negative ? "-" : "";
@@ -92,24 +171,28 @@ std::string printf_shortest(double v) {
   if (std::isinf(v)) return v < 0 ? "-inf" : "inf";
   const std::string sign = std::signbit(v) ? "-" : "";
   if (v == 0.0) return sign + "0";
-  Decimal d = shortest_digits(v);
+  Decimal d;
+  if (!short_decimal_digits(std::fabs(v), d)) d = shortest_digits(v);
   while (d.digits.size() > 1 && d.digits.back() == '0') d.digits.pop_back();
   const int count = static_cast<int>(d.digits.size());
   const int e = d.exponent;
 
   std::string scientific = d.digits.substr(0, 1);
   if (count > 1) scientific += "." + d.digits.substr(1);
-  char exponent[16];
-  std::snprintf(exponent, sizeof exponent, "e%c%02d", e < 0 ? '-' : '+', std::abs(e));
-  scientific += exponent;
+  const std::string exponent_digits = std::to_string(std::abs(e)); // as printf's "e%+03d"
+  scientific += (e < 0 ? "e-" : "e+") + std::string(exponent_digits.size() < 2 ? 1 : 0, '0') + exponent_digits;
 
   std::string fixed;
   if (e >= count - 1) {
     // An integer: to_chars writes it as %.0f does, all its digits exact (the same
     // length as the shortest digits padded with zeros, which decide the choice).
-    char whole[400];
-    std::snprintf(whole, sizeof whole, "%.0f", std::fabs(v));
-    fixed = whole;
+    if (std::fabs(v) < 9007199254740992.0) { // 2^53: the integer is its shortest digits
+      fixed = d.digits + std::string(static_cast<std::size_t>(e - (count - 1)), '0');
+    } else {
+      char whole[400];
+      std::snprintf(whole, sizeof whole, "%.0f", std::fabs(v));
+      fixed = whole;
+    }
   } else if (e >= 0) {
     fixed = d.digits.substr(0, static_cast<std::size_t>(e + 1)) + "." + d.digits.substr(static_cast<std::size_t>(e + 1));
   } else {
@@ -146,6 +229,7 @@ std::optional<double> strtod_strict(std::string_view text) {
     i = exp_end;
   }
   if (i != text.size()) return std::nullopt;
+  if (const std::optional<double> quick = short_decimal_value(text)) return quick;
   const std::string copy(text);
   errno = 0;
   const double v = std::strtod(copy.c_str(), nullptr);

@@ -7,6 +7,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <random>
@@ -52,6 +53,18 @@ TEST_CASE("designer: printf_shortest writes what std::to_chars writes", "[design
   std::uniform_int_distribution<int> digits(0, 999999), exponent(-30, 30);
   for (int i = 0; i < 20000; ++i) values.push_back(digits(rng) * std::pow(10.0, exponent(rng))); // short decimals
   for (int i = 0; i < 20000; ++i) values.push_back(std::uniform_real_distribution<double>(-700, 700)(rng));
+  // n / 10^p, as a design's numbers are ("20", "6.5", "0.125"): the fast path's.
+  std::uniform_int_distribution<int> places(0, 22), count(1, 17);
+  for (int i = 0; i < 60000; ++i) {
+    const double n = std::floor(std::uniform_real_distribution<double>(0, 1)(rng) * std::pow(10.0, count(rng)));
+    values.push_back((i % 2 ? -n : n) / std::pow(10.0, places(rng)));
+  }
+  for (double n : {4503599627370495.0, 4503599627370496.0, 9007199254740991.0, 9007199254740992.0, 99999999999999.99,
+                   0.30000000000000004, 1e-7, 123e-9, 1.5e-17, 1e22, 1e23}) {
+    values.push_back(n);
+    values.push_back(std::nextafter(n, 0.0));
+    values.push_back(std::nextafter(n, 1e300));
+  }
   int differing = 0;
   for (double v : values) {
     const std::string ours = soda::printf_shortest(v), theirs = std_shortest(v);
@@ -73,6 +86,18 @@ TEST_CASE("designer: strtod_strict reads what std::from_chars reads", "[designer
   for (int i = 0; i < 100000; ++i) {
     const double v = from_bits(rng());
     if (std::isfinite(v)) texts.push_back(std_shortest(v));
+  }
+  // Short decimals in the forms files use (strtod_strict's fast path) and just past it.
+  for (int i = 0; i < 100000; ++i) {
+    const double v = std::uniform_real_distribution<double>(-1e4, 1e4)(rng) * std::pow(10.0, -static_cast<int>(rng() % 12));
+    const char* forms[] = {"%.1f", "%.6f", "%.15g", "%.16g", "%.3e", "%.14e", "%.0f"};
+    char buf[64];
+    std::snprintf(buf, sizeof buf, forms[i % 7], v);
+    texts.push_back(buf);
+  }
+  for (const char* t : {"0.0", "-0.0", "000.000", "1e22", "1e23", "-1e-22", "1e-23", "123456789012345", "1234567890123456",
+                        "0.000000000000000000000012", "0e9999", "1e9999", "1e-9999", "12345.678e-10"}) {
+    texts.push_back(t);
   }
   const std::string alphabet = "0123456789.e-+E";
   for (int i = 0; i < 100000; ++i) { // random junk around number syntax

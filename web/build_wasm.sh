@@ -20,7 +20,7 @@ mkdir -p "$out"
 # emcc's JavaScript tools need Debian's node modules (acorn) on the path.
 export NODE_PATH=${NODE_PATH:-/usr/share/nodejs}
 
-sources=("$root/web/engine_api.cpp" "$out/pugixml_oiio.cpp")
+sources=("$root/web/engine_api.cpp" "$root/web/design_bytes.cpp" "$out/pugixml_oiio.cpp")
 # The engine's portable files; the XML code may live in core/ or formats/.
 for name in model model_def step input_error number_text printf_charconv xml_util xml_v1_reader xml_v1_writer \
   xml_v2_reader xml_escape model_file atomic_file sine java_sine_large sine_jitter fixed_bars cancellation; do

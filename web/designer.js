@@ -19,6 +19,9 @@
   var $ = function (id) { return document.getElementById(id); };
   var STYLE = JSON.parse($('soda-style').textContent);
   var REPLICAS = 8, REPLICA_FRAMES = 1000, JITTER = 0.002;
+  // Files bigger than this are read by a worker: the page's engine takes 0.2-0.3 s
+  // for the 740 kB of 5,000 masses on its first call, so some 40 ms for 100 kB.
+  var BIG_FILE = 100000;
   var SLIDERS = [
     { key: 'waveSpeed', label: 'wave speed', min: 0, max: 0.1, step: 0.0005, digits: 4 },
     { key: 'waveAmplitude', label: 'wave amplitude', min: 0, max: 1, step: 0.01, digits: 2 },
@@ -31,7 +34,7 @@
 
   var app = {
     engine: null, design: null, name: 'creature', mode: 'construct', tool: 'mass', selectedLink: -1,
-    playing: true, speed: 1, gesture: null, replicaTimer: 0, replicaWorker: null
+    playing: true, speed: 1, gesture: null, replicaTimer: 0, replicaWorker: null, openWorker: null, opening: 0
   };
   window.sodaDesigner = app;
 
@@ -60,10 +63,11 @@
     // The name follows the design (Open, New, a shared link, Construct from Evolve
     // mode), except while being typed in.
     if (document.activeElement !== $('design-name')) $('design-name').value = app.design.name;
-    var masses = app.design.nodes.filter(function (n) { return !n.fixed; }).length;
-    var count = function (kind) { return app.design.links.filter(function (l) { return l.kind === kind; }).length; };
-    $('fig-design').textContent = masses + ' masses, ' + (app.design.nodes.length - masses) + ' fixed, ' +
-      count('spring') + ' springs, ' + count('muscle') + ' muscles, ' + count('bar') + ' bars';
+    var masses = 0, count = { spring: 0, muscle: 0, bar: 0 }, nodes = app.design.nodes, links = app.design.links;
+    for (var i = 0; i < nodes.length; ++i) if (!nodes[i].fixed) ++masses;
+    for (i = 0; i < links.length; ++i) ++count[links[i].kind];
+    $('fig-design').textContent = masses + ' masses, ' + (nodes.length - masses) + ' fixed, ' +
+      count.spring + ' springs, ' + count.muscle + ' muscles, ' + count.bar + ' bars';
     draw();
   }
 
@@ -84,26 +88,69 @@
     edited();
   }
 
+  /// Opens model XML: true, or false (the message shown, the design kept). A big
+  /// file is read by a worker: then a promise of true or false, and "opening…"
+  /// until it is in (the old design stays meanwhile).
   function loadBytes(bytes, name) {
+    var opening = ++app.opening; // a later open wins over an earlier one still in the worker
+    var reading = null;
+    if (bytes.length > BIG_FILE && window.Worker) {
+      try {
+        app.openWorker = app.openWorker || SodaReplicaWorker.fromPage(document);
+        reading = app.openWorker.open(bytes, name);
+      } catch (e) {
+        reading = null; // no worker here (a browser's rule for file pages, say): read it on the page
+      }
+    }
+    if (reading) {
+      message('opening ' + name + ' (' + Math.round(bytes.length / 1000) + ' kB)\u2026');
+      return reading.then(function (r) {
+        if (opening !== app.opening) return false;
+        var warnings;
+        try {
+          warnings = app.engine.importDesign(r.design, r.object);
+          // Its objects now (what the pointer meets), its picture in the next task:
+          // two shorter blocks of the page's thread.
+          app.design = app.engine.design();
+          app.selectedLink = -1;
+        } catch (e) {
+          return refused(e);
+        }
+        return new Promise(function (resolve) { setTimeout(resolve, 0); }).then(function () {
+          return opening === app.opening && opened(name, function () { return warnings; });
+        });
+      }, function (e) {
+        return opening === app.opening && refused(e);
+      });
+    }
+    return opened(name, function () { return app.engine.loadXml(bytes, name); });
+  }
+
+  /// Shows the design `load` (which returns the warnings) makes; true, or false.
+  function opened(name, load) {
     try {
-      var warnings = app.engine.loadXml(bytes, name);
+      var warnings = load();
       app.name = (app.engine.design().name || name.replace(/\.xml$/i, '') || 'creature');
       app.selectedLink = -1;
       message('opened ' + name + (warnings.length ? '\n' + warnings.join('\n') : ''));
-      setMode('construct');
-      centreCamera();
-      edited();
+      setMode('construct'); // draws it
+      $('share-url').value = '';
+      scheduleReplicas();
       return true;
     } catch (e) {
-      app.lastError = e.message;
-      message(e.message + '\n(the design was kept)', true);
-      return false;
+      return refused(e);
     }
   }
 
+  function refused(e) {
+    app.lastError = e.message;
+    message(e.message + '\n(the design was kept)', true);
+    return false;
+  }
+
   function centreCamera() {
-    var c = SodaView.centroid(app.engine.design(), app.engine.positions());
-    var w = app.engine.design().width;
+    var design = app.engine.design(), c = SodaView.centroid(design, app.engine.positions());
+    var w = design.width;
     app.stage.cameraX = c ? c[0] : Math.min(w, app.stage.canvas.width) / 2 - 20;
   }
 
@@ -143,7 +190,7 @@
       };
       try {
         app.replicaWorker = app.replicaWorker || SodaReplicaWorker.fromPage(document);
-        app.replicaWorker.run(app.engine.saveXmlBytes(), REPLICAS, REPLICA_FRAMES, JITTER).then(shown, failed);
+        app.replicaWorker.run(app.engine.exportDesign(), REPLICAS, REPLICA_FRAMES, JITTER).then(shown, failed);
       } catch (e) {
         failed(e);
       }
@@ -457,18 +504,20 @@
     var inAddress = SodaShare.modelInAddress(location.hash);
     var initial = $('initial-model'), initialText = initial.textContent.trim();
     var fallback = function () {
-      if (initialText) loadBytes(SodaShare.fromBase64url(initialText), initial.getAttribute('data-name') || 'model.xml');
-      else { setMode('construct'); edited(); }
-    };
-    if (inAddress === null) {
-      fallback();
+      if (initialText) return Promise.resolve(loadBytes(SodaShare.fromBase64url(initialText), initial.getAttribute('data-name') || 'model.xml'));
+      setMode('construct');
+      edited();
       return Promise.resolve();
-    }
+    };
+    if (inAddress === null) return fallback();
     return SodaShare.decode(inAddress).then(function (bytes) {
-      if (!loadBytes(bytes, 'the shared link')) throw new Error(app.lastError);
+      return loadBytes(bytes, 'the shared link');
+    }).then(function (ok) {
+      if (!ok) throw new Error(app.lastError);
     }).catch(function (e) {
-      fallback();
-      message('cannot open the model in this page\'s address: ' + e.message + '\n(' + (initialText ? 'opened the page\'s own design instead' : 'started an empty design') + ')', true);
+      return fallback().then(function () {
+        message('cannot open the model in this page\'s address: ' + e.message + '\n(' + (initialText ? 'opened the page\'s own design instead' : 'started an empty design') + ')', true);
+      });
     });
   }
 
@@ -484,6 +533,7 @@
     buildSliders();
     wire();
     setHint();
+    app.stage.drawGround(app.engine.design()); // the empty stage while a big file opens
     return firstDesign().then(function () {
       // "#mode=simulate&frame=N" (with or without a model): simulate, paused at frame N.
       var params = new URLSearchParams(location.hash.slice(1));

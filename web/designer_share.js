@@ -7,6 +7,8 @@
 var SodaShare = (function () {
   'use strict';
   var ALPHABET = 'ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789-_';
+  var VALUE = new Uint8Array(128); // of each letter's code (a page holds megabytes of it: no indexOf)
+  for (var k = 0; k < 64; ++k) VALUE[ALPHABET.charCodeAt(k)] = k;
 
   function toBase64url(bytes) {
     var out = '', i = 0;
@@ -25,9 +27,11 @@ var SodaShare = (function () {
   function fromBase64url(text) {
     text = text.replace(/=+$/, '').replace(/\+/g, '-').replace(/\//g, '_');
     if (/[^A-Za-z0-9_-]/.test(text) || text.length % 4 === 1) throw new Error('not base64url text');
+    // Natively where the browser can (a big creature's page holds a megabyte of it).
+    if (Uint8Array.fromBase64) return Uint8Array.fromBase64(text, { alphabet: 'base64url' });
     var bytes = new Uint8Array(Math.floor(text.length * 3 / 4)), n = 0, bits = 0, value = 0;
     for (var i = 0; i < text.length; ++i) {
-      value = value << 6 | ALPHABET.indexOf(text[i]);
+      value = value << 6 | VALUE[text.charCodeAt(i)];
       bits += 6;
       if (bits >= 8) {
         bits -= 8;

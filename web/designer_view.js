@@ -95,38 +95,50 @@ var SodaView = (function () {
   };
 
   /// Draws the design at positions xy; options: selectedLink, pending {from: [sx, sy], to: [sx, sy]}.
+  /// Springs, bars and masses go out as one path each (thousands of strokes would
+  /// take a big creature's page tens of milliseconds per picture); muscles, whose
+  /// colour and width follow their stretch, one by one, above them.
   Stage.prototype.draw = function (design, xy, options) {
     options = options || {};
-    var ctx = this.ctx, S = this.style, self = this;
+    var ctx = this.ctx, S = this.style, links = design.links, nodes = design.nodes;
     this.drawGround(design);
-    var pt = function (i) { return self.toScreen(xy[2 * i], xy[2 * i + 1]); };
+    // Screen coordinates of every node, once (as toScreen gives them).
+    var n = nodes.length, sx = new Float64Array(n), sy = new Float64Array(n);
+    var cameraX = this.cameraX, half = this.canvas.width / 2, top = this.canvas.height - FLOOR_MARGIN;
+    for (var i = 0; i < n; ++i) {
+      sx[i] = xy[2 * i] - cameraX + half;
+      sy[i] = top - xy[2 * i + 1];
+    }
+    var segment = function (l) { ctx.moveTo(sx[l.a], sy[l.a]); ctx.lineTo(sx[l.b], sy[l.b]); };
     ctx.lineCap = 'round';
-    design.links.forEach(function (l, i) {
-      var a = pt(l.a), b = pt(l.b);
-      if (i === options.selectedLink) {
-        ctx.strokeStyle = 'rgba(255, 200, 0, 0.8)';
-        ctx.lineWidth = 10;
-        ctx.beginPath();
-        ctx.moveTo(a[0], a[1]);
-        ctx.lineTo(b[0], b[1]);
-        ctx.stroke();
-      }
-      if (l.kind === 'bar') {
-        ctx.strokeStyle = S.bar;
-        ctx.lineWidth = S.barWidth;
-      } else if (l.kind === 'muscle') {
-        var length = Math.hypot(b[0] - a[0], b[1] - a[1]);
-        var stretch = l.rest > 0 ? Math.max(-1, Math.min(1, (length / l.rest - 1) / S.muscleRange)) : 0;
-        var m = muscleStyle(S, stretch);
-        ctx.strokeStyle = m.color;
-        ctx.lineWidth = m.width;
-      } else {
-        ctx.strokeStyle = S.spring;
-        ctx.lineWidth = S.springWidth;
-      }
+    var selected = links[options.selectedLink];
+    if (selected) {
+      ctx.strokeStyle = 'rgba(255, 200, 0, 0.8)';
+      ctx.lineWidth = 10;
       ctx.beginPath();
-      ctx.moveTo(a[0], a[1]);
-      ctx.lineTo(b[0], b[1]);
+      segment(selected);
+      ctx.stroke();
+    }
+    // Square ends: a link ends under its nodes' marks, and round ends cost the
+    // picture of a big creature twice the time.
+    ctx.lineCap = 'butt';
+    [['spring', S.spring, S.springWidth], ['bar', S.bar, S.barWidth]].forEach(function (kind) {
+      ctx.beginPath();
+      for (var k = 0; k < links.length; ++k) if (links[k].kind === kind[0]) segment(links[k]);
+      ctx.strokeStyle = kind[1];
+      ctx.lineWidth = kind[2];
+      ctx.stroke();
+    });
+    ctx.lineCap = 'round';
+    links.forEach(function (l) {
+      if (l.kind !== 'muscle') return;
+      var length = Math.hypot(sx[l.b] - sx[l.a], sy[l.b] - sy[l.a]);
+      var stretch = l.rest > 0 ? Math.max(-1, Math.min(1, (length / l.rest - 1) / S.muscleRange)) : 0;
+      var m = muscleStyle(S, stretch);
+      ctx.strokeStyle = m.color;
+      ctx.lineWidth = m.width;
+      ctx.beginPath();
+      segment(l);
       ctx.stroke();
     });
     if (options.pending) {
@@ -146,18 +158,18 @@ var SodaView = (function () {
       ctx.fillText('An empty design: click to add a mass, drag from it to add a spring, or open a model.', this.canvas.width / 2, this.canvas.height / 2);
       ctx.textAlign = 'start';
     }
-    design.nodes.forEach(function (n, i) {
-      var p = pt(i);
-      if (n.fixed) {
-        ctx.fillStyle = S.fixed;
-        ctx.fillRect(p[0] - S.fixedSide / 2, p[1] - S.fixedSide / 2, S.fixedSide, S.fixedSide);
-      } else {
-        ctx.fillStyle = S.mass;
-        ctx.beginPath();
-        ctx.arc(p[0], p[1], S.massRadius, 0, 2 * Math.PI);
-        ctx.fill();
-      }
-    });
+    ctx.fillStyle = S.fixed;
+    for (i = 0; i < n; ++i) {
+      if (nodes[i].fixed) ctx.fillRect(sx[i] - S.fixedSide / 2, sy[i] - S.fixedSide / 2, S.fixedSide, S.fixedSide);
+    }
+    ctx.fillStyle = S.mass;
+    ctx.beginPath();
+    for (i = 0; i < n; ++i) {
+      if (nodes[i].fixed) continue;
+      ctx.moveTo(sx[i] + S.massRadius, sy[i]);
+      ctx.arc(sx[i], sy[i], S.massRadius, 0, 2 * Math.PI);
+    }
+    ctx.fill();
   };
 
   /// Mean position of the free masses (null without any).

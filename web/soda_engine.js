@@ -16,6 +16,7 @@
   function SodaEngine(module) {
     this.module = module;
     this.session = module._soda_new();
+    this.designCache = null; // design()'s object until the design changes
   }
 
   /// A promise of an engine; `factory` is createSodaEngine from soda_engine_wasm.js.
@@ -53,6 +54,7 @@
   /// warnings; throws Error with the command line's message, keeping the design.
   SodaEngine.prototype.loadXml = function (data, name) {
     var self = this;
+    this.designCache = null;
     this.withBytes(data, function (p, n) {
       self.withBytes(name || 'model.xml', function (q) { self.check(self.module._soda_load_xml(self.session, p, n, q)); });
     });
@@ -67,31 +69,69 @@
   SodaEngine.prototype.saveXml = function () {
     return new TextDecoder('iso-8859-1').decode(this.saveXmlBytes());
   };
+  /// The design and the last load's warnings as bytes, for another engine's importDesign
+  /// (the designer's worker reads big files; web/design_bytes.hpp).
+  SodaEngine.prototype.exportDesign = function () {
+    this.check(this.module._soda_export_design(this.session));
+    return this.outputBytes();
+  };
+  /// Takes exportDesign's bytes as loadXml takes a file: returns the warnings.
+  /// `design`: the exporting engine's design() of them, if at hand (a worker's
+  /// comes as a copy made natively, cheaper than making it again on a page).
+  SodaEngine.prototype.importDesign = function (bytes, design) {
+    var self = this;
+    this.designCache = null;
+    this.withBytes(bytes, function (p, n) { self.check(self.module._soda_import_design(self.session, p, n)); });
+    this.designCache = design || null;
+    var warnings = this.outputText();
+    return warnings ? warnings.replace(/\n$/, '').split('\n') : [];
+  };
   /// The design: {name, width, height, gravity, ..., nodes: [{x, y, fixed}], links: [{kind, a, b, rest, amplitude, phase}]}.
+  /// One object until the design changes (read it, do not change it): a page asks often,
+  /// and a big design's nodes and links take milliseconds to make.
   SodaEngine.prototype.design = function () {
-    this.check(this.module._soda_design_json(this.session));
+    if (this.designCache) return this.designCache;
+    var m = this.module;
+    this.check(m._soda_design_json(this.session));
     var d = JSON.parse(this.outputText());
-    d.nodes = d.nodes.map(function (n) { return { x: n[0], y: n[1], fixed: n[2] === 1 }; });
-    d.links = d.links.map(function (l) {
-      return { kind: LINK_KINDS[l[0]], a: l[1], b: l[2], rest: l[3], amplitude: l[4], phase: l[5] };
-    });
+    var nodeCount = m._soda_node_count(this.session), linkCount = m._soda_link_count(this.session);
+    var p = m._soda_design_numbers(this.session) / 8, v = m.HEAPF64; // after the call: memory may grow
+    d.nodes = new Array(nodeCount);
+    for (var i = 0; i < nodeCount; ++i, p += 3) d.nodes[i] = { x: v[p], y: v[p + 1], fixed: v[p + 2] === 1 };
+    d.links = new Array(linkCount);
+    for (i = 0; i < linkCount; ++i, p += 6) {
+      d.links[i] = { kind: LINK_KINDS[v[p]], a: v[p + 1], b: v[p + 2], rest: v[p + 3], amplitude: v[p + 4], phase: v[p + 5] };
+    }
+    this.designCache = d;
     return d;
   };
 
   // --- editing ---
-  SodaEngine.prototype.clear = function () { this.module._soda_clear(this.session); };
-  SodaEngine.prototype.addNode = function (x, y, fixed) { return this.module._soda_add_node(this.session, x, y, fixed ? 1 : 0); };
-  SodaEngine.prototype.moveNode = function (i, x, y) { this.check(this.module._soda_move_node(this.session, i, x, y)); };
-  SodaEngine.prototype.setFixed = function (i, fixed) { this.check(this.module._soda_set_fixed(this.session, i, fixed ? 1 : 0)); };
-  SodaEngine.prototype.removeNode = function (i) { this.check(this.module._soda_remove_node(this.session, i)); };
+  // Each edit drops design()'s object first (even one the engine refuses: no harm).
+  SodaEngine.prototype.clear = function () { this.designCache = null; this.module._soda_clear(this.session); };
+  SodaEngine.prototype.addNode = function (x, y, fixed) {
+    this.designCache = null;
+    return this.module._soda_add_node(this.session, x, y, fixed ? 1 : 0);
+  };
+  SodaEngine.prototype.moveNode = function (i, x, y) {
+    this.designCache = null;
+    this.check(this.module._soda_move_node(this.session, i, x, y));
+  };
+  SodaEngine.prototype.setFixed = function (i, fixed) {
+    this.designCache = null;
+    this.check(this.module._soda_set_fixed(this.session, i, fixed ? 1 : 0));
+  };
+  SodaEngine.prototype.removeNode = function (i) { this.designCache = null; this.check(this.module._soda_remove_node(this.session, i)); };
   SodaEngine.prototype.addLink = function (a, b, kind) {
+    this.designCache = null;
     var i = this.module._soda_add_link(this.session, a, b, LINK_KINDS.indexOf(kind || 'spring'));
     this.check(i >= 0);
     return i;
   };
-  SodaEngine.prototype.removeLink = function (i) { this.check(this.module._soda_remove_link(this.session, i)); };
+  SodaEngine.prototype.removeLink = function (i) { this.designCache = null; this.check(this.module._soda_remove_link(this.session, i)); };
   /// Makes link i a muscle of amplitude and phase (cycles), or a spring (muscle false).
   SodaEngine.prototype.setMuscle = function (i, muscle, amplitude, phase) {
+    this.designCache = null;
     this.check(this.module._soda_set_link(this.session, i, muscle ? 1 : 0, amplitude || 0, phase || 0));
   };
   /// One world value by its name in design(): gravity, friction, springyness, surfaceFriction,
@@ -99,10 +139,12 @@
   /// gravityDirection, waveDirection, autoreverse.
   SodaEngine.prototype.setWorld = function (key, value) {
     var self = this;
+    this.designCache = null;
     this.withBytes(key, function (p) { self.check(self.module._soda_set_world(self.session, p, Number(value))); });
   };
   SodaEngine.prototype.setName = function (name) {
     var self = this;
+    this.designCache = null;
     this.withBytes(name, function (p) { self.module._soda_set_name(self.session, p); });
   };
 
