@@ -381,7 +381,7 @@ TEST_CASE("bench speed --quick writes every engine's row, the population ratios 
   fs::remove_all(out);
 }
 
-TEST_CASE("sodaevo with no arguments prints a short start-here whose commands work; --help still lists all", "[cli]") {
+TEST_CASE("sodaevo with no arguments prints a short start-here whose commands work, --help still lists all", "[cli]") {
   const ShellResult r = run_sodaevo("");
   INFO(r.output);
   REQUIRE(r.exit_code == 0);

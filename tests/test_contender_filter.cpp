@@ -369,7 +369,7 @@ TEST_CASE("race problem: rollouts of filtered contenders score the racer's resul
   }
 }
 
-TEST_CASE("race command: a rejected contender gets no result, the others race; pieces are warned about",
+TEST_CASE("race command: a rejected contender gets no result, the others race, pieces are warned about",
           "[race][components][cli]") {
   const std::string flat = terrain_file("TerrainFlat.xml").string();
   const std::string c07 = (components_dir() / "c07_fixed_node_last_rejected.xml").string();

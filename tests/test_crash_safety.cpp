@@ -268,7 +268,7 @@ TEST_CASE("Ctrl-C finishes the generation, writes everything, exits 0, and the r
   fs::remove_all(dir.parent_path());
 }
 
-TEST_CASE("SIGTERM (mpirun's stop when a rank dies) says how to resume; the run resumes", "[crash][mpi]") {
+TEST_CASE("SIGTERM (mpirun's stop when a rank dies) says how to resume, the run resumes", "[crash][mpi]") {
   // The message that test_mpi.cpp's killed rank cannot check reliably: under
   // mpirun, rank 0 has one second (Open MPI's odls_base_sigkill_timeout) between
   // SIGTERM and SIGKILL, which a loaded machine may not give it. Here nothing

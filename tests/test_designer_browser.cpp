@@ -422,7 +422,7 @@ nlohmann::json open_big_creature(const std::string& chromium, const fs::path& wo
 
 } // namespace
 
-TEST_CASE("designer: a 5,000-mass creature's replica figure comes from a worker; the name field follows the design",
+TEST_CASE("designer: a 5,000-mass creature's replica figure comes from a worker, the name field follows the design",
           "[browser][designer]") {
   const std::string chromium = require_chromium();
   const nlohmann::json got = open_big_creature(chromium, fresh_temp_dir("designer-big"));

@@ -442,7 +442,7 @@ TEST_CASE("a run folder without its manifest (killed right after its config) get
   fs::remove_all(dir);
 }
 
-TEST_CASE("the single-rollout estimator: the rollout's score is the fitness; refused creatures name why", "[evolve]") {
+TEST_CASE("the single-rollout estimator: the rollout's score is the fitness, refused creatures name why", "[evolve]") {
   const RunConfig config = small_config();
   const WalkProblem problem = walk_problem_of(config);
   const soda::ModelDef walker = creature_from_seed(soda::read_model_file(test::models_dir() / "dainty_walker.xml").def, config);

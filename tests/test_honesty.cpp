@@ -127,7 +127,7 @@ TEST_CASE("cli: simulate in the continuous mode, with the honesty check", "[hone
   CHECK(bad_integrator.output.find("leapfrog") != std::string::npos);
 }
 
-TEST_CASE("cli: a diverging model stops at the last healthy frame; no NaN in output, trace or saved model",
+TEST_CASE("cli: a diverging model stops at the last healthy frame, no NaN in output, trace or saved model",
           "[honesty][cli]") {
   // Rest length 1.7e308 on a link 1e-9 px long: NaN velocity after frame 1.
   const fs::path dir = test::fresh_temp_dir("honesty_diverging");

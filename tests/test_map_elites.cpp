@@ -121,7 +121,7 @@ TEST_CASE("walk problem with descriptors: the fitness bits of the plain rollout,
   for (std::size_t d = 0; d < kDescriptorCount; ++d) CHECK(test::same_bits(w.descriptors[d], b[d]));
 }
 
-TEST_CASE("replica estimator: descriptors are the replicas' means; a replica range extends the first replicas",
+TEST_CASE("replica estimator: descriptors are the replicas' means, a replica range extends the first replicas",
           "[map-elites]") {
   RunConfig config = test::walker_run_config("d", 3, 4, 1, 300, 40);
   const soda::ModelDef walker = soda::read_model_file(test::models_dir() / "dainty_walker.xml").def;
@@ -196,7 +196,7 @@ TEST_CASE("grid archive: cells are row-major, values outside a range clamp to th
   CHECK(archive.cell_of(b) == 38);
 }
 
-TEST_CASE("insertion rule: an empty cell takes the challenger; a lead at equal counts is confirmed first",
+TEST_CASE("insertion rule: an empty cell takes the challenger, a lead at equal counts is confirmed first",
           "[map-elites]") {
   const ResamplePlan plan{8, 4};
   CHECK(judge(nullptr, estimate(1, -50.0), plan, false).verdict == Verdict::Enter);
@@ -560,7 +560,7 @@ TEST_CASE("MAP-Elites run: the same archive on 1, 2 and 8 threads, and resumed a
   CHECK(std::filesystem::exists(one / "snapshots" / "archive_00004.json"));
 }
 
-TEST_CASE("run config: /algorithm and /map_elites read, resolve and round-trip; misuse names the pointer",
+TEST_CASE("run config: /algorithm and /map_elites read, resolve and round-trip, misuse names the pointer",
           "[map-elites][config]") {
   const RunConfig c = parse_run_config(R"({"population": {"random_fraction": 1}, "algorithm": "map-elites", "map_elites": {"batch_size": 7,
       "descriptors": ["floor_contact", "centroid_height"], "bins": [3, 9], "ranges": [[0, 1], [0, 90]]}})",
@@ -591,7 +591,7 @@ TEST_CASE("run config: /algorithm and /map_elites read, resolve and round-trip; 
              Catch::StartsWith("x.json: /algorithm: expected \"ga\" with /fitness/mode \"continuous\""));
 }
 
-TEST_CASE("corrected archive: every elite checked on fresh replicas; export --archive writes champions.json",
+TEST_CASE("corrected archive: every elite checked on fresh replicas, export --archive writes champions.json",
           "[map-elites]") {
   const SmallRun run;
   RunConfig config = run.config;

@@ -138,7 +138,7 @@ TEST_CASE("a rank killed mid-run leaves a run folder that resumes on another N",
   fs::remove_all(dir);
 }
 
-TEST_CASE("a failed evaluation on a worker stops the run with a message; it resumes in one process", "[mpi]") {
+TEST_CASE("a failed evaluation on a worker stops the run with a message, it resumes in one process", "[mpi]") {
   if (const std::string why = why_skip(); !why.empty()) {
     WARN("skipped: " << why);
     return;

@@ -95,7 +95,7 @@ TEST_CASE("the replica statistic: mean, median and the lower confidence bound", 
   CHECK(replica_statistic({7.0}, EstimateStatistic::LowerBound) == 7.0);
 }
 
-TEST_CASE("replicas: each replica is the reference step with its jitter; replica 0 is the exact run",
+TEST_CASE("replicas: each replica is the reference step with its jitter, replica 0 is the exact run",
           "[replicas]") {
   const RunConfig config = walker_config(6, 12);
   const WalkProblem problem = walk_problem_of(config);
