@@ -63,8 +63,11 @@ struct LockstepKernels {
       if (pool_rows_now) pool_arguments_rows(d, G.pool_at / kW, (G.pool_at + static_cast<std::size_t>(G.columns) + kW - 1) / kW);
       return;
     }
+    double* const arguments = d.arguments_row(g, 0);
+    const double* const columns = d.column_row(g, 0);
     for (int q = 0; q < G.columns; ++q) {
-      O::store(d.arguments_row(g, q), simd_rules::sine_argument<O>(O::load(d.column_row(g, q)), phase));
+      const std::size_t at = static_cast<std::size_t>(q) * kW;
+      O::store(arguments + at, simd_rules::sine_argument<O>(O::load(columns + at), phase));
     }
   }
 
@@ -87,9 +90,11 @@ struct LockstepKernels {
     const Group& G = d.groups[static_cast<std::size_t>(g)];
     const double* argument = d.pool(d.pool_arguments, g);
     const double* sine = d.pool(d.pool_sines, g);
+    double* const sines = d.sines_row(g, 0);
+    double* const arguments = d.arguments_row(g, 0);
     for (int q = 0; q < G.columns; ++q) {
-      O::store(d.sines_row(g, q), O::set1(sine[q]));
-      O::store(d.arguments_row(g, q), O::set1(argument[q]));
+      O::store(sines + static_cast<std::size_t>(q) * kW, O::set1(sine[q]));
+      O::store(arguments + static_cast<std::size_t>(q) * kW, O::set1(argument[q]));
     }
   }
 
@@ -98,7 +103,9 @@ struct LockstepKernels {
   [[gnu::always_inline]] static void queue_sines(Data& d, int g) {
     const Group& G = d.groups[static_cast<std::size_t>(g)];
     if (d.packed[static_cast<std::size_t>(g)] != 0) return;
-    for (int q = 0; q < G.columns; ++q) d.sine_work.emplace_back(d.arguments_row(g, q), d.sines_row(g, q));
+    const double* const arguments = d.arguments_row(g, 0);
+    double* const sines = d.sines_row(g, 0);
+    for (std::size_t at = 0; at < static_cast<std::size_t>(G.columns) * kW; at += kW) d.sine_work.emplace_back(arguments + at, sines + at);
   }
 
   // The lanes whose jitter (seed_mix, threshold per lane) moves a sine of these
@@ -120,11 +127,13 @@ struct LockstepKernels {
     const std::size_t first = static_cast<std::size_t>(g) * kW;
     const I seed_mix = O::iload(d.lane_seed_mix.data() + first);
     const I threshold = O::iload(d.lane_threshold.data() + first);
+    const double* const arguments = d.arguments_row(g, 0);
+    double* const sines = d.sines_row(g, 0);
     for (int q = 0; q < d.groups[static_cast<std::size_t>(g)].columns; ++q) {
-      const double* argument = d.arguments_row(g, q);
+      const double* argument = arguments + static_cast<std::size_t>(q) * kW;
       unsigned hits = jitter_hits(O::load(argument), seed_mix, threshold);
       if (hits == 0) [[likely]] continue;
-      double* sine = d.sines_row(g, q);
+      double* sine = sines + static_cast<std::size_t>(q) * kW;
       for (; hits != 0; hits &= hits - 1) {
         const int l = __builtin_ctz(hits);
         PreparedJitter jitter;
@@ -153,20 +162,29 @@ struct LockstepKernels {
   [[gnu::always_inline]] static void targets_from_packed(Data& d, int g) {
     const Group& G = d.groups[static_cast<std::size_t>(g)];
     const double* sine = d.pool(d.pool_sines, g);
-    for (std::size_t w = 0; w < G.wave_links.size(); ++w) {
-      const int j = G.wave_links[w];
-      O::store(d.link_row(g, 2, j), simd_rules::muscle_target<O>(O::load(d.link_row(g, 0, j)), O::load(d.link_row(g, 1, j)),
-                                                                 O::set1(sine[G.column_of[w]])));
+    const double* const rest = d.link_row(g, 0, 0);
+    const double* const power = d.link_row(g, 1, 0);
+    double* const target = d.link_row(g, 2, 0);
+    const int wave_links = static_cast<int>(G.wave_links.size());
+    for (int w = 0; w < wave_links; ++w) {
+      const std::size_t at = static_cast<std::size_t>(G.wave_links[static_cast<std::size_t>(w)]) * kW;
+      O::store(target + at, simd_rules::muscle_target<O>(O::load(rest + at), O::load(power + at),
+                                                         O::set1(sine[G.column_of[static_cast<std::size_t>(w)]])));
     }
   }
 
   // Group g's wave links' targets from its sines: rest * (1 + power * sine).
   [[gnu::always_inline]] static void targets_from_sines(Data& d, int g) {
     const Group& G = d.groups[static_cast<std::size_t>(g)];
-    for (std::size_t w = 0; w < G.wave_links.size(); ++w) {
-      const int j = G.wave_links[w];
-      O::store(d.link_row(g, 2, j), simd_rules::muscle_target<O>(O::load(d.link_row(g, 0, j)), O::load(d.link_row(g, 1, j)),
-                                                                 O::load(d.sines_row(g, G.column_of[w]))));
+    const double* const rest = d.link_row(g, 0, 0);
+    const double* const power = d.link_row(g, 1, 0);
+    double* const target = d.link_row(g, 2, 0);
+    const double* const sines = d.sines_row(g, 0);
+    const int wave_links = static_cast<int>(G.wave_links.size());
+    for (int w = 0; w < wave_links; ++w) {
+      const std::size_t at = static_cast<std::size_t>(G.wave_links[static_cast<std::size_t>(w)]) * kW;
+      const std::size_t column = static_cast<std::size_t>(G.column_of[static_cast<std::size_t>(w)]) * kW;
+      O::store(target + at, simd_rules::muscle_target<O>(O::load(rest + at), O::load(power + at), O::load(sines + column)));
     }
   }
 
@@ -290,9 +308,9 @@ struct LockstepKernels {
     bool hit_wall[N] = {};
     for (int n = 0; n < N; ++n) {
       const int g = g0 + n;
-      params[n] = {O::load(d.world_row(g, Data::kGravityStep)), O::load(d.world_row(g, Data::kKeep)),
-                   O::load(d.world_row(g, Data::kWidth)),       O::load(d.world_row(g, Data::kHeight)),
-                   O::load(d.world_row(g, Data::kFs)),          O::load(d.world_row(g, Data::kRs))};
+      const double* const world = d.world_row(g, 0);
+      const auto at = [world](int k) __attribute__((always_inline)) { return O::load(world + static_cast<std::size_t>(k) * kW); };
+      params[n] = {at(Data::kGravityStep), at(Data::kKeep), at(Data::kWidth), at(Data::kHeight), at(Data::kFs), at(Data::kRs)};
     }
     // Where this frame's walls were out of reach, the ceiling and side tests
     // would change nothing (the same bits without them); whether they are next
@@ -304,9 +322,10 @@ struct LockstepKernels {
       const int g = g0 + n;
       far[n] = d.walls_far[static_cast<std::size_t>(g)] != 0;
       inside[n] = O::m_all();
-      left[n] = O::load(d.world_row(g, Data::kLeft));
-      right[n] = O::load(d.world_row(g, Data::kRight));
-      top[n] = O::load(d.world_row(g, Data::kTop));
+      const double* const world = d.world_row(g, 0);
+      left[n] = O::load(world + static_cast<std::size_t>(Data::kLeft) * kW);
+      right[n] = O::load(world + static_cast<std::size_t>(Data::kRight) * kW);
+      top[n] = O::load(world + static_cast<std::size_t>(Data::kTop) * kW);
     }
     // With bars: each mass's move kept (its start and the velocity it takes) for bar_pass.
     [[maybe_unused]] bool bars[N] = {};
