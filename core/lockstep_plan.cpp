@@ -120,6 +120,10 @@ void LockstepBatch::Data::add_group(const std::vector<const Model*>& models, int
   G.links = shape.link_count();
   G.link_a = shape.link_a;
   G.link_b = shape.link_b;
+  for (int j = 0; j < G.links; ++j) {
+    G.link_ends.push_back(static_cast<std::uint32_t>(G.link_a[static_cast<std::size_t>(j)]) * kPointBytes);
+    G.link_ends.push_back(static_cast<std::uint32_t>(G.link_b[static_cast<std::size_t>(j)]) * kPointBytes);
+  }
   G.bars = shape.bar_count() > 0;
   group_bars.push_back(G.bars ? shape.fixed_bars : FixedBars{});
   std::vector<int> column_link;
@@ -249,15 +253,14 @@ SimdLevel LockstepBatch::level() const { return d_->level; }
 void LockstepBatch::Data::load(State* const* st) {
   for (int g = 0; g < static_cast<int>(groups.size()); ++g) {
     const Group& G = groups[static_cast<std::size_t>(g)];
-    const std::size_t points = static_cast<std::size_t>(G.points);
-    double* const row = point_row(g, 0, 0); // x, y, vx, vy: rows of `points` each
+    const int points = G.points;
     double* const phase = world_row(g, kPhase);
     double* const mode = world_row(g, kMode);
     for (int l = 0; l < kW; ++l) {
       const State& s = *st[G.first + std::min(l, G.lanes - 1)];
       const double* const from[4] = {s.x.data(), s.y.data(), s.vx.data(), s.vy.data()};
-      for (std::size_t k = 0; k < 4; ++k) {
-        for (std::size_t p = 0; p < points; ++p) row[(k * points + p) * kW + static_cast<std::size_t>(l)] = from[k][p];
+      for (int k = 0; k < 4; ++k) {
+        for (int p = 0; p < points; ++p) point_row(g, k, p)[l] = from[k][static_cast<std::size_t>(p)];
       }
       phase[l] = s.wave_phase;
       mode[l] = static_cast<double>(static_cast<int>(s.wave_mode));

@@ -41,18 +41,24 @@ LockstepEntry lockstep_kernels_avx2();
 // is a row of 8 doubles.
 struct LockstepBatch::Data {
   static constexpr int kW = lockstep_detail::kW;
+  /// A point's rows x, y, vx, vy in bytes (point_row).
+  static constexpr std::uint32_t kPointBytes = 4 * kW * sizeof(double);
   SimdLevel level = SimdLevel::Avx512; ///< the kernels' instruction set (Avx512 or Avx2)
   LockstepEntry kernels;              ///< that level's
   struct Group {
     int first = 0, lanes = 0;            ///< its states: [first, first + lanes)
     int points = 0, masses = 0, links = 0;
     std::vector<int> link_a, link_b;     ///< point indices, file order (the group's shape)
+    /// [2 * links] each link's ends a, b as byte offsets of their points in the
+    /// block (kPointBytes each): the link pass addresses a point's four rows by
+    /// constant displacements from one register, no index arithmetic.
+    std::vector<std::uint32_t> link_ends;
     std::vector<int> wave_links;         ///< links with a moving target in some lane
     std::vector<int> column_of;          ///< [wave_links] its sine column
     int columns = 0;
     bool uniform = false;                ///< every lane has the same phase in each column
     bool jittered = false;               ///< some lane's state carries sine jitter (run)
-    /// Where its rows start: a block of points x, y, vx, vy [4][points], links
+    /// Where its rows start: a block of points, each x, y, vx, vy [points][4], links
     /// rest, power, target [3][links], column phases [columns] and the world
     /// [kWorldRows]; sine arguments and sines [columns]; shared ones: columns
     /// [pool_at, pool_at + columns) of the pool.
@@ -116,9 +122,8 @@ struct LockstepBatch::Data {
   std::vector<std::vector<int>> group_column_links;
 
   double* block_row(int g, std::size_t row) { return rows.data() + (groups[static_cast<std::size_t>(g)].block + row) * kW; }
-  double* point_row(int g, int k, int p) {
-    return block_row(g, static_cast<std::size_t>(k) * groups[static_cast<std::size_t>(g)].points + p);
-  }
+  /// Row k (x, y, vx, vy) of point p: a point's four rows side by side (kPointBytes).
+  double* point_row(int g, int k, int p) { return block_row(g, 4 * static_cast<std::size_t>(p) + static_cast<std::size_t>(k)); }
   double* link_row(int g, int k, int j) {
     const Group& G = groups[static_cast<std::size_t>(g)];
     return block_row(g, 4 * static_cast<std::size_t>(G.points) + static_cast<std::size_t>(k) * G.links + j);

@@ -63,8 +63,11 @@ struct LockstepKernels {
       if (pool_rows_now) pool_arguments_rows(d, G.pool_at / kW, (G.pool_at + static_cast<std::size_t>(G.columns) + kW - 1) / kW);
       return;
     }
+    double* const arguments = d.arguments_row(g, 0);
+    const double* const columns = d.column_row(g, 0);
     for (int q = 0; q < G.columns; ++q) {
-      O::store(d.arguments_row(g, q), simd_rules::sine_argument<O>(O::load(d.column_row(g, q)), phase));
+      const std::size_t at = static_cast<std::size_t>(q) * kW;
+      O::store(arguments + at, simd_rules::sine_argument<O>(O::load(columns + at), phase));
     }
   }
 
@@ -87,9 +90,11 @@ struct LockstepKernels {
     const Group& G = d.groups[static_cast<std::size_t>(g)];
     const double* argument = d.pool(d.pool_arguments, g);
     const double* sine = d.pool(d.pool_sines, g);
+    double* const sines = d.sines_row(g, 0);
+    double* const arguments = d.arguments_row(g, 0);
     for (int q = 0; q < G.columns; ++q) {
-      O::store(d.sines_row(g, q), O::set1(sine[q]));
-      O::store(d.arguments_row(g, q), O::set1(argument[q]));
+      O::store(sines + static_cast<std::size_t>(q) * kW, O::set1(sine[q]));
+      O::store(arguments + static_cast<std::size_t>(q) * kW, O::set1(argument[q]));
     }
   }
 
@@ -98,7 +103,9 @@ struct LockstepKernels {
   [[gnu::always_inline]] static void queue_sines(Data& d, int g) {
     const Group& G = d.groups[static_cast<std::size_t>(g)];
     if (d.packed[static_cast<std::size_t>(g)] != 0) return;
-    for (int q = 0; q < G.columns; ++q) d.sine_work.emplace_back(d.arguments_row(g, q), d.sines_row(g, q));
+    const double* const arguments = d.arguments_row(g, 0);
+    double* const sines = d.sines_row(g, 0);
+    for (std::size_t at = 0; at < static_cast<std::size_t>(G.columns) * kW; at += kW) d.sine_work.emplace_back(arguments + at, sines + at);
   }
 
   // The lanes whose jitter (seed_mix, threshold per lane) moves a sine of these
@@ -120,11 +127,13 @@ struct LockstepKernels {
     const std::size_t first = static_cast<std::size_t>(g) * kW;
     const I seed_mix = O::iload(d.lane_seed_mix.data() + first);
     const I threshold = O::iload(d.lane_threshold.data() + first);
+    const double* const arguments = d.arguments_row(g, 0);
+    double* const sines = d.sines_row(g, 0);
     for (int q = 0; q < d.groups[static_cast<std::size_t>(g)].columns; ++q) {
-      const double* argument = d.arguments_row(g, q);
+      const double* argument = arguments + static_cast<std::size_t>(q) * kW;
       unsigned hits = jitter_hits(O::load(argument), seed_mix, threshold);
       if (hits == 0) [[likely]] continue;
-      double* sine = d.sines_row(g, q);
+      double* sine = sines + static_cast<std::size_t>(q) * kW;
       for (; hits != 0; hits &= hits - 1) {
         const int l = __builtin_ctz(hits);
         PreparedJitter jitter;
@@ -153,20 +162,29 @@ struct LockstepKernels {
   [[gnu::always_inline]] static void targets_from_packed(Data& d, int g) {
     const Group& G = d.groups[static_cast<std::size_t>(g)];
     const double* sine = d.pool(d.pool_sines, g);
-    for (std::size_t w = 0; w < G.wave_links.size(); ++w) {
-      const int j = G.wave_links[w];
-      O::store(d.link_row(g, 2, j), simd_rules::muscle_target<O>(O::load(d.link_row(g, 0, j)), O::load(d.link_row(g, 1, j)),
-                                                                 O::set1(sine[G.column_of[w]])));
+    const double* const rest = d.link_row(g, 0, 0);
+    const double* const power = d.link_row(g, 1, 0);
+    double* const target = d.link_row(g, 2, 0);
+    const int wave_links = static_cast<int>(G.wave_links.size());
+    for (int w = 0; w < wave_links; ++w) {
+      const std::size_t at = static_cast<std::size_t>(G.wave_links[static_cast<std::size_t>(w)]) * kW;
+      O::store(target + at, simd_rules::muscle_target<O>(O::load(rest + at), O::load(power + at),
+                                                         O::set1(sine[G.column_of[static_cast<std::size_t>(w)]])));
     }
   }
 
   // Group g's wave links' targets from its sines: rest * (1 + power * sine).
   [[gnu::always_inline]] static void targets_from_sines(Data& d, int g) {
     const Group& G = d.groups[static_cast<std::size_t>(g)];
-    for (std::size_t w = 0; w < G.wave_links.size(); ++w) {
-      const int j = G.wave_links[w];
-      O::store(d.link_row(g, 2, j), simd_rules::muscle_target<O>(O::load(d.link_row(g, 0, j)), O::load(d.link_row(g, 1, j)),
-                                                                 O::load(d.sines_row(g, G.column_of[w]))));
+    const double* const rest = d.link_row(g, 0, 0);
+    const double* const power = d.link_row(g, 1, 0);
+    double* const target = d.link_row(g, 2, 0);
+    const double* const sines = d.sines_row(g, 0);
+    const int wave_links = static_cast<int>(G.wave_links.size());
+    for (int w = 0; w < wave_links; ++w) {
+      const std::size_t at = static_cast<std::size_t>(G.wave_links[static_cast<std::size_t>(w)]) * kW;
+      const std::size_t column = static_cast<std::size_t>(G.column_of[static_cast<std::size_t>(w)]) * kW;
+      O::store(target + at, simd_rules::muscle_target<O>(O::load(rest + at), O::load(power + at), O::load(sines + column)));
     }
   }
 
@@ -200,84 +218,99 @@ struct LockstepKernels {
   // side by side: N independent chains for the processor to overlap.
   template <int N, bool Bars>
   [[gnu::always_inline]] static void step_groups(Data& d, int g0) {
-    V *x[N], *y[N], *vx[N], *vy[N];
+    // Each group's points from one pointer: point p's rows x, y, vx, vy at
+    // p * kPointBytes + 0, 64, 128, 192 (point_row), so an end's four rows are
+    // constant displacements from one address.
+    char* P[N];
     const double* target[N];
     V springyness[N];
     for (int n = 0; n < N; ++n) {
-      x[n] = reinterpret_cast<V*>(d.point_row(g0 + n, 0, 0));
-      y[n] = reinterpret_cast<V*>(d.point_row(g0 + n, 1, 0));
-      vx[n] = reinterpret_cast<V*>(d.point_row(g0 + n, 2, 0));
-      vy[n] = reinterpret_cast<V*>(d.point_row(g0 + n, 3, 0));
+      P[n] = reinterpret_cast<char*>(d.point_row(g0 + n, 0, 0));
       target[n] = d.link_row(g0 + n, 2, 0);
       springyness[n] = O::load(d.world_row(g0 + n, Data::kSpringyness));
     }
+    const auto row = [](char* point, int k) __attribute__((always_inline)) {
+      return reinterpret_cast<double*>(point + k * static_cast<int>(kW * sizeof(double)));
+    };
     const V zero = O::set1(0.0);
     // The groups' links and masses side by side, each group's in its own order.
-    const int* la[N];
-    const int* lb[N];
+    const std::uint32_t* ends[N];
+    std::uint32_t mass_bytes[N]; // an end below this is a mass (fixed nodes come after)
     int group_links[N], group_masses[N];
     int links = 0, masses = 0;
     for (int n = 0; n < N; ++n) {
       const Group& G = d.groups[static_cast<std::size_t>(g0 + n)];
-      la[n] = G.link_a.data();
-      lb[n] = G.link_b.data();
+      ends[n] = G.link_ends.data();
       group_links[n] = G.links;
       group_masses[n] = G.masses;
+      mass_bytes[n] = static_cast<std::uint32_t>(G.masses) * Data::kPointBytes;
       links = std::max(links, G.links);
       masses = std::max(masses, G.masses);
     }
+    // The sine schedule in locals: the vector stores below may alias Data's fields
+    // (__m256d is may_alias), which would otherwise be reloaded and stored per link.
+    int sine_credit = d.sine_credit, sines_done = d.sines_done;
+    const int sine_rows = d.sine_rows, total_links = d.total_links;
+    const std::pair<const double*, double*>* sine_work = d.sine_work.data();
+    unsigned far_lanes = 0;
     // Links in file order (step.cpp apply_links): each impulse goes into both
     // ends' velocities at once; a zero-length link adds nothing (masked).
     for (int j = 0; j < links; ++j) {
       // The next frame's sines, spread over the link passes: sine_rows / total_links of them a link.
-      for (d.sine_credit += d.sine_rows; d.sine_credit >= d.total_links; d.sine_credit -= d.total_links, ++d.sines_done) {
+      for (sine_credit += sine_rows; sine_credit >= total_links; sine_credit -= total_links, ++sines_done) {
         unsigned far = 0;
-        const auto& [in, out] = d.sine_work[static_cast<std::size_t>(d.sines_done)];
+        const auto& [in, out] = sine_work[sines_done];
         java_sine::java_sin<O, 1>(in, out, &far);
-        d.far_lanes |= far;
+        far_lanes |= far;
       }
 #pragma GCC unroll 4
       for (int n = 0; n < N; ++n) {
         if (j >= group_links[n]) continue;
-        const int a = la[n][j], b = lb[n][j];
-        const V dx = O::sub(x[n][b], x[n][a]);
-        const V dy = O::sub(y[n][b], y[n][a]);
+        const std::uint32_t ea = ends[n][2 * j], eb = ends[n][2 * j + 1];
+        char* const pa = P[n] + ea;
+        char* const pb = P[n] + eb;
+        const V dx = O::sub(O::load(row(pb, 0)), O::load(row(pa, 0)));
+        const V dy = O::sub(O::load(row(pb, 1)), O::load(row(pa, 1)));
         const V length = simd_rules::length<O>(dx, dy);
-        const M acts = O::ne(length, zero);
         const V c = simd_rules::impulse_factor<O>(springyness[n], length, O::load(target[n] + static_cast<std::size_t>(j) * kW));
         const V px = O::mul(c, dx), py = O::mul(c, dy);
         // Without masked arithmetic (AVX2) a masked add is an add and a blend: where
         // every lane's link has a length (all but always) the plain add and subtract
         // give the same bits.
-        if (!O::kMaskedArithmetic && O::lanes(acts) == 0xffu) [[likely]] {
-          if (a < group_masses[n]) {
-            vx[n][a] = O::add(vx[n][a], px);
-            vy[n][a] = O::add(vy[n][a], py);
+        const M zero_length = O::eq(length, zero);
+        if (!O::kMaskedArithmetic && !O::any(zero_length)) [[likely]] {
+          if (ea < mass_bytes[n]) {
+            O::store(row(pa, 2), O::add(O::load(row(pa, 2)), px));
+            O::store(row(pa, 3), O::add(O::load(row(pa, 3)), py));
           }
-          if (b < group_masses[n]) {
-            vx[n][b] = O::sub(vx[n][b], px);
-            vy[n][b] = O::sub(vy[n][b], py);
+          if (eb < mass_bytes[n]) {
+            O::store(row(pb, 2), O::sub(O::load(row(pb, 2)), px));
+            O::store(row(pb, 3), O::sub(O::load(row(pb, 3)), py));
           }
           continue;
         }
-        if (a < group_masses[n]) {
-          vx[n][a] = O::add_where(acts, vx[n][a], px);
-          vy[n][a] = O::add_where(acts, vy[n][a], py);
+        const M acts = O::ne(length, zero);
+        if (ea < mass_bytes[n]) {
+          O::store(row(pa, 2), O::add_where(acts, O::load(row(pa, 2)), px));
+          O::store(row(pa, 3), O::add_where(acts, O::load(row(pa, 3)), py));
         }
-        if (b < group_masses[n]) {
-          vx[n][b] = O::sub_where(acts, vx[n][b], px);
-          vy[n][b] = O::sub_where(acts, vy[n][b], py);
+        if (eb < mass_bytes[n]) {
+          O::store(row(pb, 2), O::sub_where(acts, O::load(row(pb, 2)), px));
+          O::store(row(pb, 3), O::sub_where(acts, O::load(row(pb, 3)), py));
         }
       }
     }
+    d.sine_credit = sine_credit;
+    d.sines_done = sines_done;
+    d.far_lanes |= far_lanes;
     // Masses in order (step.cpp move_masses); autoreverse lane by lane in mass order.
     simd_rules::MassParams<O> params[N];
     bool hit_wall[N] = {};
     for (int n = 0; n < N; ++n) {
       const int g = g0 + n;
-      params[n] = {O::load(d.world_row(g, Data::kGravityStep)), O::load(d.world_row(g, Data::kKeep)),
-                   O::load(d.world_row(g, Data::kWidth)),       O::load(d.world_row(g, Data::kHeight)),
-                   O::load(d.world_row(g, Data::kFs)),          O::load(d.world_row(g, Data::kRs))};
+      const double* const world = d.world_row(g, 0);
+      const auto at = [world](int k) __attribute__((always_inline)) { return O::load(world + static_cast<std::size_t>(k) * kW); };
+      params[n] = {at(Data::kGravityStep), at(Data::kKeep), at(Data::kWidth), at(Data::kHeight), at(Data::kFs), at(Data::kRs)};
     }
     // Where this frame's walls were out of reach, the ceiling and side tests
     // would change nothing (the same bits without them); whether they are next
@@ -289,9 +322,10 @@ struct LockstepKernels {
       const int g = g0 + n;
       far[n] = d.walls_far[static_cast<std::size_t>(g)] != 0;
       inside[n] = O::m_all();
-      left[n] = O::load(d.world_row(g, Data::kLeft));
-      right[n] = O::load(d.world_row(g, Data::kRight));
-      top[n] = O::load(d.world_row(g, Data::kTop));
+      const double* const world = d.world_row(g, 0);
+      left[n] = O::load(world + static_cast<std::size_t>(Data::kLeft) * kW);
+      right[n] = O::load(world + static_cast<std::size_t>(Data::kRight) * kW);
+      top[n] = O::load(world + static_cast<std::size_t>(Data::kTop) * kW);
     }
     // With bars: each mass's move kept (its start and the velocity it takes) for bar_pass.
     [[maybe_unused]] bool bars[N] = {};
@@ -303,14 +337,15 @@ struct LockstepKernels {
       for (int n = 0; n < N; ++n) {
         if (i >= group_masses[n]) continue;
         [[maybe_unused]] V move_v[2];
-        [[maybe_unused]] const V x0 = x[n][i], y0 = y[n][i];
+        V* const point = reinterpret_cast<V*>(P[n] + static_cast<std::size_t>(i) * Data::kPointBytes);
+        V &x = point[0], &y = point[1], &vx = point[2], &vy = point[3];
+        [[maybe_unused]] const V x0 = x, y0 = y;
         if (far[n]) {
-          simd_rules::move_mass<O, true, true, false, false>(params[n], x[n][i], y[n][i], vx[n][i], vy[n][i], Bars ? move_v : nullptr);
+          simd_rules::move_mass<O, true, true, false, false>(params[n], x, y, vx, vy, Bars ? move_v : nullptr);
         }
         const simd_rules::SideHits<O> hits =
             far[n] ? simd_rules::SideHits<O>{O::m_none(), O::m_none()}
-                   : simd_rules::move_mass<O, true, true, true, true>(params[n], x[n][i], y[n][i], vx[n][i], vy[n][i],
-                                                                       Bars ? move_v : nullptr);
+                   : simd_rules::move_mass<O, true, true, true, true>(params[n], x, y, vx, vy, Bars ? move_v : nullptr);
         if constexpr (Bars) {
           if (bars[n]) {
             O::store(d.move_row(g0 + n, 0, i), x0);
@@ -318,11 +353,11 @@ struct LockstepKernels {
             O::store(d.move_row(g0 + n, 2, i), move_v[0]);
             O::store(d.move_row(g0 + n, 3, i), move_v[1]);
             d.bar_due[d.groups[static_cast<std::size_t>(g0 + n)].due_at + static_cast<std::size_t>(i)] = static_cast<std::uint8_t>(
-                may_meet_bars(d.group_bars[static_cast<std::size_t>(g0 + n)], x0, y0, x[n][i], y[n][i], move_v[0], move_v[1]));
+                may_meet_bars(d.group_bars[static_cast<std::size_t>(g0 + n)], x0, y0, x, y, move_v[0], move_v[1]));
           }
         }
         if (!Bars || !bars[n]) { // a group with bars tests every wall next frame anyway (below)
-          inside[n] = O::m_and(inside[n], O::m_and(O::gt(x[n][i], left[n]), O::m_and(O::lt(x[n][i], right[n]), O::lt(y[n][i], top[n]))));
+          inside[n] = O::m_and(inside[n], O::m_and(O::gt(x, left[n]), O::m_and(O::lt(x, right[n]), O::lt(y, top[n]))));
         }
         if (O::any(hits.hit)) [[unlikely]] {
           hit_wall[n] = true;
