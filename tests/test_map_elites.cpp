@@ -692,8 +692,11 @@ TEST_CASE("bench qd: MAP-Elites and the GA at equal evaluations, both as archive
   CHECK_THROWS_WITH(bench::run_qd_bench(qo), Catch::StartsWith("small: /algorithm: expected \"map-elites\""));
 }
 
-TEST_CASE("parent tournament: parents drawn from fitter elites, plain MAP-Elites draws uniformly", "[map-elites]") {
-  const RunConfig config = test::walker_run_config("t", 4, 8, 1, 300, 40);
+namespace {
+
+/// Ten elites in a row of cells, e<i> with fitness i (the parent tests below): the
+/// first `recent` entered their cells at iteration 10, the rest at iteration 1.
+GridArchive ten_elites_in_a_row(int recent = 0) {
   const soda::ModelDef walker = soda::read_model_file(test::models_dir() / "dainty_walker.xml").def;
   GridArchive archive({{Descriptor::Width, 10, 0.0, 100.0}, {Descriptor::Height, 1, 0.0, 1.0}});
   for (int i = 0; i < 10; ++i) {
@@ -701,8 +704,17 @@ TEST_CASE("parent tournament: parents drawn from fitter elites, plain MAP-Elites
     e.id = "e" + std::to_string(i);
     e.creature = walker;
     e.fitness = estimate(1, static_cast<double>(i));
+    e.iteration = i < recent ? 10 : 1;
     archive.place(static_cast<std::size_t>(i), e);
   }
+  return archive;
+}
+
+} // namespace
+
+TEST_CASE("parent tournament: parents drawn from fitter elites, plain MAP-Elites draws uniformly", "[map-elites]") {
+  const RunConfig config = test::walker_run_config("t", 4, 8, 1, 300, 40);
+  const GridArchive archive = ten_elites_in_a_row();
   const auto mean_parent = [&](int tournament) {
     MapElitesConfig me;
     me.batch_size = 400;
@@ -718,18 +730,8 @@ TEST_CASE("parent tournament: parents drawn from fitter elites, plain MAP-Elites
 
 TEST_CASE("elite pool: the elite share breeds from the fittest elites, or from the fittest recent entrants", "[map-elites]") {
   const RunConfig config = test::walker_run_config("t", 4, 8, 1, 300, 40);
-  const soda::ModelDef walker = soda::read_model_file(test::models_dir() / "dainty_walker.xml").def;
-  // Ten elites, e<i> with fitness i; e0..e4 entered at iteration 10 (recent),
-  // e5..e9 (the fittest) at iteration 1.
-  GridArchive archive({{Descriptor::Width, 10, 0.0, 100.0}, {Descriptor::Height, 1, 0.0, 1.0}});
-  for (int i = 0; i < 10; ++i) {
-    ArchiveEntry e;
-    e.id = "e" + std::to_string(i);
-    e.creature = walker;
-    e.fitness = estimate(1, static_cast<double>(i));
-    e.iteration = i < 5 ? 10 : 1;
-    archive.place(static_cast<std::size_t>(i), e);
-  }
+  // e0..e4 entered at iteration 10 (recent), e5..e9 (the fittest) at iteration 1.
+  const GridArchive archive = ten_elites_in_a_row(5);
   const auto parents = [&](double share, int pool, int recent) {
     MapElitesConfig me;
     me.batch_size = 200;
