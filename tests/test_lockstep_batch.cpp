@@ -608,6 +608,13 @@ TEST_CASE("SIMD level: forced below the CPU's best, Auto follows it, lockstep in
     const soda::Model walker = load_scene(models_dir() / "dainty_walker.xml").model;
     CHECK(soda::LockstepBatch(std::vector<const soda::Model*>(8, &walker)).level() == soda::SimdLevel::Avx2);
   }
+  // Auto is the CPU's best (whatever SODAEVO_SIMD said at start-up); then the level
+  // in force before this test is put back, so a run under SODAEVO_SIMD keeps it.
   soda::force_simd_level(soda::SimdLevel::Auto);
+  const soda::SimdLevel cpu_best = soda::simd_level_supported(soda::SimdLevel::Avx512) ? soda::SimdLevel::Avx512
+                                   : soda::simd_level_supported(soda::SimdLevel::Avx2) ? soda::SimdLevel::Avx2
+                                                                                      : soda::SimdLevel::Sse2;
+  CHECK(soda::best_simd_level() == cpu_best);
+  soda::force_simd_level(best);
   CHECK(soda::best_simd_level() == best);
 }
