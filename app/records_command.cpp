@@ -115,7 +115,6 @@ json replicas_json(const ReplicaRecord& r) {
           {"finished", r.finished_share}};
 }
 
-std::string file_name(const std::string& path) { return fs::path(path).filename().string(); }
 
 void write_book(const RecordBook& book, const RecordBookInputs& in, const RecordsOptions& opt) {
   const fs::path out(opt.out);
@@ -133,8 +132,8 @@ void write_book(const RecordBook& book, const RecordBookInputs& in, const Record
      << "|---|---|---:|---|---|---:|---:|---|\n";
   int records_held = 0;
   for (const FileRecord& f : book.files) {
-    json j = {{"race_file", file_name(f.race_file)}, {"timeout", f.timeout}};
-    md << "| " << file_name(f.race_file) << " | ";
+    json j = {{"race_file", file_name_of(f.race_file)}, {"timeout", f.timeout}};
+    md << "| " << file_name_of(f.race_file) << " | ";
     if (f.record >= 0) {
       const RaceEntry& r = f.candidates[static_cast<std::size_t>(f.record)];
       const ReplicaRecord& rep = f.record_replicas;
@@ -189,16 +188,16 @@ void write_book(const RecordBook& book, const RecordBookInputs& in, const Record
       const FileRecord& f = book.files[i];
       const RaceEntry& e = f.candidates[static_cast<std::size_t>(book.generalist.candidate)];
       const ReplicaRecord& rep = book.generalist.replicas[i];
-      md << "| " << file_name(f.race_file) << " | " << (e.no_result.empty() ? race_result_text(e.outcome) : "no result") << " | ";
+      md << "| " << file_name_of(f.race_file) << " | " << (e.no_result.empty() ? race_result_text(e.outcome) : "no result") << " | ";
       if (!rep.outcomes.empty()) {
         char reps[128];
         std::snprintf(reps, sizeof reps, "%.1f [%.1f, %.1f], %.0f %%", rep.summary.median, rep.summary.interval95_low,
                       rep.summary.interval95_high, 100.0 * rep.finished_share);
         md << reps;
-        finished[file_name(f.race_file)] = rep.finished_share;
+        finished[file_name_of(f.race_file)] = rep.finished_share;
       }
       md << " |\n";
-      frames[file_name(f.race_file)] = e.no_result.empty() ? json(e.outcome.result) : json(nullptr);
+      frames[file_name_of(f.race_file)] = e.no_result.empty() ? json(e.outcome.result) : json(nullptr);
     }
     generalist = {{"racer", racer},
                   {"files_finished", book.generalist.files_finished},

@@ -19,7 +19,7 @@ std::string player_of(const soda::RaceDef& race, int timeout, const RaceEntry& e
   const Motion motion = record_race_motion(race, timeout, e.model, e.name, max_samples);
   PlayerView view;
   view.id = id;
-  view.caption = role + ": " + e.name + " (" + std::filesystem::path(e.file).filename().string() + "), " +
+  view.caption = role + ": " + e.name + " (" + file_name_of(e.file) + "), " +
                  race_result_text(e.outcome) + (e.outcome.finished ? " frames" : "");
   view.width = 560;
   view.height = 260;
@@ -39,19 +39,19 @@ std::string summary_table(const RecordBook& book) {
   o << "<table class=\"summary\">\n<tr><th>race file</th><th>record</th><th>frames</th><th>replicas finishing</th>"
     << "<th>best public contender</th><th>its frames</th><th>ratio</th></tr>\n";
   for (const FileRecord& f : book.files) {
-    const std::string name = std::filesystem::path(f.race_file).filename().string();
+    const std::string name = file_name_of(f.race_file);
     o << "<tr><td><a href=\"#" << html_escape(name) << "\">" << html_escape(name) << "</a></td>";
     const RaceEntry* record = f.record >= 0 ? &f.candidates[static_cast<std::size_t>(f.record)] : nullptr;
     const RaceEntry* pub = f.best_public >= 0 ? &f.publics[static_cast<std::size_t>(f.best_public)] : nullptr;
     if (record != nullptr) {
-      o << "<td>" << html_escape(std::filesystem::path(record->file).filename().string()) << "</td><td class=\"n\"><b>"
+      o << "<td>" << html_escape(file_name_of(record->file)) << "</td><td class=\"n\"><b>"
         << race_result_text(record->outcome) << "</b></td><td class=\"n\">" << percent(f.record_replicas.finished_share)
         << (f.qualified ? "" : " (not qualified)") << "</td>";
     } else {
       o << "<td colspan=\"3\">none of ours finishes</td>";
     }
     if (pub != nullptr) {
-      o << "<td>" << html_escape(std::filesystem::path(pub->file).filename().string()) << "</td><td class=\"n\">"
+      o << "<td>" << html_escape(file_name_of(pub->file)) << "</td><td class=\"n\">"
         << race_result_text(pub->outcome) << "</td><td class=\"n\">";
       if (record != nullptr && pub->outcome.finished) {
         char ratio[32];
@@ -70,11 +70,11 @@ std::string summary_table(const RecordBook& book) {
   if (book.generalist.candidate >= 0 && !book.files.empty()) {
     const auto k = static_cast<std::size_t>(book.generalist.candidate);
     o << "<p><b>The generalist</b>, "
-      << html_escape(std::filesystem::path(book.files.front().candidates[k].file).filename().string()) << ", finishes "
+      << html_escape(file_name_of(book.files.front().candidates[k].file)) << ", finishes "
       << book.generalist.files_finished << " of " << book.files.size() << " files: ";
     for (std::size_t i = 0; i < book.files.size(); ++i) {
       const RaceEntry& e = book.files[i].candidates[k];
-      o << (i > 0 ? ", " : "") << html_escape(std::filesystem::path(book.files[i].race_file).filename().string()) << " "
+      o << (i > 0 ? ", " : "") << html_escape(file_name_of(book.files[i].race_file)) << " "
         << (e.no_result.empty() ? race_result_text(e.outcome) : "no result");
     }
     o << " frames.</p>\n";
@@ -83,6 +83,8 @@ std::string summary_table(const RecordBook& book) {
 }
 
 } // namespace
+
+std::string file_name_of(const std::string& path) { return std::filesystem::path(path).filename().string(); }
 
 std::string records_page(const RecordBook& book, int max_samples) {
   std::ostringstream o;
@@ -100,7 +102,7 @@ std::string records_page(const RecordBook& book, int max_samples) {
     << summary_table(book);
   for (std::size_t i = 0; i < book.files.size(); ++i) {
     const FileRecord& f = book.files[i];
-    const std::string name = std::filesystem::path(f.race_file).filename().string();
+    const std::string name = file_name_of(f.race_file);
     const soda::RaceDef race = soda::read_race_file(f.race_file);
     o << "<h2 id=\"" << html_escape(name) << "\">" << html_escape(name) << "</h2>\n<div class=\"pair\">\n";
     if (f.record >= 0) {

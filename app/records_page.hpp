@@ -9,6 +9,9 @@
 
 namespace sodaevo::app {
 
+/// A path's file name ("race05.xml"): how the book names race files and racers.
+std::string file_name_of(const std::string& path);
+
 /// The whole page; each race sampled to at most `max_samples` frames.
 std::string records_page(const RecordBook& book, int max_samples = 400);
 

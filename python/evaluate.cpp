@@ -125,10 +125,8 @@ py::dict evaluations_dict(const std::vector<Evaluation>& results) {
   out["interval95"] = interval;
   out["status"] = status;
   out["reason"] = reason;
-  WireWriter wire;
-  wire.u32(static_cast<std::uint32_t>(results.size()));
-  for (const Evaluation& e : results) wire.evaluation(e);
-  out["wire"] = py::bytes(wire.bytes().data(), wire.bytes().size());
+  const std::vector<char> wire = encode_evaluations(results);
+  out["wire"] = py::bytes(wire.data(), wire.size());
   return out;
 }
 

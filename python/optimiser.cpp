@@ -119,16 +119,11 @@ class Optimiser {
                              " (evaluate the request ask() returned)");
     }
     const std::string bytes = wire;
-    WireReader reader(bytes.data(), bytes.size());
-    const std::uint32_t count = reader.u32();
-    if (count != request_->creatures.size()) {
-      throw soda::InputError("tell: " + std::to_string(count) + " evaluations for a request of " +
+    std::vector<Evaluation> evaluations = decode_evaluations(bytes.data(), bytes.size());
+    if (evaluations.size() != request_->creatures.size()) {
+      throw soda::InputError("tell: " + std::to_string(evaluations.size()) + " evaluations for a request of " +
                              std::to_string(request_->creatures.size()) + " creatures");
     }
-    std::vector<Evaluation> evaluations;
-    evaluations.reserve(count);
-    for (std::uint32_t k = 0; k < count; ++k) evaluations.push_back(reader.evaluation());
-    reader.expect_end();
     evaluator_.answer(std::move(evaluations));
     request_.reset();
   }

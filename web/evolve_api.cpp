@@ -301,10 +301,8 @@ EMSCRIPTEN_KEEPALIVE int sev_evaluate(const char* bytes, int size) {
     for (const soda::ModelDef& c : creatures) pointers.push_back(&c);
     ThreadEvaluator evaluator(1);
     const std::vector<Evaluation> results = evaluator.evaluate(pointers, *problem, *estimator);
-    WireWriter w;
-    w.u32(count);
-    for (const Evaluation& e : results) w.evaluation(e);
-    g_out.assign(w.bytes().begin(), w.bytes().end());
+    const std::vector<char> wire = encode_evaluations(results);
+    g_out.assign(wire.begin(), wire.end());
     return 0;
   } catch (const std::exception& e) {
     return fail(e);

@@ -38,11 +38,9 @@ std::vector<char> AskTellEvaluator::chunk(std::size_t first, std::size_t last) c
 }
 
 bool AskTellEvaluator::tell(std::size_t first, const char* bytes, std::size_t size) {
-  WireReader r(bytes, size);
-  const std::uint32_t count = r.u32();
-  if (first + count > told_.size()) throw WireError("results past the request's end");
-  for (std::uint32_t k = 0; k < count; ++k) told_[first + k] = r.evaluation();
-  r.expect_end();
+  std::vector<Evaluation> got = decode_evaluations(bytes, size);
+  if (first + got.size() > told_.size()) throw WireError("results past the request's end");
+  for (std::size_t k = 0; k < got.size(); ++k) told_[first + k] = std::move(got[k]);
   for (const auto& e : told_) {
     if (!e) return false;
   }

@@ -217,4 +217,20 @@ Evaluation decode_evaluation(const std::vector<char>& bytes) {
   return e;
 }
 
+std::vector<char> encode_evaluations(const std::vector<Evaluation>& evaluations) {
+  WireWriter w;
+  w.u32(static_cast<std::uint32_t>(evaluations.size()));
+  for (const Evaluation& e : evaluations) w.evaluation(e);
+  return w.take();
+}
+
+std::vector<Evaluation> decode_evaluations(const char* bytes, std::size_t size) {
+  WireReader r(bytes, size);
+  const std::uint32_t count = r.u32();
+  std::vector<Evaluation> out;
+  for (std::uint32_t k = 0; k < count; ++k) out.push_back(r.evaluation());
+  r.expect_end();
+  return out;
+}
+
 } // namespace sodaevo

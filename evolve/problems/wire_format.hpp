@@ -78,5 +78,10 @@ std::vector<char> encode_creature(const soda::ModelDef& def);
 soda::ModelDef decode_creature(const std::vector<char>& bytes);
 std::vector<char> encode_evaluation(const Evaluation& e);
 Evaluation decode_evaluation(const std::vector<char>& bytes);
+/// A batch's evaluations as an evaluator hands them back (the page's workers,
+/// Python's evaluate): their count, then each in order.
+std::vector<char> encode_evaluations(const std::vector<Evaluation>& evaluations);
+/// Throws WireError if malformed or not wholly read.
+std::vector<Evaluation> decode_evaluations(const char* bytes, std::size_t size);
 
 } // namespace sodaevo
